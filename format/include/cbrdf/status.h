@@ -1,0 +1,87 @@
+// Errors as values: a stable code and a message a user can act on (naming file, chunk, offset).
+// Nothing in cbrdf throws across its API.
+#pragma once
+
+#include <cassert>
+#include <string>
+#include <utility>
+#include <variant>
+
+namespace cbrdf {
+
+// Stable numeric codes: never renumber, only append.
+enum class ErrorCode : int {
+  kOk = 0,
+  kIo = 1,               // the operating system refused a read or write
+  kNotFound = 2,         // a named file does not exist
+  kTruncated = 3,        // the data ends before its declared content
+  kBadSignature = 4,     // not a file of the expected kind
+  kUnsupported = 5,      // a newer version or an unknown critical feature
+  kCorrupt = 6,          // structurally invalid data
+  kChecksum = 7,         // a checksum does not match
+  kLimit = 8,            // a declared size exceeds a documented maximum
+  kInvalidArgument = 9,  // a caller passed a value outside its domain
+  kNumeric = 10,         // NaN, Inf or a value outside a parameter's domain in the data
+  kInternal = 11,        // a bug in cbrdf
+};
+
+const char* error_code_name(ErrorCode code);
+
+class [[nodiscard]] Status {
+ public:
+  Status() = default;
+  Status(ErrorCode code, std::string message) : code_(code), message_(std::move(message)) {}
+  static Status ok_status() { return {}; }
+
+  bool ok() const { return code_ == ErrorCode::kOk; }
+  ErrorCode code() const { return code_; }
+  const std::string& message() const { return message_; }
+  // Prefixes context, e.g. the file name: "foo.binary: too short".
+  Status with_context(const std::string& context) const {
+    if (ok()) return *this;
+    return Status(code_, context + ": " + message_);
+  }
+
+ private:
+  ErrorCode code_ = ErrorCode::kOk;
+  std::string message_;
+};
+
+inline Status ok_status() { return Status(); }
+inline Status error(ErrorCode code, std::string message) { return Status(code, std::move(message)); }
+
+// A value or the Status that explains why there is none.
+template <typename T>
+class [[nodiscard]] Expected {
+ public:
+  Expected(T value) : v_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+  Expected(Status status) : v_(std::move(status)) {  // NOLINT(google-explicit-constructor)
+    assert(!std::get<Status>(v_).ok() && "Expected built from an ok Status");
+  }
+
+  bool ok() const { return std::holds_alternative<T>(v_); }
+  explicit operator bool() const { return ok(); }
+  const Status& status() const {
+    static const Status kOkStatus;
+    return ok() ? kOkStatus : std::get<Status>(v_);
+  }
+  T& value() & { return std::get<T>(v_); }
+  const T& value() const& { return std::get<T>(v_); }
+  T&& value() && { return std::get<T>(std::move(v_)); }
+  T* operator->() { return &value(); }
+  const T* operator->() const { return &value(); }
+  T& operator*() & { return value(); }
+  const T& operator*() const& { return value(); }
+
+ private:
+  std::variant<T, Status> v_;
+};
+
+}  // namespace cbrdf
+
+// Propagates a non-ok Status from an expression returning Status.
+#define CBRDF_RETURN_IF_ERROR(expr)        \
+  do {                                     \
+    ::cbrdf::Status cbrdf_status_ = (expr); \
+    if (!cbrdf_status_.ok()) return cbrdf_status_; \
+  } while (0)

@@ -1,0 +1,11 @@
+#include "cbrdf/brdf_table.h"
+
+namespace cbrdf {
+
+std::size_t BrdfTable::count_not_measured() const {
+  std::size_t n = 0;
+  for (double v : stored_) n += v < 0.0 ? 1 : 0;
+  return n;
+}
+
+}  // namespace cbrdf

@@ -1,0 +1,40 @@
+// Helpers shared by the tests: temporary directories, the real-data folder, running the CLI.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace cbrdf::testing {
+
+// A fresh empty directory under the build tree, removed by its destructor.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// The folder of real MERL-layout materials made from ../shared/data with ../shared/tools/make-merl.sh,
+// built once into the build tree. Empty when ../shared is absent (callers GTEST_SKIP with a message).
+std::filesystem::path real_materials_dir();
+// Names of the real materials available (empty without ../shared).
+std::vector<std::string> real_material_names();
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+// Runs the built `cbrdf` executable with the given argument string (shell-quoted by the caller).
+CommandResult run_cli(const std::string& args);
+
+std::string read_text(const std::filesystem::path& p);
+
+}  // namespace cbrdf::testing
