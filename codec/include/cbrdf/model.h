@@ -1,0 +1,71 @@
+// The copula BRDF model (Ozturk, Kurt, Bilgili 2010): per theta_d slice and colour channel, the BRDF
+// is K * c(F1(theta_h), F2(theta_d), F3(phi_d); theta) * f1(theta_h) f2(theta_d) f3(phi_d), with
+// empirical marginals f (probability mass per MERL bin), their CDFs F, an Archimedean copula
+// density c with one parameter, and the slice's normalization K.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "cbrdf/brdf_table.h"
+#include "cbrdf/coords.h"
+#include "cbrdf/copula_family.h"
+
+namespace cbrdf {
+
+// One slice of one colour channel.
+struct ChannelSlice {
+  CopulaFamily family = CopulaFamily::kFrank;
+  double theta = 0.0;  // the family's parameter, in its own convention (copula_family.h)
+  double scale = 0.0;  // K: sum of physical values over the slice's bins (measured + imputed)
+  // Probability mass per bin, each summing to 1 (all zero when scale == 0):
+  std::vector<double> pdf_h;  // 90 theta_h bins
+  std::vector<double> pdf_d;  // the slice's theta_d bins
+  std::vector<double> pdf_p;  // 180 phi_d bins
+};
+
+struct Slice {
+  int theta_d_begin = 0;  // first theta_d bin
+  int theta_d_end = 0;    // one past the last
+  std::array<ChannelSlice, kChannels> channel;
+  int width() const { return theta_d_end - theta_d_begin; }
+};
+
+// Which bins the source did not measure, and the exact stored values it had there.
+struct NotMeasured {
+  // Bit (c * kBinsPerChannel + i) set when channel c's bin i was not measured.
+  std::vector<std::uint64_t> bits = std::vector<std::uint64_t>((kChannels * kBinsPerChannel + 63) / 64, 0);
+  // One value for all (the usual case) or one per set bit, in bit order.
+  std::vector<double> values = {-1.0};
+
+  bool test(int channel, std::size_t index) const {
+    const std::size_t b = std::size_t(channel) * kBinsPerChannel + index;
+    return (bits[b >> 6] >> (b & 63)) & 1u;
+  }
+  void set(int channel, std::size_t index) {
+    const std::size_t b = std::size_t(channel) * kBinsPerChannel + index;
+    bits[b >> 6] |= std::uint64_t{1} << (b & 63);
+  }
+  std::size_t count() const;
+  // Captures the mask and values of a table.
+  static NotMeasured from_table(const BrdfTable& table);
+};
+
+struct Model {
+  std::vector<Slice> slices;  // contiguous, covering theta_d bins [0, 90)
+  NotMeasured not_measured;
+
+  // Index of the slice holding theta_d bin j.
+  int slice_of(int theta_d_bin) const;
+  // Model value (physical, 1/sr) of a channel at a MERL bin, ignoring the not-measured mask.
+  double bin_value(int channel, int theta_h, int theta_d, int phi_d) const;
+  // The full table: model values at measured bins, the source's stored values at the others.
+  BrdfTable table() const;
+  // RGB physical value at a direction pair; continuous in angle and equal to table() at bin
+  // positions. 0 when wi or wo is below the horizon. Reciprocal: phi_d + pi is the same value.
+  void eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const;
+};
+
+}  // namespace cbrdf
