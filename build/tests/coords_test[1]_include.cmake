@@ -1,5 +1,0 @@
-if(EXISTS "/work/main/build/tests/coords_test[1]_tests.cmake")
-  include("/work/main/build/tests/coords_test[1]_tests.cmake")
-else()
-  add_test(coords_test_NOT_BUILT coords_test_NOT_BUILT)
-endif()
