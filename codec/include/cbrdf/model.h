@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "cbrdf/brdf_table.h"
@@ -53,19 +54,45 @@ struct NotMeasured {
   static NotMeasured from_table(const BrdfTable& table);
 };
 
+// Pure data: what a .cbrdf file holds. Evaluate it through a ModelEvaluator.
 struct Model {
   std::vector<Slice> slices;  // contiguous, covering theta_d bins [0, 90)
   NotMeasured not_measured;
 
   // Index of the slice holding theta_d bin j.
   int slice_of(int theta_d_bin) const;
-  // Model value (physical, 1/sr) of a channel at a MERL bin, ignoring the not-measured mask.
-  double bin_value(int channel, int theta_h, int theta_d, int phi_d) const;
   // The full table: model values at measured bins, the source's stored values at the others.
   BrdfTable table() const;
-  // RGB physical value at a direction pair; continuous in angle and equal to table() at bin
-  // positions. 0 when wi or wo is below the horizon. Reciprocal: phi_d + pi is the same value.
+};
+
+namespace fit {
+class GridCopula;
+}
+
+// A model prepared for evaluation: per slice and channel, CDFs and the copula's per-axis terms.
+// Building one costs microseconds; keep it for as long as the model is evaluated.
+class ModelEvaluator {
+ public:
+  explicit ModelEvaluator(const Model& model);
+  ~ModelEvaluator();
+  ModelEvaluator(ModelEvaluator&&) noexcept;
+  ModelEvaluator& operator=(ModelEvaluator&&) noexcept;
+
+  // Model value (physical, 1/sr) of a channel at a MERL bin, ignoring the not-measured mask.
+  double bin_value(int channel, int theta_h, int theta_d, int phi_d) const;
+  // RGB physical value at a direction pair (unit vectors, z = normal); continuous in angle
+  // (trilinear in MERL bin position between the 8 surrounding bins, phi_d periodic) and equal to
+  // bin_value at bin positions. 0 when wi or wo is at or below the horizon. Reciprocal: swapping
+  // wi and wo maps phi_d to phi_d + pi, the same bin.
   void eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const;
+  // The full table (see Model::table()).
+  BrdfTable table() const;
+
+ private:
+  struct Part;
+  const Model* model_;
+  std::vector<int> slice_of_bin_;  // theta_d bin -> slice
+  std::vector<std::array<std::unique_ptr<Part>, kChannels>> parts_;
 };
 
 }  // namespace cbrdf

@@ -1,0 +1,29 @@
+// A copula density evaluated over the tensor grid of a slice's CDF values: per-axis terms are
+// prepared once per parameter value, so a bin costs a few multiply-adds.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "cbrdf/copula_family.h"
+
+namespace cbrdf::fit {
+
+class GridCopula {
+ public:
+  virtual ~GridCopula() = default;
+  // The parameter range the fitter searches, and the parameter of independence.
+  virtual double fit_lo() const = 0;
+  virtual double fit_hi() const = 0;
+  virtual double independence() const = 0;
+  virtual void prepare(double theta, const std::vector<double>& u1, const std::vector<double>& u2,
+                       const std::vector<double>& u3) = 0;
+  virtual double density(int i, int j, int k) const = 0;
+  virtual double density_and_derivative(int i, int j, int k, double* dc_dtheta) const = 0;
+  // A whole phi_d row at (i, j): densities into c, derivatives into dc unless it is null.
+  virtual void row(int i, int j, double* c, double* dc) const = 0;
+};
+
+std::unique_ptr<GridCopula> make_grid_copula(CopulaFamily family);
+
+}  // namespace cbrdf::fit
