@@ -207,6 +207,24 @@ TEST(Coords, LinearLookupEqualsTableAtBinsAndInterpolates) {
   EXPECT_NEAR(rgb[0], 1.0 + 20.5 + 0.5 * 10.5, 1e-6);
 }
 
+TEST(Coords, GridPositionMatchesHalfDiffAngles) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int n = 0; n < 50000; ++n) {
+    const Vec3 wi = spherical(std::acos(u(rng)), 2 * kPi * u(rng));
+    const Vec3 wo = n % 100 == 0 ? wi : spherical(std::acos(u(rng)), 2 * kPi * u(rng));
+    const HalfDiff hd = to_half_diff(wi, wo);
+    const GridPosition g = grid_position(wi, wo);
+    EXPECT_NEAR(g.theta_h, theta_h_position(hd.theta_h), 1e-9);
+    // At wi = wo, theta_d = acos(1 - rounding): both forms carry ~1e-8 rad of rounding noise.
+    EXPECT_NEAR(g.theta_d, theta_d_position(hd.theta_d), n % 100 == 0 ? 1e-5 : 1e-9);
+    // phi_d is periodic with period 180 bins; near theta_d = 0 it is undefined, so skip there.
+    if (hd.theta_d > 1e-6) {
+      EXPECT_NEAR(std::remainder(g.phi_d - phi_d_position(hd.phi_d), 180.0), 0, 1e-7) << n;
+    }
+  }
+}
+
 TEST(Coords, BelowHorizonGeometry) {
   EXPECT_FALSE(bin_below_horizon(0, 0, 0));
   EXPECT_FALSE(bin_below_horizon(0, 89, 90));  // h = n: wi and wo at 89 deg, both above

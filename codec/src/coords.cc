@@ -24,6 +24,18 @@ double clamp_acos(double x) { return std::acos(std::clamp(x, -1.0, 1.0)); }
 
 }  // namespace
 
+double theta_h_position(double theta_h);
+double theta_d_position(double theta_d);
+double phi_d_position(double phi_d);
+
+namespace {
+
+GridPosition to_positions(const HalfDiff& hd) {
+  return {theta_h_position(hd.theta_h), theta_d_position(hd.theta_d), phi_d_position(hd.phi_d)};
+}
+
+}  // namespace
+
 HalfDiff to_half_diff(const Vec3& wi, const Vec3& wo) {
   Vec3 h{wi.x + wo.x, wi.y + wo.y, wi.z + wo.z};
   const double len = std::sqrt(dot(h, h));
@@ -87,6 +99,31 @@ double theta_h_of(double position) {
 }
 double theta_d_of(double position) { return position / kThetaDBins * kHalfPi; }
 double phi_d_of(double position) { return position / kPhiDBins * kPi; }
+
+GridPosition grid_position(const Vec3& wi, const Vec3& wo) {
+  Vec3 h{wi.x + wo.x, wi.y + wo.y, wi.z + wo.z};
+  const double len2 = dot(h, h);
+  if (!(len2 > 0)) return to_positions(to_half_diff(wi, wo));
+  const double inv = 1.0 / std::sqrt(len2);
+  h = {h.x * inv, h.y * inv, h.z * inv};
+  const double sin_h = std::sqrt(h.x * h.x + h.y * h.y);
+  // The difference frame: to_half_diff rotates by -phi_h about z, then by -theta_h about y, so in
+  // world space its x axis is (cos t cos p, cos t sin p, -sin t) and its y axis (-sin p, cos p, 0).
+  double cp = 1.0, sp = 0.0;
+  if (sin_h > 1e-300) {
+    cp = h.x / sin_h;
+    sp = h.y / sin_h;
+  }
+  const double ct = h.z;
+  const double dx = wi.x * ct * cp + wi.y * ct * sp - wi.z * sin_h;
+  const double dy = -wi.x * sp + wi.y * cp;
+  const double dz = dot(wi, h);
+  GridPosition g;
+  g.theta_h = theta_h_position(clamp_acos(h.z));
+  g.theta_d = theta_d_position(clamp_acos(dz));
+  g.phi_d = phi_d_position(std::atan2(dy, dx));
+  return g;
+}
 
 std::size_t nearest_bin(const Vec3& wi, const Vec3& wo) {
   const HalfDiff hd = to_half_diff(wi, wo);

@@ -41,6 +41,14 @@ double theta_h_of(double position);  // (position / 90)^2 * pi / 2
 double theta_d_of(double position);
 double phi_d_of(double position);
 
+// Continuous MERL grid position of a direction pair (theta_h and theta_d positions, and phi_d
+// folded to [0, 180)): the same as the *_position functions of to_half_diff's angles, computed
+// from an orthonormal frame around h with one acos per angle and no other trigonometry.
+struct GridPosition {
+  double theta_h = 0, theta_d = 0, phi_d = 0;
+};
+GridPosition grid_position(const Vec3& wi, const Vec3& wo);
+
 // Nearest-bin MERL index of a direction pair, identical to the reference reader's lookup.
 std::size_t nearest_bin(const Vec3& wi, const Vec3& wo);
 

@@ -1,0 +1,14 @@
+// The concrete copula families (internal): one final class per file, registered by copula_for().
+#pragma once
+
+#include "cbrdf/copula.h"
+
+namespace cbrdf::copula_detail {
+
+const Copula& independence_copula();
+const Copula& frank_copula();
+const Copula& clayton_copula();
+const Copula& gumbel_copula();
+const Copula& joe_copula();
+
+}  // namespace cbrdf::copula_detail

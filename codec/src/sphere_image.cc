@@ -1,0 +1,245 @@
+// Sphere renders and their PSNR (metrics.h documents the scene exactly).
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <numbers>
+#include <utility>
+
+#include "cbrdf/metrics.h"
+#include "parallel_rows.h"
+
+namespace cbrdf {
+namespace {
+
+// What a pixel inside the sphere needs for any light: its local frame and the view direction in it.
+struct PixelGeometry {
+  int x = 0;
+  Vec3 t, b, n;  // world-space tangent, bitangent, normal
+  Vec3 wo;       // the view direction (0, 0, 1) in the local frame
+};
+
+struct SphereGeometry {
+  int size = 0;
+  std::vector<PixelGeometry> pixels;   // row by row
+  std::vector<std::size_t> row_begin;  // size + 1 offsets into pixels
+  std::vector<std::uint8_t> mask;
+};
+
+double pixel_centre(int i, int size) {
+  return (i + 0.5) / size * 2 - 1;
+}
+
+// Duff et al. 2017: a continuous-enough, branch-light orthonormal basis around n.
+void basis(const Vec3& n, Vec3* t, Vec3* b) {
+  const double sign = std::copysign(1.0, n.z);
+  const double a = -1.0 / (sign + n.z);
+  const double c = n.x * n.y * a;
+  *t = {1.0 + sign * n.x * n.x * a, sign * c, -sign * n.x};
+  *b = {c, sign + n.y * n.y * a, -n.y};
+}
+
+Vec3 light_direction(double light_angle_deg) {
+  const double a = light_angle_deg * std::numbers::pi / 180.0;
+  return {std::sin(a), 0.0, std::cos(a)};
+}
+
+// The light in a pixel's local frame; false when it is at or below that pixel's horizon.
+bool local_light(const PixelGeometry& p, const Vec3& light, Vec3* wi, double* cos_i) {
+  *cos_i = dot(light, p.n);
+  if (!(*cos_i > 0.0)) return false;
+  *wi = {dot(light, p.t), dot(light, p.b), *cos_i};
+  return true;
+}
+
+std::shared_ptr<const SphereGeometry> build_geometry(int size) {
+  auto g = std::make_shared<SphereGeometry>();
+  g->size = size;
+  g->mask.assign(std::size_t(size) * std::size_t(size), 0);
+  g->row_begin.reserve(std::size_t(size) + 1);
+  for (int y = 0; y < size; ++y) {
+    g->row_begin.push_back(g->pixels.size());
+    const double v = -pixel_centre(y, size);
+    for (int x = 0; x < size; ++x) {
+      const double u = pixel_centre(x, size);
+      const double r2 = u * u + v * v;
+      if (!(r2 < 1.0)) continue;
+      PixelGeometry p;
+      p.x = x;
+      p.n = {u, v, std::sqrt(1.0 - r2)};
+      basis(p.n, &p.t, &p.b);
+      p.wo = {p.t.z, p.b.z, p.n.z};
+      g->pixels.push_back(p);
+      g->mask[std::size_t(y) * std::size_t(size) + std::size_t(x)] = 1;
+    }
+  }
+  g->row_begin.push_back(g->pixels.size());
+  return g;
+}
+
+// Reports render the same few sizes over and over: build each once. Large sizes (128 bytes per
+// pixel) are built per call instead of being kept forever.
+std::shared_ptr<const SphereGeometry> geometry(int size) {
+  constexpr int kMaxCachedSize = 1024;
+  if (size > kMaxCachedSize) return build_geometry(size);
+  static std::mutex mutex;
+  static std::map<int, std::shared_ptr<const SphereGeometry>> cache;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto& slot = cache[size];
+  if (!slot) slot = build_geometry(size);
+  return slot;
+}
+
+// For tables: the MERL bin and cos(theta_i) of every lit pixel under one light.
+struct LitPixel {
+  std::uint32_t pixel = 0;  // y * size + x
+  std::uint32_t bin = 0;    // nearest_bin(wi, wo)
+  double cos_i = 0.0;
+};
+
+std::vector<LitPixel> build_bins(const SphereGeometry& g, double light_angle_deg, int threads) {
+  std::vector<std::vector<LitPixel>> rows(std::size_t(g.size));
+  const Vec3 light = light_direction(light_angle_deg);
+  internal::parallel_rows(g.size, threads, [&](int y_begin, int y_end) {
+    for (int y = y_begin; y < y_end; ++y) {
+      for (std::size_t i = g.row_begin[std::size_t(y)]; i < g.row_begin[std::size_t(y) + 1]; ++i) {
+        const PixelGeometry& p = g.pixels[i];
+        Vec3 wi;
+        double cos_i = 0;
+        if (!local_light(p, light, &wi, &cos_i)) continue;
+        rows[std::size_t(y)].push_back(
+            {std::uint32_t(y * g.size + p.x), std::uint32_t(nearest_bin(wi, p.wo)), cos_i});
+      }
+    }
+  });
+  std::vector<LitPixel> out;
+  for (const auto& r : rows) out.insert(out.end(), r.begin(), r.end());
+  return out;
+}
+
+// Keyed by size and the angle's exact value; cleared when it grows past kMaxCachedLights, which
+// only a caller sweeping many angles reaches.
+std::shared_ptr<const std::vector<LitPixel>> cached_bins(int size, double light_angle_deg,
+                                                         int threads) {
+  constexpr std::size_t kMaxCachedLights = 64;
+  static std::mutex mutex;
+  static std::map<std::pair<int, double>, std::shared_ptr<const std::vector<LitPixel>>> cache;
+  const std::shared_ptr<const SphereGeometry> g = geometry(size);
+  // NaN would break the map's ordering, and nothing is lit by it anyway.
+  if (!std::isfinite(light_angle_deg)) return std::make_shared<const std::vector<LitPixel>>();
+  std::lock_guard<std::mutex> lock(mutex);
+  const auto key = std::make_pair(size, light_angle_deg);
+  if (const auto it = cache.find(key); it != cache.end()) return it->second;
+  if (cache.size() >= kMaxCachedLights) cache.clear();
+  auto bins =
+      std::make_shared<const std::vector<LitPixel>>(build_bins(*g, light_angle_deg, threads));
+  cache[key] = bins;
+  return bins;
+}
+
+using Renderer = std::function<Image(double light_angle_deg)>;
+
+ImageMetrics compare(const Renderer& render_reference, const Renderer& render_test,
+                     const SphereSetup& setup);
+
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / double(v.size());
+}
+
+ImageMetrics compare(const Renderer& render_reference, const Renderer& render_test,
+                     const SphereSetup& setup) {
+  ImageMetrics m;
+  const std::vector<std::uint8_t> mask = sphere_mask(setup.size);
+  std::vector<double> linear, tonemapped;
+  for (double angle : setup.light_angles_deg) {
+    const Image ref = render_reference(angle);
+    const Image tst = render_test(angle);
+    LightMetrics lm;
+    lm.light_angle_deg = angle;
+    lm.exposure = tonemap_exposure(ref, &mask);
+    const Image ref_tm = tonemap(ref, lm.exposure), tst_tm = tonemap(tst, lm.exposure);
+    for (int c = 0; c < 3; ++c) {
+      double peak = 0;
+      for (std::size_t i = 0; i < ref.pixel_count(); ++i) {
+        if (mask[i]) peak = std::max(peak, double(ref.data[i * 3 + std::size_t(c)]));
+      }
+      lm.psnr_linear[std::size_t(c)] = psnr(ref, tst, c, peak, &mask);
+      lm.psnr_tonemapped[std::size_t(c)] = psnr(ref_tm, tst_tm, c, 1.0, &mask);
+      linear.push_back(lm.psnr_linear[std::size_t(c)]);
+      tonemapped.push_back(lm.psnr_tonemapped[std::size_t(c)]);
+    }
+    m.per_light.push_back(lm);
+  }
+  m.psnr_linear = mean(linear);
+  m.psnr_tonemapped = mean(tonemapped);
+  return m;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> sphere_mask(int size) {
+  if (size <= 0 || size > kMaxSphereSize) return {};
+  return geometry(size)->mask;
+}
+
+Image render_sphere(const BrdfFn& f, double light_angle_deg, int size, int threads) {
+  if (size <= 0 || size > kMaxSphereSize) return {};
+  const std::shared_ptr<const SphereGeometry> g = geometry(size);
+  const Vec3 light = light_direction(light_angle_deg);
+  Image img(size, size);
+  internal::parallel_rows(size, threads, [&](int y_begin, int y_end) {
+    for (int y = y_begin; y < y_end; ++y) {
+      for (std::size_t i = g->row_begin[std::size_t(y)]; i < g->row_begin[std::size_t(y) + 1];
+           ++i) {
+        const PixelGeometry& p = g->pixels[i];
+        Vec3 wi;
+        double cos_i = 0;
+        if (!local_light(p, light, &wi, &cos_i)) continue;
+        double rgb[3] = {0, 0, 0};
+        f(wi, p.wo, rgb);
+        for (int c = 0; c < 3; ++c) img.at(p.x, y, c) = float(rgb[c] * cos_i);
+      }
+    }
+  });
+  return img;
+}
+
+Image render_sphere(const BrdfTable& table, double light_angle_deg, int size, int threads) {
+  if (size <= 0 || size > kMaxSphereSize) return {};
+  const std::shared_ptr<const std::vector<LitPixel>> bins =
+      cached_bins(size, light_angle_deg, threads);
+  Image img(size, size);
+  for (const LitPixel& p : *bins) {
+    for (int c = 0; c < kChannels; ++c) {
+      // The arithmetic of lookup_nearest followed by render_sphere's product, so images match.
+      const double v = table.measured(c, p.bin) ? table.physical(c, p.bin) : 0.0;
+      img.data[std::size_t(p.pixel) * 3 + std::size_t(c)] = float(v * p.cos_i);
+    }
+  }
+  return img;
+}
+
+ImageMetrics sphere_psnr(const BrdfFn& reference, const BrdfFn& test, const SphereSetup& setup) {
+  return compare([&](double a) { return render_sphere(reference, a, setup.size, setup.threads); },
+                 [&](double a) { return render_sphere(test, a, setup.size, setup.threads); },
+                 setup);
+}
+
+ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfTable& test,
+                         const SphereSetup& setup) {
+  return compare([&](double a) { return render_sphere(reference, a, setup.size, setup.threads); },
+                 [&](double a) { return render_sphere(test, a, setup.size, setup.threads); },
+                 setup);
+}
+
+ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfFn& test, const SphereSetup& setup) {
+  return compare([&](double a) { return render_sphere(reference, a, setup.size, setup.threads); },
+                 [&](double a) { return render_sphere(test, a, setup.size, setup.threads); },
+                 setup);
+}
+
+}  // namespace cbrdf

@@ -1,0 +1,44 @@
+// A BrdfTable as an OpenEXR image, for looking at a material in any EXR viewer.
+//
+// Layout: one 180 x 90 tile per theta_d bin (x = phi_d bin, y = theta_h bin, row 0 at the top),
+// the 90 tiles in a 10 x 9 mosaic, row-major by theta_d: 1800 x 810 pixels. Bin (theta_h, theta_d,
+// phi_d) is pixel x = 180 * (theta_d % 10) + phi_d, y = 90 * (theta_d / 10) + theta_h.
+// Channels (32-bit float): R, G, B hold physical values (1/sr, the stored value times kMerlScale),
+// 0 where that channel is not measured; A is 1 where all three channels are measured and 0 where
+// any is not, so viewers show unmeasured bins transparent and tools can mask them without NaN. The
+// header's string attribute "cbrdf.layout" is kExrTableLayout; "comments" repeats this layout in
+// words.
+#pragma once
+
+#include <filesystem>
+
+#include "cbrdf/brdf_table.h"
+#include "cbrdf/status.h"
+
+namespace cbrdf {
+
+inline constexpr int kExrTableTilesX = 10;
+inline constexpr int kExrTableTilesY = 9;
+inline constexpr int kExrTableWidth = kExrTableTilesX * kPhiDBins;     // 1800
+inline constexpr int kExrTableHeight = kExrTableTilesY * kThetaHBins;  // 810
+inline constexpr const char* kExrTableLayout = "merl-mosaic-10x9-v1";
+
+struct MosaicPixel {
+  int x = 0;
+  int y = 0;
+};
+
+constexpr MosaicPixel exr_table_pixel(int theta_h, int theta_d, int phi_d) {
+  return {kPhiDBins * (theta_d % kExrTableTilesX) + phi_d,
+          kThetaHBins * (theta_d / kExrTableTilesX) + theta_h};
+}
+
+Status write_exr_table(const std::filesystem::path& path, const BrdfTable& table);
+
+// Reads a mosaic written by write_exr_table back into a table: values to float32 precision, bins
+// with A < 0.5 marked not measured with stored value -1 in every channel. Errors: those of OpenEXR
+// reading, kBadSignature when the layout attribute is missing or different, kCorrupt on a wrong
+// size or missing channel.
+Expected<BrdfTable> read_exr_table(const std::filesystem::path& path);
+
+}  // namespace cbrdf
