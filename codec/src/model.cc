@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "fit/frank_grid.h"
 #include "fit/grid_copula.h"
 #include "fit/marginals.h"
 
@@ -51,6 +52,16 @@ BrdfTable Model::table() const { return ModelEvaluator(*this).table(); }
 struct ModelEvaluator::Part {
   const ChannelSlice* cs = nullptr;
   std::unique_ptr<fit::GridCopula> copula;
+  const fit::FrankGrid* frank = nullptr;  // the copula's grid when Frank: evaluated without a virtual call
+  int theta_d_begin = 0;
+
+  double value(int i, int j, int k) const {
+    const double f = cs->pdf_h[i] * cs->pdf_d[j - theta_d_begin] * cs->pdf_p[k];
+    if (f == 0.0 || cs->scale == 0.0) return 0.0;
+    const double c = frank ? frank->density(i, j - theta_d_begin, k)
+                           : copula->density(i, j - theta_d_begin, k);
+    return cs->scale * c * f;
+  }
 };
 
 ModelEvaluator::ModelEvaluator(const Model& model) : model_(&model) {
@@ -68,6 +79,8 @@ ModelEvaluator::ModelEvaluator(const Model& model) : model_(&model) {
       fit::midpoint_cdf(cs.pdf_d, &u2);
       fit::midpoint_cdf(cs.pdf_p, &u3);
       part->copula->prepare(cs.theta, u1, u2, u3);
+      part->frank = fit::frank_grid_of(*part->copula);
+      part->theta_d_begin = model.slices[s].theta_d_begin;
       parts_[s][c] = std::move(part);
     }
   }
@@ -78,21 +91,16 @@ ModelEvaluator::ModelEvaluator(ModelEvaluator&&) noexcept = default;
 ModelEvaluator& ModelEvaluator::operator=(ModelEvaluator&&) noexcept = default;
 
 double ModelEvaluator::bin_value(int channel, int theta_h, int theta_d, int phi_d) const {
-  const int s = slice_of_bin_[theta_d];
-  const Part& p = *parts_[s][channel];
-  const int j = theta_d - model_->slices[s].theta_d_begin;
-  const double f = p.cs->pdf_h[theta_h] * p.cs->pdf_d[j] * p.cs->pdf_p[phi_d];
-  if (f == 0.0 || p.cs->scale == 0.0) return 0.0;
-  return p.cs->scale * p.copula->density(theta_h, j, phi_d) * f;
+  return parts_[slice_of_bin_[theta_d]][channel]->value(theta_h, theta_d, phi_d);
 }
 
 void ModelEvaluator::eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const {
   rgb[0] = rgb[1] = rgb[2] = 0.0;
   if (wi.z <= 0.0 || wo.z <= 0.0) return;
-  const HalfDiff hd = to_half_diff(wi, wo);
-  const double ph = std::clamp(theta_h_position(hd.theta_h), 0.0, double(kThetaHBins - 1));
-  const double pd = std::clamp(theta_d_position(hd.theta_d), 0.0, double(kThetaDBins - 1));
-  const double pp = phi_d_position(hd.phi_d);
+  const GridPosition g = grid_position(wi, wo);
+  const double ph = std::clamp(g.theta_h, 0.0, double(kThetaHBins - 1));
+  const double pd = std::clamp(g.theta_d, 0.0, double(kThetaDBins - 1));
+  const double pp = std::clamp(g.phi_d, 0.0, double(kPhiDBins));
   const int h0 = std::min(int(ph), kThetaHBins - 1), d0 = std::min(int(pd), kThetaDBins - 1);
   const int p0 = std::min(int(pp), kPhiDBins - 1);
   const double fh = ph - h0, fd = pd - d0, fp = pp - p0;
@@ -102,11 +110,13 @@ void ModelEvaluator::eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const {
     for (int b = 0; b < 2; ++b) {
       const double wb = wa * (b ? fd : 1 - fd);
       if (wb == 0.0) continue;
+      const int i = h0 + a, j = d0 + b;
+      const auto& parts = parts_[slice_of_bin_[j]];
       for (int e = 0; e < 2; ++e) {
         const double w = wb * (e ? fp : 1 - fp);
         if (w == 0.0) continue;
-        const int i = h0 + a, j = d0 + b, k = (p0 + e) % kPhiDBins;
-        for (int c = 0; c < kChannels; ++c) rgb[c] += w * bin_value(c, i, j, k);
+        const int k = (p0 + e) % kPhiDBins;
+        for (int c = 0; c < kChannels; ++c) rgb[c] += w * parts[c]->value(i, j, k);
       }
     }
   }
@@ -115,18 +125,42 @@ void ModelEvaluator::eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const {
 BrdfTable ModelEvaluator::table() const {
   BrdfTable t;
   const NotMeasured& nm = model_->not_measured;
-  const bool uniform = nm.values.size() == 1;
-  std::size_t next_value = 0;
-  for (int c = 0; c < kChannels; ++c) {
-    double* out = t.channel_data(c);
-    const double inv_scale = 1.0 / kMerlScale[c];
-    for (std::size_t idx = 0; idx < kBinsPerChannel; ++idx) {
-      if (nm.test(c, idx)) {
-        out[idx] = uniform ? nm.values[0] : nm.values[next_value++];
-        continue;
+  std::vector<double> c(kPhiDBins);
+  for (int ch = 0; ch < kChannels; ++ch) {
+    double* out = t.channel_data(ch);
+    const double inv_scale = 1.0 / kMerlScale[ch];
+    for (std::size_t s = 0; s < model_->slices.size(); ++s) {
+      const Slice& slice = model_->slices[s];
+      const Part& p = *parts_[s][ch];
+      const ChannelSlice& cs = *p.cs;
+      for (int i = 0; i < kThetaHBins; ++i) {
+        for (int j = slice.theta_d_begin; j < slice.theta_d_end; ++j) {
+          double* row = out + merl_index(i, j, 0);
+          const double f12 = cs.scale * cs.pdf_h[i] * cs.pdf_d[j - slice.theta_d_begin] * inv_scale;
+          if (f12 == 0.0) {
+            std::fill(row, row + kPhiDBins, 0.0);
+            continue;
+          }
+          // A whole phi_d row at once: the copula's per-row factors are shared and it vectorizes.
+          p.copula->row(i, j - slice.theta_d_begin, c.data(), nullptr);
+          for (int k = 0; k < kPhiDBins; ++k) row[k] = f12 * c[k] * cs.pdf_p[k];
+        }
       }
-      const BinIndex b = merl_bin(idx);
-      out[idx] = bin_value(c, b.theta_h, b.theta_d, b.phi_d) * inv_scale;
+    }
+    // The source's stored values where it measured nothing, bit for bit.
+    if (nm.values.size() == 1) {
+      for (std::size_t idx = 0; idx < kBinsPerChannel; ++idx) {
+        if (nm.test(ch, idx)) out[idx] = nm.values[0];
+      }
+    }
+  }
+  if (nm.values.size() != 1) {
+    std::size_t next_value = 0;
+    for (int ch = 0; ch < kChannels; ++ch) {
+      double* out = t.channel_data(ch);
+      for (std::size_t idx = 0; idx < kBinsPerChannel; ++idx) {
+        if (nm.test(ch, idx)) out[idx] = nm.values[next_value++];
+      }
     }
   }
   return t;

@@ -45,12 +45,18 @@ class FrankGridCopula final : public GridCopula {
     return grid_.density_and_derivative(i, j, k, d);
   }
   void row(int i, int j, double* c, double* dc) const override { grid_.row(i, j, c, dc); }
+  const FrankGrid& grid() const { return grid_; }
 
  private:
   FrankGrid grid_;
 };
 
 }  // namespace
+
+const FrankGrid* frank_grid_of(const GridCopula& copula) {
+  const auto* f = dynamic_cast<const FrankGridCopula*>(&copula);
+  return f ? &f->grid() : nullptr;
+}
 
 std::unique_ptr<GridCopula> make_grid_copula(CopulaFamily family) {
   switch (family) {

@@ -26,4 +26,9 @@ class GridCopula {
 
 std::unique_ptr<GridCopula> make_grid_copula(CopulaFamily family);
 
+class FrankGrid;
+// The Frank grid inside a GridCopula made for kFrank (null for other families), so that hot loops
+// can call its inline density directly.
+const FrankGrid* frank_grid_of(const GridCopula& copula);
+
 }  // namespace cbrdf::fit

@@ -1,0 +1,49 @@
+// `cbrdf decode`: .cbrdf -> MERL .binary (and OpenEXR for inspection).
+#include <cstdio>
+
+#include "cbrdf/encoder.h"
+#include "cbrdf/exr_table.h"
+#include "cbrdf/file_io.h"
+#include "cbrdf/merl_io.h"
+#include "cli.h"
+
+namespace cbrdf::cli {
+namespace {
+
+struct DecodeOptions {
+  std::string input, output, exr;
+};
+
+int run_decode(const DecodeOptions& o, const Context& ctx) {
+  if (o.output.empty() && o.exr.empty()) {
+    return usage_error("decode: give -o OUT.binary, --exr OUT.exr or both");
+  }
+  auto bytes = read_file(o.input, kMaxContainerBytes);
+  if (!bytes.ok()) return fail(bytes.status());
+  auto table = decode_table(*bytes);
+  if (!table.ok()) return fail(table.status().with_context(o.input));
+  if (!o.output.empty()) {
+    if (Status s = write_merl(o.output, *table); !s.ok()) return fail(s);
+    if (!ctx.quiet) std::printf("wrote %s\n", o.output.c_str());
+  }
+  if (!o.exr.empty()) {
+    if (Status s = write_exr_table(o.exr, *table); !s.ok()) return fail(s);
+    if (!ctx.quiet) std::printf("wrote %s\n", o.exr.c_str());
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_decode_command(CLI::App& app, const Context& ctx, Action* action) {
+  auto o = std::make_shared<DecodeOptions>();
+  CLI::App* cmd = app.add_subcommand("decode", "Rebuild a MERL .binary from a .cbrdf file");
+  cmd->add_option("input", o->input, "Input .cbrdf file")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", o->output, "Output MERL .binary");
+  cmd->add_option("--exr", o->exr,
+                  "Also write the table as OpenEXR: theta_d slices tiled 10 x 9, each 180 phi_d "
+                  "x 90 theta_h");
+  cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_decode(*o, ctx); }; });
+}
+
+}  // namespace cbrdf::cli

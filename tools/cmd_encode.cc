@@ -1,0 +1,121 @@
+// `cbrdf encode`: MERL .binary -> .cbrdf.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+
+#include "cbrdf/encoder.h"
+#include "cbrdf/file_io.h"
+#include "cbrdf/merl_io.h"
+#include "cbrdf/metrics.h"
+#include "cli.h"
+
+namespace cbrdf::cli {
+namespace {
+
+struct EncodeOptions {
+  std::string input, output;
+  int slices = 6;
+  std::string family = "frank";
+  int bits = EncodeSettings{}.bits;
+  int level = EncodeSettings{}.zstd_level;
+  int threads = 0;
+  bool naive_marginals = false;
+  bool no_metrics = false;
+};
+
+int run_encode(const EncodeOptions& o, const Context& ctx) {
+  if (o.output.empty()) return usage_error("encode: give the output file with -o OUT.cbrdf");
+  std::error_code ec;
+  if (std::filesystem::equivalent(o.input, o.output, ec)) {
+    return usage_error("encode: the output would overwrite the input " + o.input);
+  }
+  EncoderSettings st;
+  st.fit.slices = o.slices;
+  st.fit.impute_missing = !o.naive_marginals;
+  st.fit.threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  if (o.family == "auto") {
+    st.fit.auto_family = true;
+  } else if (auto f = family_from_name(o.family)) {
+    st.fit.family = *f;
+  } else {
+    return usage_error("encode: unknown --family '" + o.family +
+                       "' (frank, clayton, gumbel, joe, independence or auto)");
+  }
+  st.container.bits = o.bits;
+  st.container.zstd_level = o.level;
+  st.container.source_name = std::filesystem::path(o.input).filename().string();
+
+  const auto t0 = std::chrono::steady_clock::now();
+  auto table = read_merl(o.input);
+  if (!table.ok()) return fail(table.status());
+  auto result = encode_table(*table, st);
+  if (!result.ok()) return fail(result.status().with_context(o.input));
+  if (Status s = write_file_atomic(o.output, result->bytes); !s.ok()) return fail(s);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (ctx.quiet) return kExitOk;
+
+  const double in_bytes = double(std::filesystem::file_size(o.input, ec));
+  const double out_bytes = double(result->bytes.size());
+  std::printf("%s -> %s: %.0f -> %.0f bytes (%.0f:1) in %.2f s\n", o.input.c_str(),
+              o.output.c_str(), in_bytes, out_bytes, in_bytes / out_bytes, seconds);
+  // How much the copula adds over the separable model, in the fit's own objective.
+  double obj = 0, obj_sep = 0;
+  for (const auto& s : result->report.slices) {
+    for (const auto& c : s) {
+      obj += c.objective;
+      obj_sep += c.objective_independence;
+    }
+  }
+  std::printf("fit: %zu slices x 3 channels, %s; objective %.4g vs separable %.4g (%+.2f%%)\n",
+              result->model.slices.size(), o.family.c_str(), obj, obj_sep,
+              obj_sep > 0 ? 100.0 * (obj - obj_sep) / obj_sep : 0.0);
+  if (ctx.verbose) {
+    std::printf("%-9s %-12s %-12s %-12s %s\n", "theta_d", "theta R", "theta G", "theta B",
+                "family");
+    for (const Slice& s : result->model.slices) {
+      std::printf("%2d-%-2d deg ", s.theta_d_begin, s.theta_d_end - 1);
+      for (const auto& c : s.channel) std::printf(" %-12.5g", c.theta);
+      std::printf(" %s\n", std::string(family_name(s.channel[0].family)).c_str());
+    }
+  }
+  if (!o.no_metrics) {
+    auto decoded = decode_table(result->bytes);
+    if (!decoded.ok()) return fail(decoded.status());
+    const ImageMetrics im = sphere_psnr(nearest_lookup_fn(*table), nearest_lookup_fn(*decoded));
+    std::printf("sphere PSNR of the decoded file against the input: %.2f dB linear, %.2f dB "
+                "tone-mapped\n",
+                im.psnr_linear, im.psnr_tonemapped);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
+  auto o = std::make_shared<EncodeOptions>();
+  CLI::App* cmd = app.add_subcommand("encode", "Compress a MERL .binary into a .cbrdf file");
+  cmd->add_option("input", o->input, "Input MERL .binary")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", o->output, "Output .cbrdf file")->required();
+  cmd->add_option("--slices", o->slices, "Slices along theta_d (1 to 90)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 90));
+  cmd->add_option("--family", o->family,
+                  "Copula family: frank, clayton, gumbel, joe, independence, auto")
+      ->capture_default_str();
+  cmd->add_option("--bits", o->bits, "Bits per quantized marginal value (6 to 16): quality")
+      ->capture_default_str()
+      ->check(CLI::Range(6, 16));
+  cmd->add_option("--level", o->level, "zstd level (1 to 22): effort")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 22));
+  cmd->add_option("--threads", o->threads, "Fitting threads (0: one per core)")
+      ->check(CLI::Range(0, 256));
+  cmd->add_flag("--naive-marginals", o->naive_marginals,
+                "Estimate marginals as the paper does (missing bins as 0)");
+  cmd->add_flag("--no-metrics", o->no_metrics, "Skip the PSNR check of the decoded file");
+  cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_encode(*o, ctx); }; });
+}
+
+}  // namespace cbrdf::cli

@@ -1,0 +1,141 @@
+// `cbrdf info`: describe a .cbrdf container or a MERL .binary.
+#include <algorithm>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "cbrdf/codec.h"
+#include "cbrdf/container.h"
+#include "cbrdf/file_io.h"
+#include "cbrdf/merl_io.h"
+#include "cli.h"
+
+namespace cbrdf::cli {
+namespace {
+
+struct InfoOptions {
+  std::string input;
+  bool json = false;
+};
+
+bool is_container(const std::vector<std::uint8_t>& bytes) {
+  return bytes.size() >= kContainerSignature.size() &&
+         std::equal(kContainerSignature.begin(), kContainerSignature.end(), bytes.begin());
+}
+
+int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
+  auto info = inspect_container(bytes);
+  if (!info.ok()) return fail(info.status().with_context(o.input));
+  if (o.json) {
+    nlohmann::json j;
+    j["file"] = o.input;
+    j["format"] = "cbrdf";
+    j["version"] = {info->layout.major, info->layout.minor};
+    j["bytes"] = info->layout.file_bytes;
+    for (const ChunkInfo& c : info->layout.chunks) {
+      j["chunks"].push_back({{"tag", c.tag},
+                             {"offset", c.offset},
+                             {"stored_bytes", c.stored_bytes},
+                             {"payload_bytes", c.payload_bytes},
+                             {"compressed", c.compressed},
+                             {"critical", c.critical},
+                             {"known", c.known}});
+    }
+    j["bits"] = info->bits;
+    j["colour_scale"] = info->colour_scale;
+    j["not_measured_bins"] = info->not_measured_bins;
+    for (const SliceParams& s : info->slices) {
+      nlohmann::json js;
+      js["theta_d_bins"] = {s.theta_d_begin, s.theta_d_end};
+      for (int c = 0; c < kChannels; ++c) {
+        js["channels"].push_back({{"family", family_name(s.family[c])},
+                                  {"theta", s.theta[c]},
+                                  {"scale", s.scale[c]}});
+      }
+      j["slices"].push_back(js);
+    }
+    for (const auto& [k, v] : info->metadata) j["metadata"][k] = v;
+    std::printf("%s\n", j.dump(2).c_str());
+    return kExitOk;
+  }
+  std::printf("%s: cbrdf container version %u.%u, %llu bytes\n", o.input.c_str(),
+              info->layout.major, info->layout.minor,
+              static_cast<unsigned long long>(info->layout.file_bytes));
+  std::printf("chunks:\n");
+  for (const ChunkInfo& c : info->layout.chunks) {
+    std::printf("  %-4s at %6llu: %7u bytes stored, %8u payload%s%s%s\n", c.tag.c_str(),
+                static_cast<unsigned long long>(c.offset), c.stored_bytes, c.payload_bytes,
+                c.compressed ? ", zstd" : "", c.critical ? ", critical" : ", ancillary",
+                c.known ? "" : " (unknown, skipped)");
+  }
+  std::printf("marginals: %d bits per value; not-measured bins: %zu%s\n", info->bits,
+              info->not_measured_bins,
+              info->mask_relative_to_horizon ? " (coded against the horizon mask)" : "");
+  for (const auto& [k, v] : info->metadata) std::printf("%s: %s\n", k.c_str(), v.c_str());
+  std::printf("%-10s %-8s %-13s %-13s %-13s %-11s %-11s %-11s\n", "theta_d", "family", "theta R",
+              "theta G", "theta B", "K R", "K G", "K B");
+  for (const SliceParams& s : info->slices) {
+    std::printf("%2d-%-2d deg  %-8s", s.theta_d_begin, s.theta_d_end - 1,
+                std::string(family_name(s.family[0])).c_str());
+    for (double t : s.theta) std::printf(" %-13.6g", t);
+    for (double k : s.scale) std::printf(" %-11.5g", k);
+    std::printf("\n");
+  }
+  return kExitOk;
+}
+
+int info_merl(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
+  MerlInfo mi;
+  auto table = parse_merl(bytes, o.input, {}, &mi);
+  if (!table.ok()) return fail(table.status());
+  const MerlStats st = merl_stats(*table);
+  const HorizonMaskCheck hm = check_horizon_mask(*table);
+  static const char* kNames[] = {"R", "G", "B"};
+  if (o.json) {
+    nlohmann::json j;
+    j["file"] = o.input;
+    j["format"] = "merl";
+    j["dims"] = mi.dims;
+    j["folded_from_360"] = mi.folded_from_360;
+    j["mask_matches_horizon"] = hm.matches();
+    for (int c = 0; c < kChannels; ++c) {
+      const MerlChannelStats& s = st.channel[c];
+      j["channels"][kNames[c]] = {{"measured", s.measured}, {"not_measured", s.not_measured},
+                                  {"zeros", s.zeros},       {"min", s.min},
+                                  {"max", s.max},           {"mean", s.mean}};
+    }
+    std::printf("%s\n", j.dump(2).c_str());
+    return kExitOk;
+  }
+  std::printf("%s: MERL table %dx%dx%d%s\n", o.input.c_str(), mi.dims[0], mi.dims[1], mi.dims[2],
+              mi.folded_from_360 ? " (phi_d folded from 360 bins to 180)" : "");
+  std::printf("not-measured mask %s the below-horizon geometry", hm.matches() ? "equals" : "differs from");
+  if (!hm.matches()) std::printf(" (%zu bins differ)", hm.mismatches);
+  std::printf("\n%-2s %10s %10s %8s %12s %12s %12s\n", "", "measured", "missing", "zeros", "min",
+              "max", "mean");
+  for (int c = 0; c < kChannels; ++c) {
+    const MerlChannelStats& s = st.channel[c];
+    std::printf("%-2s %10zu %10zu %8zu %12.5g %12.5g %12.5g\n", kNames[c], s.measured,
+                s.not_measured, s.zeros, s.min, s.max, s.mean);
+  }
+  return kExitOk;
+}
+
+int run_info(const InfoOptions& o) {
+  auto bytes = read_file(o.input, std::max<std::uint64_t>(kMaxContainerBytes, 2 * kMerlFileBytes));
+  if (!bytes.ok()) return fail(bytes.status());
+  return is_container(*bytes) ? info_container(o, *bytes) : info_merl(o, *bytes);
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app, const Context&, Action* action) {
+  auto o = std::make_shared<InfoOptions>();
+  CLI::App* cmd = app.add_subcommand("info", "Describe a .cbrdf file or a MERL .binary");
+  cmd->add_option("input", o->input, "A .cbrdf or MERL .binary file")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--json", o->json, "Print JSON");
+  cmd->callback([o, action] { *action = [o] { return run_info(*o); }; });
+}
+
+}  // namespace cbrdf::cli

@@ -1,0 +1,44 @@
+// `cbrdf sample`: the built-in analytic materials, written as MERL tables.
+#include <cstdio>
+
+#include "cbrdf/merl_io.h"
+#include "cbrdf/samples.h"
+#include "cli.h"
+
+namespace cbrdf::cli {
+namespace {
+
+struct SampleOptions {
+  bool list = false;
+  std::string name;
+  std::string output;
+};
+
+int run_sample(const SampleOptions& o, const Context& ctx) {
+  if (o.list) {
+    for (const SampleInfo& s : sample_materials()) {
+      std::printf("%-18s %s\n", std::string(s.name).c_str(), std::string(s.description).c_str());
+    }
+    return kExitOk;
+  }
+  if (o.name.empty()) return usage_error("sample: give a material NAME or --list");
+  if (o.output.empty()) return usage_error("sample: give the output file with -o FILE.binary");
+  auto table = make_sample(o.name);
+  if (!table.ok()) return fail(table.status());
+  if (Status s = write_merl(o.output, *table); !s.ok()) return fail(s);
+  if (!ctx.quiet) std::printf("wrote %s (%s)\n", o.output.c_str(), o.name.c_str());
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_sample_command(CLI::App& app, const Context& ctx, Action* action) {
+  auto o = std::make_shared<SampleOptions>();
+  CLI::App* cmd = app.add_subcommand("sample", "Write a built-in analytic material as a MERL table");
+  cmd->add_flag("--list", o->list, "List the built-in materials");
+  cmd->add_option("name", o->name, "Material name (see --list)");
+  cmd->add_option("-o,--output", o->output, "Output MERL .binary file");
+  cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_sample(*o, ctx); }; });
+}
+
+}  // namespace cbrdf::cli
