@@ -98,7 +98,12 @@ ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& c
   ParameterFit best = evaluate_parameter(s, m, copula, copula.independence());
   if (lo == hi || s.mv.empty() || best.scale <= 0) return best;
   // Coarse scan for a start: the objective can have shallow local minima far from independence.
-  for (double theta : {-30.0, -5.0, -1.0, 0.4}) {
+  // Frank (independence inside the range) scans both sides; the others start at independence.
+  const double ind = copula.independence();
+  const std::vector<double> scan = lo < ind && ind < hi
+                                       ? std::vector<double>{-30.0, -5.0, -1.0, 0.4}
+                                       : std::vector<double>{ind + 0.1, ind + 0.5, ind + 2, ind + 8};
+  for (double theta : scan) {
     if (theta < lo || theta > hi) continue;
     const ParameterFit r = evaluate_parameter(s, m, copula, theta);
     if (r.objective < best.objective) best = r;

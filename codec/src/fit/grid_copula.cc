@@ -53,6 +53,8 @@ class FrankGridCopula final : public GridCopula {
 
 }  // namespace
 
+std::unique_ptr<GridCopula> make_archimedean_grid(CopulaFamily family);
+
 const FrankGrid* frank_grid_of(const GridCopula& copula) {
   const auto* f = dynamic_cast<const FrankGridCopula*>(&copula);
   return f ? &f->grid() : nullptr;
@@ -65,7 +67,7 @@ std::unique_ptr<GridCopula> make_grid_copula(CopulaFamily family) {
     case CopulaFamily::kIndependence:
       return std::make_unique<IndependenceGrid>();
     default:
-      return nullptr;
+      return make_archimedean_grid(family);
   }
 }
 
