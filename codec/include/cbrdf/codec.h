@@ -1,0 +1,65 @@
+// Model <-> .cbrdf bytes: the lossy codec's public entry points (spec/container.md).
+//
+// encode_model quantizes the marginal tables (the only lossy step); families, parameters, the
+// scale K, slice bounds, the not-measured mask and its stored values are kept bit for bit.
+// decode_model and inspect_container run the same full validation.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cbrdf/container.h"
+#include "cbrdf/model.h"
+#include "cbrdf/status.h"
+
+namespace cbrdf {
+
+struct EncodeSettings {
+  int bits = 10;               // bits per marginal code, 6..16: the quality knob
+  int zstd_level = 19;         // 1..22: the effort knob
+  std::string source_name;     // recorded in the metadata chunk (e.g. the .binary's file name)
+  bool write_metadata = true;  // the ancillary 'mETA' chunk: source, encoder, settings
+};
+
+// Fails with kInvalidArgument when the settings or the model are outside what a file can hold
+// (unknown family, parameter outside its family's domain, K < 0 or not finite, slices not
+// contiguous over [0, 90), marginal tables of the wrong size or with negative or non-finite
+// masses, mask values that are not negative, or a values list of the wrong length).
+Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
+                                                 const EncodeSettings& settings);
+
+// Full validation; errors name the chunk tag and its byte offset.
+Expected<Model> decode_model(std::span<const std::uint8_t> bytes);
+
+// The parameters of one slice as the file stores them.
+struct SliceParams {
+  int theta_d_begin = 0;
+  int theta_d_end = 0;
+  std::array<CopulaFamily, kChannels> family{};
+  std::array<double, kChannels> theta{};
+  std::array<double, kChannels> scale{};
+};
+
+// What `cbrdf info` shows: the chunk layout and the decoded header, parameters and metadata.
+struct ContainerInfo {
+  ContainerLayout layout;
+  std::array<double, kChannels> colour_scale{};
+  int bits = 0;
+  std::vector<SliceParams> slices;
+  std::size_t not_measured_bins = 0;      // set bits of the mask over all channels
+  bool mask_relative_to_horizon = false;  // coded as the XOR with the below-horizon mask
+  bool per_bin_values = false;            // one stored value per not-measured bin
+  std::vector<std::pair<std::string, std::string>> metadata;  // mETA keys in file order
+};
+
+// Validates exactly as decode_model does (every chunk is decoded) and describes the file.
+Expected<ContainerInfo> inspect_container(std::span<const std::uint8_t> bytes);
+
+// Valid parameter domain of each family as this codec checks it (documented in the spec).
+bool copula_parameter_valid(CopulaFamily family, double theta);
+
+}  // namespace cbrdf

@@ -1,0 +1,72 @@
+// Payload parsers of the version-1 chunks and the rules they share with the encoder.
+// Messages carry no location: decode_model.cc prefixes the chunk tag and offset.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cbrdf/codec.h"
+#include "cbrdf/model.h"
+#include "cbrdf/status.h"
+#include "quantize.h"
+
+namespace cbrdf {
+
+inline constexpr std::uint8_t kThetaHMappingMerlSqrt = 0;
+inline constexpr std::size_t kMaskBits = std::size_t{kChannels} * kBinsPerChannel;
+inline constexpr std::size_t kMaskBytes = kMaskBits / 8;  // 4,374,000 bits: no padding
+static_assert(kMaskBits % 8 == 0);
+
+// Metadata limits keep the key=value parser bounded.
+inline constexpr std::size_t kMaxMetadataEntries = 64;
+inline constexpr std::size_t kMaxMetadataKeyBytes = 32;
+inline constexpr std::size_t kMaxMetadataValueBytes = 1024;
+
+struct HeaderFields {
+  std::array<double, kChannels> colour_scale{};
+  int slice_count = 0;
+};
+
+enum class MaskReference : std::uint8_t { kNone = 0, kBelowHorizon = 1 };
+enum class MaskForm : std::uint8_t { kBitmap = 0, kRuns = 1 };
+enum class MaskValues : std::uint8_t { kSingle = 0, kPerBin = 1 };
+
+struct MaskFields {
+  MaskReference reference = MaskReference::kNone;
+  MaskForm form = MaskForm::kBitmap;
+  MaskValues values = MaskValues::kSingle;
+};
+
+// Trailing bytes after the known fields are allowed only in a file of a newer minor version
+// (which may append fields); otherwise they are corruption.
+Status check_trailing(std::size_t trailing, std::uint16_t file_minor);
+
+// %.17g: every double in a message round-trips.
+std::string number_text(double v);
+
+// The parameter rules shared by encoder and decoder; the message names the problem.
+Status check_channel_params(std::uint8_t family, double theta, double scale);
+
+Status decode_header_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                           HeaderFields* out);
+// Fills slices' bounds, families, parameters and scales.
+Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                          int slice_count, std::vector<Slice>* slices);
+// Fills the marginal tables of slices whose bounds are already known.
+Status decode_marginals_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                              std::vector<Slice>* slices, int* bits);
+Status decode_mask_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                         NotMeasured* out, MaskFields* fields);
+Status decode_metadata_chunk(std::span<const std::uint8_t> payload,
+                             std::vector<std::pair<std::string, std::string>>* out);
+
+// The below-horizon mask of one channel (bit i = bin_below_horizon(merl_bin(i))), computed once.
+const std::vector<std::uint64_t>& below_horizon_bits();
+// XXH64 of the mask's 4,374,000 bits as LSB-first bytes (the words' little-endian bytes).
+std::uint64_t mask_hash(const std::vector<std::uint64_t>& bits);
+
+}  // namespace cbrdf

@@ -1,0 +1,107 @@
+#include "quantize.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace cbrdf {
+namespace {
+
+float round_down_to_float(double v) {
+  float f = float(v);
+  if (double(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+
+float round_up_to_float(double v) {
+  float f = float(v);
+  if (double(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
+double step_of(const QuantizedTable& t, int bits) {
+  return (double(t.hi) - double(t.lo)) / double(max_code(bits) - 1);
+}
+
+}  // namespace
+
+QuantizedTable quantize_masses(std::span<const double> masses, int bits) {
+  QuantizedTable t;
+  t.codes.assign(masses.size(), 0);
+  // The decoder renormalizes, so only ratios matter: quantize the table scaled to sum 1, which
+  // also keeps every log mass at or below 0.
+  double sum = 0.0;
+  for (double m : masses) sum += m > 0.0 ? m : 0.0;
+  if (!(sum > 0.0) || !std::isfinite(sum)) return t;
+  const double log_sum = std::log(sum);
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -lo;
+  for (double m : masses) {
+    if (m > 0.0) {
+      lo = std::min(lo, std::log(m) - log_sum);
+      hi = std::max(hi, std::log(m) - log_sum);
+    }
+  }
+  if (!(lo <= hi)) return t;  // all zero: the range is unused and stays (0, 0)
+  // Ratios beyond e^746 cannot be represented after renormalization anyway.
+  lo = std::max(lo, kMinLogMass);
+  hi = std::max(hi, kMinLogMass);
+  t.lo = round_down_to_float(lo);
+  t.hi = std::min(round_up_to_float(hi), 0.0f);  // a rounding excess above 1 maps to the top
+  if (double(t.lo) > double(t.hi)) t.lo = t.hi;
+  const std::uint32_t top = max_code(bits);
+  const double span = double(t.hi) - double(t.lo);
+  for (std::size_t i = 0; i < masses.size(); ++i) {
+    if (!(masses[i] > 0.0)) continue;
+    if (span <= 0.0) {
+      t.codes[i] = top;  // one distinct value: every nonzero mass is the same
+      continue;
+    }
+    const double pos = (std::log(masses[i]) - log_sum - double(t.lo)) / span * double(top - 1);
+    const double q = 1.0 + std::nearbyint(std::clamp(pos, 0.0, double(top - 1)));
+    t.codes[i] = std::uint32_t(q);
+  }
+  return t;
+}
+
+Expected<std::vector<double>> dequantize_masses(const QuantizedTable& t, int bits) {
+  const std::uint32_t top = max_code(bits);
+  std::vector<double> out(t.codes.size(), 0.0);
+  if (!std::isfinite(t.lo) || !std::isfinite(t.hi) || double(t.lo) < kMinLogMass || t.hi > 0.0f ||
+      t.lo > t.hi) {
+    return error(ErrorCode::kNumeric, "log-mass range [" + std::to_string(t.lo) + ", " +
+                                          std::to_string(t.hi) +
+                                          "] is not an ordered range inside [-746, 0]");
+  }
+  bool any = false;
+  for (std::uint32_t q : t.codes) {
+    if (q > top) {
+      return error(ErrorCode::kCorrupt, "code " + std::to_string(q) + " exceeds the largest " +
+                                            std::to_string(bits) + "-bit code " +
+                                            std::to_string(top));
+    }
+    any = any || q != 0;
+  }
+  if (!any) return out;
+  // Weights relative to the top code (at most 1, so nothing overflows), then renormalized.
+  const double span = double(t.hi) - double(t.lo);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < t.codes.size(); ++i) {
+    if (t.codes[i] == 0) continue;
+    const double x = (double(t.codes[i]) - double(top)) * span / double(top - 1);
+    out[i] = std::exp(x);
+    sum += out[i];
+  }
+  if (!(sum > 0.0) || !std::isfinite(sum)) {
+    return error(ErrorCode::kNumeric, "the table's weights underflow to zero");
+  }
+  for (double& v : out) v /= sum;
+  return out;
+}
+
+double relative_error_bound(const QuantizedTable& t, int bits) {
+  return std::expm1(step_of(t, bits));
+}
+
+}  // namespace cbrdf

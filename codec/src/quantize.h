@@ -1,0 +1,52 @@
+// Quantization of marginal probability-mass tables in the log domain (spec/container.md, "MARG").
+//
+// Code 0 is an exact zero; codes 1..2^bits-1 sit evenly in log mass between the table's lo and
+// hi (stored as float32, lo rounded down and hi up so every mass lies inside). The decoder
+// renormalizes to sum 1, which makes the absolute level irrelevant: only the ratios carry.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "cbrdf/status.h"
+
+namespace cbrdf {
+
+inline constexpr int kMinMarginalBits = 6;
+inline constexpr int kMaxMarginalBits = 16;
+// Log masses live in [ln(smallest subnormal), 0]; a stored range must too.
+inline constexpr double kMinLogMass = -746.0;
+
+struct QuantizedTable {
+  float lo = 0.0f;  // log of the smallest nonzero mass, rounded down to float32
+  float hi = 0.0f;  // log of the largest mass, rounded up to float32
+  std::vector<std::uint32_t> codes;
+};
+
+inline std::uint32_t max_code(int bits) {
+  return (std::uint32_t{1} << bits) - 1;
+}
+
+// Masses must be finite and >= 0 (the caller checks). The table is scaled to sum 1 first, which
+// the decoder's renormalization reproduces; an all-zero table gives all codes 0.
+QuantizedTable quantize_masses(std::span<const double> masses, int bits);
+
+// The normative reconstruction. Fails (kCorrupt / kNumeric, message without location) on a code
+// above 2^bits-1, a range outside [kMinLogMass, 0] or lo > hi, or weights that underflow to 0.
+Expected<std::vector<double>> dequantize_masses(const QuantizedTable& table, int bits);
+
+// Largest relative error |m'/m - 1| of any nonzero mass after decoding, for this table's range:
+// rounding moves each log mass by at most step/2 and renormalization by at most another step/2,
+// so the bound is e^step - 1 with step = (hi - lo) / (2^bits - 2).
+double relative_error_bound(const QuantizedTable& table, int bits);
+
+// Zigzag maps a signed residual to an unsigned one with small magnitudes first.
+inline std::uint32_t zigzag(std::int32_t v) {
+  return (std::uint32_t(v) << 1) ^ std::uint32_t(v >> 31);
+}
+inline std::int32_t unzigzag(std::uint32_t u) {
+  return std::int32_t(u >> 1) ^ -std::int32_t(u & 1);
+}
+
+}  // namespace cbrdf

@@ -1,0 +1,272 @@
+// The version-1 chunk layer: tag rules, limits and the one validating parser.
+#include "cbrdf/container.h"
+
+#include <xxhash.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+#include "byte_reader.h"
+#include "zstd_util.h"
+
+namespace cbrdf {
+namespace {
+
+bool is_upper(char c) {
+  return c >= 'A' && c <= 'Z';
+}
+bool is_lower(char c) {
+  return c >= 'a' && c <= 'z';
+}
+bool is_digit(char c) {
+  return c >= '0' && c <= '9';
+}
+
+constexpr std::string_view kCriticalTags[] = {kTagHeader, kTagModel, kTagMarginals, kTagMask,
+                                              kTagEnd};
+
+std::string hex64(std::uint64_t v) {
+  char buf[19];
+  std::snprintf(buf, sizeof buf, "0x%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+std::string printable_tag(std::span<const std::uint8_t> raw) {
+  std::string s;
+  for (std::uint8_t b : raw) {
+    if (b >= 0x20 && b < 0x7F) {
+      s += char(b);
+    } else {
+      char buf[5];
+      std::snprintf(buf, sizeof buf, "\\x%02x", b);
+      s += buf;
+    }
+  }
+  return s;
+}
+
+std::string at(std::string_view tag, std::uint64_t offset) {
+  return "chunk '" + std::string(tag) + "' at offset " + std::to_string(offset);
+}
+
+// Names the usual ways a binary file is damaged in transit, so the message says what happened.
+Status diagnose_signature(std::span<const std::uint8_t> bytes) {
+  const auto& sig = kContainerSignature;
+  const std::size_t n = std::min(bytes.size(), sig.size());
+  if (bytes.empty()) return error(ErrorCode::kTruncated, "empty file (0 bytes), not a .cbrdf file");
+  if (std::equal(bytes.begin(), bytes.begin() + n, sig.begin()) && n < sig.size()) {
+    return error(ErrorCode::kTruncated, "file is " + std::to_string(bytes.size()) +
+                                            " bytes, shorter than the 8-byte .cbrdf signature");
+  }
+  auto starts_with = [&](std::initializer_list<std::uint8_t> p) {
+    return bytes.size() >= p.size() && std::equal(p.begin(), p.end(), bytes.begin());
+  };
+  if (starts_with({0x8B, 'C', 'B', 'R', '\n', 0x1A, '\n'})) {
+    return error(ErrorCode::kBadSignature,
+                 "bad .cbrdf signature: CR LF was converted to LF (the file was transferred in "
+                 "text mode); transfer it again in binary mode");
+  }
+  if (starts_with({0x8B, 'C', 'B', 'R', '\r', '\r', '\n', 0x1A, '\r', '\n'})) {
+    return error(ErrorCode::kBadSignature,
+                 "bad .cbrdf signature: LF was converted to CR LF (the file was transferred in "
+                 "text mode); transfer it again in binary mode");
+  }
+  if (starts_with({0x0B, 'C', 'B', 'R'})) {
+    return error(ErrorCode::kBadSignature,
+                 "bad .cbrdf signature: the high bit of the first byte was cleared (a 7-bit "
+                 "transfer); transfer it again in binary mode");
+  }
+  return error(ErrorCode::kBadSignature,
+               "bad signature: not a .cbrdf file (expected 8B 43 42 52 0D 0A 1A 0A, found " +
+                   printable_tag(bytes.first(n)) + ")");
+}
+
+}  // namespace
+
+bool chunk_tag_valid(std::string_view tag) {
+  if (tag.size() != 4) return false;
+  if (!is_upper(tag[0]) && !is_lower(tag[0])) return false;
+  for (std::size_t i = 1; i < 4; ++i) {
+    if (!is_upper(tag[i]) && !is_digit(tag[i])) return false;
+  }
+  return true;
+}
+
+bool chunk_tag_critical(std::string_view tag) {
+  return !tag.empty() && is_upper(tag[0]);
+}
+
+bool chunk_tag_known(std::string_view tag) {
+  return max_chunk_payload_bytes(tag) > 0 || tag == kTagEnd;
+}
+
+std::uint32_t max_chunk_payload_bytes(std::string_view tag) {
+  if (tag == kTagHeader) return 256;
+  if (tag == kTagModel) return 64u << 10;
+  if (tag == kTagMarginals) return 1u << 20;
+  if (tag == kTagMask) return 36u << 20;
+  if (tag == kTagMetadata) return 64u << 10;
+  return 0;  // the end chunk is empty; unknown chunks are never decompressed
+}
+
+int ParsedContainer::find(std::string_view tag) const {
+  for (std::size_t i = 0; i < layout.chunks.size(); ++i) {
+    if (layout.chunks[i].tag == tag) return int(i);
+  }
+  return -1;
+}
+
+std::uint64_t chunk_checksum(std::span<const std::uint8_t> header_and_stored) {
+  return XXH64(header_and_stored.data(), header_and_stored.size(), 0);
+}
+
+Expected<ParsedContainer> parse_container(std::span<const std::uint8_t> bytes) {
+  if (bytes.size() > kMaxContainerBytes) {
+    return error(ErrorCode::kLimit, "file is " + std::to_string(bytes.size()) +
+                                        " bytes, above the .cbrdf limit of " +
+                                        std::to_string(kMaxContainerBytes) + " bytes");
+  }
+  if (bytes.size() < kContainerSignature.size() ||
+      !std::equal(kContainerSignature.begin(), kContainerSignature.end(), bytes.begin())) {
+    return diagnose_signature(bytes);
+  }
+  ParsedContainer pc;
+  pc.layout.file_bytes = bytes.size();
+  ByteReader r(bytes);
+  CBRDF_RETURN_IF_ERROR(r.skip(kContainerSignature.size(), "signature"));
+  CBRDF_RETURN_IF_ERROR(r.u16(&pc.layout.major, "major version"));
+  CBRDF_RETURN_IF_ERROR(r.u16(&pc.layout.minor, "minor version"));
+  if (pc.layout.major > kContainerMajorVersion) {
+    return error(ErrorCode::kUnsupported,
+                 "file format version " + std::to_string(pc.layout.major) + "." +
+                     std::to_string(pc.layout.minor) + " is newer than this reader (major " +
+                     std::to_string(kContainerMajorVersion) + "); use a newer cbrdf");
+  }
+  if (pc.layout.major == 0) {
+    return error(ErrorCode::kCorrupt, "file declares major version 0, which does not exist");
+  }
+
+  bool ended = false;
+  while (!ended) {
+    const std::uint64_t offset = r.offset();
+    if (r.at_end()) {
+      return error(ErrorCode::kTruncated, "file ends at offset " + std::to_string(offset) +
+                                              " without the end chunk 'CEND' (truncated?)");
+    }
+    if (pc.layout.chunks.size() == kMaxChunks) {
+      return error(ErrorCode::kLimit, "chunk at offset " + std::to_string(offset) +
+                                          " would be chunk number " +
+                                          std::to_string(kMaxChunks + 1) + ", above the limit of " +
+                                          std::to_string(kMaxChunks) + " chunks per file");
+    }
+    if (r.remaining() < kChunkHeaderBytes) {
+      return error(ErrorCode::kTruncated, "chunk header at offset " + std::to_string(offset) +
+                                              " needs " + std::to_string(kChunkHeaderBytes) +
+                                              " bytes but only " + std::to_string(r.remaining()) +
+                                              " are left (truncated?)");
+    }
+    std::span<const std::uint8_t> raw_tag;
+    CBRDF_RETURN_IF_ERROR(r.bytes(4, &raw_tag, "chunk tag"));
+    const std::string tag(raw_tag.begin(), raw_tag.end());
+    if (!chunk_tag_valid(tag)) {
+      return error(ErrorCode::kCorrupt, "chunk at offset " + std::to_string(offset) +
+                                            " has an invalid tag '" + printable_tag(raw_tag) +
+                                            "' (expected four ASCII letters or digits)");
+    }
+    ChunkInfo info;
+    info.tag = tag;
+    info.offset = offset;
+    info.critical = chunk_tag_critical(tag);
+    info.known = chunk_tag_known(tag);
+    CBRDF_RETURN_IF_ERROR(r.u32(&info.stored_bytes, "chunk length"));
+    CBRDF_RETURN_IF_ERROR(r.u32(&info.flags, "chunk flags"));
+    CBRDF_RETURN_IF_ERROR(r.u32(&info.payload_bytes, "chunk payload length"));
+    const std::string where = at(tag, offset);
+    if (std::uint64_t(info.stored_bytes) + kChunkChecksumBytes > r.remaining()) {
+      return error(ErrorCode::kTruncated,
+                   where + ": declared length " + std::to_string(info.stored_bytes) +
+                       " plus its 8-byte checksum exceeds the " + std::to_string(r.remaining()) +
+                       " bytes left in the file");
+    }
+    if ((info.flags & ~kChunkFlagZstd) != 0) {
+      return error(ErrorCode::kCorrupt, where + ": reserved flag bits are set (flags " +
+                                            hex64(info.flags) + "; only bit 0 is defined)");
+    }
+    info.compressed = (info.flags & kChunkFlagZstd) != 0;
+    if (!info.compressed && info.payload_bytes != info.stored_bytes) {
+      return error(ErrorCode::kCorrupt, where + ": uncompressed chunk declares payload length " +
+                                            std::to_string(info.payload_bytes) + " but stores " +
+                                            std::to_string(info.stored_bytes) + " bytes");
+    }
+    std::span<const std::uint8_t> stored;
+    CBRDF_RETURN_IF_ERROR(r.bytes(info.stored_bytes, &stored, "chunk payload"));
+    std::uint64_t stored_sum = 0;
+    CBRDF_RETURN_IF_ERROR(r.u64(&stored_sum, "chunk checksum"));
+    info.checksum = chunk_checksum(bytes.subspan(offset, kChunkHeaderBytes + info.stored_bytes));
+    if (stored_sum != info.checksum) {
+      return error(ErrorCode::kChecksum, where + ": checksum mismatch (stored " +
+                                             hex64(stored_sum) + ", computed " +
+                                             hex64(info.checksum) + "); the file is damaged");
+    }
+
+    if (pc.layout.chunks.empty() && tag != kTagHeader) {
+      return error(ErrorCode::kCorrupt, where + ": the first chunk must be 'HEAD'");
+    }
+    if (info.known) {
+      const int first = pc.find(tag);
+      if (first >= 0) {
+        return error(ErrorCode::kCorrupt,
+                     "duplicate " + std::string(info.critical ? "critical" : "ancillary") +
+                         " chunk '" + tag + "' at offset " + std::to_string(offset) +
+                         " (first at offset " +
+                         std::to_string(pc.layout.chunks[std::size_t(first)].offset) + ")");
+      }
+    } else if (info.critical) {
+      return error(ErrorCode::kUnsupported, "unknown critical chunk '" + tag + "' at offset " +
+                                                std::to_string(offset) +
+                                                ": the file needs a newer reader");
+    }
+
+    std::vector<std::uint8_t> payload;
+    if (info.known) {
+      const std::uint32_t limit = max_chunk_payload_bytes(tag);
+      if (info.payload_bytes > limit) {
+        return error(ErrorCode::kLimit, where + ": payload of " +
+                                            std::to_string(info.payload_bytes) +
+                                            " bytes exceeds the limit of " + std::to_string(limit) +
+                                            " bytes for this chunk");
+      }
+      if (info.compressed) {
+        Expected<std::vector<std::uint8_t>> d = zstd_decompress_exact(stored, info.payload_bytes);
+        if (!d.ok()) return d.status().with_context(where);
+        payload = std::move(d.value());
+      } else {
+        payload.assign(stored.begin(), stored.end());
+      }
+    }
+    if (tag == kTagEnd) {
+      if (info.stored_bytes != 0 || info.flags != 0) {
+        return error(ErrorCode::kCorrupt, where + ": the end chunk must be empty and unflagged");
+      }
+      ended = true;
+    }
+    pc.layout.chunks.push_back(std::move(info));
+    pc.payloads.push_back(std::move(payload));
+  }
+  if (!r.at_end()) {
+    return error(ErrorCode::kCorrupt, std::to_string(r.remaining()) +
+                                          " bytes follow the end chunk at offset " +
+                                          std::to_string(pc.layout.chunks.back().offset));
+  }
+  for (std::string_view tag : kCriticalTags) {
+    if (pc.find(tag) < 0) {
+      return error(ErrorCode::kCorrupt, "missing critical chunk '" + std::string(tag) +
+                                            "' (the end chunk is at offset " +
+                                            std::to_string(pc.layout.chunks.back().offset) + ")");
+    }
+  }
+  return pc;
+}
+
+}  // namespace cbrdf

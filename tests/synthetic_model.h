@@ -1,0 +1,122 @@
+// Hand-built copula Models for the container and codec tests: realistic marginal shapes (smooth
+// lobes, near-mirror peaks spanning 12 decades), every family, and the standard MERL mask.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "cbrdf/coords.h"
+#include "cbrdf/model.h"
+
+namespace cbrdf::testing {
+
+inline void normalize(std::vector<double>* t) {
+  double s = 0.0;
+  for (double v : *t) s += v;
+  for (double& v : *t) v /= s;
+}
+
+// A specular lobe in theta_h of width `sigma` (radians) over a diffuse floor `floor`.
+inline std::vector<double> lobe_theta_h(double sigma, double floor) {
+  std::vector<double> t(kThetaHBins);
+  for (int i = 0; i < kThetaHBins; ++i) {
+    const double th = theta_h_of(i);
+    // Mass of the bin: density times the bin's solid-angle-ish width on the sqrt grid.
+    const double width = theta_h_of(i + 0.5) - theta_h_of(std::max(0.0, i - 0.5));
+    t[std::size_t(i)] =
+        (std::exp(-th * th / (sigma * sigma)) + floor) * width * std::sin(th + 0.01);
+  }
+  normalize(&t);
+  return t;
+}
+
+// Near-mirror: 3 bins hold almost everything, 1e-12 elsewhere.
+inline std::vector<double> peaked_theta_h() {
+  std::vector<double> t(kThetaHBins, 1e-12);
+  t[0] = 0.5;
+  t[1] = 0.3;
+  t[2] = 0.2;
+  normalize(&t);
+  return t;
+}
+
+inline std::vector<double> smooth_theta_d(int begin, int end, double k) {
+  std::vector<double> t;
+  for (int j = begin; j < end; ++j) t.push_back(1.0 + k * std::cos(theta_d_of(j)) + 0.2 * j / 90.0);
+  normalize(&t);
+  return t;
+}
+
+inline std::vector<double> smooth_phi_d(double k) {
+  std::vector<double> t(kPhiDBins);
+  for (int p = 0; p < kPhiDBins; ++p) t[std::size_t(p)] = 1.0 + k * std::cos(2.0 * phi_d_of(p));
+  normalize(&t);
+  return t;
+}
+
+inline void set_standard_mask(Model* m, double value = -1.0) {
+  m->not_measured = NotMeasured{};
+  for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+    const BinIndex b = merl_bin(i);
+    if (bin_below_horizon(b.theta_h, b.theta_d, b.phi_d)) {
+      for (int c = 0; c < kChannels; ++c) m->not_measured.set(c, i);
+    }
+  }
+  m->not_measured.values = {value};
+}
+
+// A model with the given theta_d slice boundaries (first 0, last 90). `peaked` gives channel G a
+// near-mirror theta_h marginal; families cycle through all five.
+inline Model make_model(const std::vector<int>& bounds, bool peaked = false,
+                        std::uint32_t seed = 1) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Model m;
+  for (std::size_t s = 0; s + 1 < bounds.size(); ++s) {
+    Slice slice;
+    slice.theta_d_begin = bounds[s];
+    slice.theta_d_end = bounds[s + 1];
+    for (int c = 0; c < kChannels; ++c) {
+      ChannelSlice& cs = slice.channel[std::size_t(c)];
+      switch ((s * 3 + std::size_t(c)) % 5) {
+        case 0:
+          cs.family = CopulaFamily::kFrank;
+          cs.theta = -1.0 - 20.0 * u(rng);
+          break;
+        case 1:
+          cs.family = CopulaFamily::kClayton;
+          cs.theta = 0.1 + 3.0 * u(rng);
+          break;
+        case 2:
+          cs.family = CopulaFamily::kGumbel;
+          cs.theta = 1.0 + 2.0 * u(rng);
+          break;
+        case 3:
+          cs.family = CopulaFamily::kJoe;
+          cs.theta = 1.0 + 2.0 * u(rng);
+          break;
+        default:
+          cs.family = CopulaFamily::kIndependence;
+          cs.theta = 0.0;
+          break;
+      }
+      cs.scale = 10.0 + 1000.0 * u(rng);
+      cs.pdf_h =
+          (peaked && c == 1) ? peaked_theta_h() : lobe_theta_h(0.05 + 0.3 * u(rng), 1e-4 * (1 + c));
+      cs.pdf_d = smooth_theta_d(slice.theta_d_begin, slice.theta_d_end, 0.5 * u(rng));
+      cs.pdf_p = smooth_phi_d(0.8 * u(rng));
+    }
+    m.slices.push_back(slice);
+  }
+  set_standard_mask(&m);
+  return m;
+}
+
+inline const std::vector<int>& six_slices() {
+  static const std::vector<int> b = {0, 6, 15, 30, 50, 70, 90};
+  return b;
+}
+
+}  // namespace cbrdf::testing
