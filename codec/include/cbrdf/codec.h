@@ -19,7 +19,9 @@
 namespace cbrdf {
 
 struct EncodeSettings {
-  int bits = 10;               // bits per marginal code, 6..16: the quality knob
+  // Bits per marginal code, 6..16: the quality knob. 12 keeps the tone-mapped sphere PSNR within
+  // 0.02 dB of the unquantized model on the 20 real materials, at 4.4 to 6.7 KB per file.
+  int bits = 12;
   int zstd_level = 19;         // 1..22: the effort knob
   std::string source_name;     // recorded in the metadata chunk (e.g. the .binary's file name)
   bool write_metadata = true;  // the ancillary 'mETA' chunk: source, encoder, settings

@@ -4,47 +4,78 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 namespace cbrdf::fit {
 namespace {
 
-// Residuals over the measured bins: (v - K c f1 f2 f3) / vbar, for parameters (theta, K / vbar),
-// where vbar is the mean measured value, so residuals and parameters are of order 1.
-class SliceCost final : public ceres::CostFunction {
+// The least-squares problem of Eq. 17 over the measured bins, r_q = v_q / vbar - K c_q f_q with
+// parameters (theta, K / vbar) (vbar: the mean measured value, so everything is of order 1), handed
+// to Ceres in compressed form. With J (n x 2) the Jacobian of r and J^T J = R^T R (Cholesky), the
+// three residuals rho = (R^{-T} J^T r, sqrt(|r|^2 - |R^{-T} J^T r|^2)) with Jacobian [R; 0] have the
+// same cost |rho|^2 = |r|^2, the same J^T J and the same J^T r at every point, so Levenberg-Marquardt
+// takes exactly the steps it would take on the n residuals. Each evaluation is then one streaming
+// pass over the slice, and Ceres never stores an n x 2 Jacobian.
+class SliceCost final : public ceres::SizedCostFunction<3, 1, 1> {
  public:
   SliceCost(const SliceData& s, const Marginals& m, GridCopula& copula, double vbar)
-      : s_(s), m_(m), copula_(copula), inv_vbar_(1.0 / vbar) {
-    set_num_residuals(int(s.measured_count()));
-    mutable_parameter_block_sizes()->push_back(1);
-    mutable_parameter_block_sizes()->push_back(1);
-  }
+      : s_(s), m_(m), copula_(copula), inv_vbar_(1.0 / vbar) {}
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     const double theta = parameters[0][0], k = parameters[1][0];
     copula_.prepare(theta, m_.u1, m_.u2, m_.u3);
-    const bool want_theta = jacobians && jacobians[0];
-    const bool want_k = jacobians && jacobians[1];
+    const bool want_jacobian = jacobians != nullptr;
     std::vector<double> c(std::size_t(s_.np)), dc(std::size_t(s_.np));
+    // Sums of r^2, J^T J and J^T r, with J = (-K dc f, -c f).
+    double rr = 0, jtt = 0, jtk = 0, jkk = 0, gt = 0, gk = 0;
     for (int i = 0; i < s_.nh; ++i) {
       for (int j = 0; j < s_.nd; ++j) {
-        const std::size_t r = std::size_t(i) * std::size_t(s_.nd) + std::size_t(j);
-        const std::uint32_t begin = s_.row_begin[r], end = s_.row_begin[r + 1];
+        const std::size_t row = std::size_t(i) * std::size_t(s_.nd) + std::size_t(j);
+        const std::uint32_t begin = s_.row_begin[row], end = s_.row_begin[row + 1];
         if (begin == end) continue;
-        copula_.row(i, j, c.data(), want_theta ? dc.data() : nullptr);
+        copula_.row(i, j, c.data(), want_jacobian ? dc.data() : nullptr);
         const double f12 = m_.f1[i] * m_.f2[j];
         for (std::uint32_t q = begin; q < end; ++q) {
           const int l = s_.mk[q];
           const double f = f12 * m_.f3[l];
-          residuals[q] = s_.mv[q] * inv_vbar_ - k * c[l] * f;
-          if (want_theta) jacobians[0][q] = -k * dc[l] * f;
-          if (want_k) jacobians[1][q] = -c[l] * f;
+          const double r = s_.mv[q] * inv_vbar_ - k * c[l] * f;
+          rr += r * r;
+          if (!want_jacobian) continue;
+          const double a = -k * dc[l] * f, b = -c[l] * f;
+          jtt += a * a;
+          jtk += a * b;
+          jkk += b * b;
+          gt += a * r;
+          gk += b * r;
         }
       }
     }
-    return true;
+    if (!want_jacobian) {
+      residuals[0] = std::sqrt(rr);
+      residuals[1] = residuals[2] = 0.0;
+      return std::isfinite(rr);
+    }
+    // R = [[r11, r12], [0, r22]] with R^T R = J^T J; a vanishing direction gets R's row zeroed, and
+    // its share of the cost moves to the third residual.
+    const double r11 = std::sqrt(jtt);
+    const double r12 = r11 > 0 ? jtk / r11 : 0.0;
+    const double r22 = std::sqrt(std::max(0.0, jkk - r12 * r12));
+    const double rho1 = r11 > 0 ? gt / r11 : 0.0;
+    const double rho2 = r22 > 1e-300 ? (gk - r12 * rho1) / r22 : 0.0;
+    residuals[0] = rho1;
+    residuals[1] = rho2;
+    residuals[2] = std::sqrt(std::max(0.0, rr - rho1 * rho1 - rho2 * rho2));
+    if (jacobians[0]) {
+      jacobians[0][0] = r11;
+      jacobians[0][1] = 0.0;
+      jacobians[0][2] = 0.0;
+    }
+    if (jacobians[1]) {
+      jacobians[1][0] = r12;
+      jacobians[1][1] = r22;
+      jacobians[1][2] = 0.0;
+    }
+    return std::isfinite(rr) && std::isfinite(rho1) && std::isfinite(rho2);
   }
 
  private:
@@ -96,16 +127,18 @@ ParameterFit evaluate_parameter(const SliceData& s, const Marginals& m, GridCopu
 ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& copula) {
   const double lo = copula.fit_lo(), hi = copula.fit_hi();
   ParameterFit best = evaluate_parameter(s, m, copula, copula.independence());
+  best.objective_independence = best.objective;
   if (lo == hi || s.mv.empty() || best.scale <= 0) return best;
   // Coarse scan for a start: the objective can have shallow local minima far from independence.
   // Frank (independence inside the range) scans both sides; the others start at independence.
   const double ind = copula.independence();
   const std::vector<double> scan = lo < ind && ind < hi
-                                       ? std::vector<double>{-30.0, -5.0, -1.0, 0.4}
-                                       : std::vector<double>{ind + 0.1, ind + 0.5, ind + 2, ind + 8};
+                                       ? std::vector<double>{-5.0, 0.4}
+                                       : std::vector<double>{ind + 0.5, ind + 4};
   for (double theta : scan) {
     if (theta < lo || theta > hi) continue;
-    const ParameterFit r = evaluate_parameter(s, m, copula, theta);
+    ParameterFit r = evaluate_parameter(s, m, copula, theta);
+    r.objective_independence = best.objective_independence;
     if (r.objective < best.objective) best = r;
   }
   const double vbar = mean_measured(s);
@@ -117,7 +150,7 @@ ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& c
   problem.SetParameterLowerBound(&theta, 0, lo);
   problem.SetParameterUpperBound(&theta, 0, hi);
   ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;  // 2 parameters: J^T J is 2x2
+  options.linear_solver_type = ceres::DENSE_QR;
   options.logging_type = ceres::SILENT;
   options.minimizer_progress_to_stdout = false;
   options.max_num_iterations = 50;
@@ -127,8 +160,13 @@ ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& c
   options.num_threads = 1;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
-  if (std::getenv("CBRDF_CERES_REPORT")) std::fprintf(stderr, "%s\n", summary.FullReport().c_str());
-  ParameterFit r = evaluate_parameter(s, m, copula, std::clamp(theta, lo, hi));
+  // Ceres's cost is half the sum of squares of the (compressed) residuals: the objective at its
+  // solution, with K jointly optimal, without another pass over the slice.
+  ParameterFit r;
+  r.theta = std::clamp(theta, lo, hi);
+  r.scale = k * vbar;
+  r.objective = 2.0 * summary.final_cost / double(s.measured_count());
+  r.objective_independence = best.objective_independence;
   r.iterations = int(summary.iterations.size());
   // The solver only ever improves on its start; keep the start if rounding says otherwise.
   if (!(r.objective <= best.objective)) {

@@ -11,6 +11,7 @@ struct ParameterFit {
   double theta = 0;
   double scale = 0;      // K minimizing sum over measured bins of (v - K c f1 f2 f3)^2
   double objective = 0;  // mean over measured bins of ((v - K c f1 f2 f3) / mean v)^2
+  double objective_independence = 0;  // the same at independence (K optimal there)
   int iterations = 0;
 };
 

@@ -88,14 +88,26 @@ int impute_marginals(const SliceData& s, GridCopula& copula, double theta, int m
         // c = 1: the other two axes' masses each sum to 1, so the whole is 1 and only the
         // measured part needs a pass, over the measured bins alone.
         std::fill(pred_all.begin(), pred_all.end(), 1.0);
-        for (std::size_t q = 0; q < s.mv.size(); ++q) {
-          const int i = s.mi[q], j = s.mj[q], k = s.mk[q];
-          if (axis == 0)
-            pred_obs[i] += m->f2[j] * m->f3[k];
-          else if (axis == 1)
-            pred_obs[j] += m->f1[i] * m->f3[k];
-          else
-            pred_obs[k] += m->f1[i] * m->f2[j];
+        // One loop per axis, walking the measured bins row by row: f1 f2 is constant along a
+        // row, so the inner loops are gathers of f3 only.
+        for (int i = 0; i < s.nh; ++i) {
+          for (int j = 0; j < s.nd; ++j) {
+            const std::size_t row = std::size_t(i) * std::size_t(s.nd) + std::size_t(j);
+            const std::uint32_t begin = s.row_begin[row], end = s.row_begin[row + 1];
+            if (begin == end) continue;
+            if (axis == 2) {
+              const double f12 = m->f1[i] * m->f2[j];
+              for (std::uint32_t q = begin; q < end; ++q) pred_obs[s.mk[q]] += f12;
+              continue;
+            }
+            double f3_sum = 0;
+            for (std::uint32_t q = begin; q < end; ++q) f3_sum += m->f3[s.mk[q]];
+            if (axis == 0) {
+              pred_obs[i] += m->f2[j] * f3_sum;
+            } else {
+              pred_obs[j] += m->f1[i] * f3_sum;
+            }
+          }
         }
       } else {
         // The model's mass over the other two axes, measured part and whole, per bin of this axis
@@ -143,26 +155,8 @@ int impute_marginals(const SliceData& s, GridCopula& copula, double theta, int m
       break;
     }
   }
-  // K: the measured sum divided by the fraction of the model's mass that is measured.
-  prepare(copula, theta, *m);
-  double measured_mass = 0, all_mass = 0, measured_sum = 0;
-  for (int i = 0; i < s.nh; ++i) {
-    for (int j = 0; j < s.nd; ++j) {
-      const std::size_t row = s.at(i, j, 0);
-      if (!independent) copula.row(i, j, c.data(), nullptr);
-      for (int k = 0; k < s.np; ++k) {
-        double w = m->f1[i] * m->f2[j] * m->f3[k];
-        if (w == 0.0) continue;
-        if (!independent) w *= c[k];
-        all_mass += w;
-        if (s.measured[row + k]) {
-          measured_mass += w;
-          measured_sum += s.value[row + k];
-        }
-      }
-    }
-  }
-  m->total = measured_mass > 0 ? measured_sum * all_mass / measured_mass : measured_sum;
+  m->total = 0;
+  for (double v : s.mv) m->total += v;
   return rounds;
 }
 

@@ -11,7 +11,7 @@ namespace cbrdf::fit {
 struct Marginals {
   std::vector<double> f1, f2, f3;  // masses over theta_h, theta_d, phi_d; each sums to 1
   std::vector<double> u1, u2, u3;  // midpoint CDFs
-  double total = 0;                // K: slice sum of values, missing bins at the model's values
+  double total = 0;                // sum of the measured values
 };
 
 // Midpoint CDF: U_i = sum_{k<i} f_k + f_i / 2.
@@ -20,8 +20,8 @@ void midpoint_cdf(const std::vector<double>& f, std::vector<double>* u);
 // The paper's estimate: sums over measured bins, as if missing bins were 0. total = measured sum.
 Marginals naive_marginals(const SliceData& s);
 
-// Re-estimates the marginals as if every missing bin held the model's value
-// total * c(U) f1 f2 f3, by raking: each axis's bin total is its measured sum divided by the
+// Re-estimates the marginals as if every missing bin held the model's value K c(U) f1 f2 f3, by
+// raking: each axis's bin total is its measured sum divided by the
 // fraction of that bin's model mass that is measured, axis after axis, until no mass moves by more
 // than `tolerance` (relative to the axis's largest mass) or `max_rounds` rounds. Returns rounds
 // used.
