@@ -133,21 +133,24 @@ TEST(Fit, AutoFamilyPicksTheFamilyThatMadeTheData) {
   fit::midpoint_cdf(f2, &u2);
   const BrdfTable t = make_table(
       [&](int c, int i, int j, int k) {
-        return (1 + c) * 1e4 * clayton.density(u1[i], u2[j], u3[k], 2.0) * f1[i] * f2[j] * f3[k];
+        // Only the red channel carries data (the others are all zero and skip the fit), which
+        // keeps this four-family fit of 1.4 million bins quick.
+        return c == 0 ? 1e4 * clayton.density(u1[i], u2[j], u3[k], 2.0) * f1[i] * f2[j] * f3[k]
+                      : 0.0;
       },
       /*horizon_mask=*/false);
   FitSettings st;
   st.slices = 1;
   st.auto_family = true;
+  st.threads = 2;
   FitReport report;
   auto m = fit_model(t, st, &report);
   ASSERT_TRUE(m.ok());
-  for (int c = 0; c < kChannels; ++c) {
-    EXPECT_EQ(m->slices[0].channel[c].family, CopulaFamily::kClayton);
-    // Biased low: Clayton's density peaks at the corner u = 0, where the midpoint-grid sums that
-    // give the empirical marginals stray furthest from the copula's integrals (1.66 measured).
-    EXPECT_NEAR(m->slices[0].channel[c].theta, 2.0, 0.5);
-  }
+  EXPECT_EQ(m->slices[0].channel[0].family, CopulaFamily::kClayton);
+  // Biased low: Clayton's density peaks at the corner u = 0, where the midpoint-grid sums that
+  // give the empirical marginals stray furthest from the copula's integrals (1.66 measured).
+  EXPECT_NEAR(m->slices[0].channel[0].theta, 2.0, 0.5);
+  EXPECT_EQ(m->slices[0].channel[1].scale, 0.0);  // an all-zero channel
   // And Frank, fitted alone, does worse on it.
   st.auto_family = false;
   FitReport frank_report;

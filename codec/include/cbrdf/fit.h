@@ -26,10 +26,18 @@
 
 namespace cbrdf {
 
+// What the least-squares fit of each slice minimizes, over measured bins (v: measured, m: model).
+enum class FitLoss {
+  kLinear,  // sum (v - m)^2: the paper's Eq. 17
+  kCosine,  // sum cos(theta_i) cos(theta_o) (v - m)^2 at the bin's grid directions (Ngan et al.)
+  kLog,     // sum (log(1 + v) - log(1 + m))^2, physical units: relative error, as images show it
+};
+
 struct FitSettings {
   int slices = 6;                     // uniform slices along theta_d, 1 to 90
   std::vector<int> slice_bounds;      // explicit boundaries (overrides `slices`): 0 = b0 < ... < bn = 90
   CopulaFamily family = CopulaFamily::kFrank;
+  FitLoss loss = FitLoss::kLinear;
   bool auto_family = false;           // fit every family per slice and channel, keep the best
   bool impute_missing = true;         // false: the paper's naive marginals (missing bins as 0)
   int impute_iterations = 30;         // cap on fill/re-estimate rounds per parameter update

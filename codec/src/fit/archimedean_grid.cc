@@ -3,9 +3,11 @@
 // Per-axis terms are prepared once per parameter, so a bin costs two adds, one log/exp and the
 // family's third derivative. Where the fast path is not finite (phi over- or underflows at large
 // parameters) the bin falls back to the general log_density. The derivative in the parameter is a
-// central difference of two prepared grids (the fitter only needs it to steer).
+// one-sided difference with a second prepared grid (the fitter only needs it to steer: Ceres's
+// cost, and so its acceptance of steps, is exact).
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "cbrdf/copula.h"
 #include "fit/grid_copula.h"
@@ -66,22 +68,22 @@ class ArchimedeanGrid final : public GridCopula {
     const std::vector<double>* u[3] = {&u1, &u2, &u3};
     n3_ = int(u3.size());
     grid_.prepare(copula_, theta, u);
-    // A central difference inside the domain; one-sided at its ends.
-    step_ = 1e-5 * std::max(1.0, std::abs(theta));
-    const double up = std::min(theta + step_, hi_), down = std::max(theta - step_, lo_);
-    plus_.prepare(copula_, up, u);
-    minus_.prepare(copula_, down, u);
-    span_ = up - down;
+    // Forward inside the domain, backward at its upper end.
+    const double step = 1e-6 * std::max(1.0, std::abs(theta));
+    other_theta_ = theta + step <= hi_ ? theta + step : theta - step;
+    other_.prepare(copula_, other_theta_, u);
+    span_ = other_theta_ - theta;
   }
   double density(int i, int j, int k) const override { return grid_.density(i, j, k); }
   double density_and_derivative(int i, int j, int k, double* d) const override {
-    *d = (plus_.density(i, j, k) - minus_.density(i, j, k)) / span_;
-    return grid_.density(i, j, k);
+    const double c = grid_.density(i, j, k);
+    *d = (other_.density(i, j, k) - c) / span_;
+    return c;
   }
   void row(int i, int j, double* c, double* dc) const override {
     for (int k = 0; k < n3_; ++k) {
       c[k] = grid_.density(i, j, k);
-      if (dc) dc[k] = (plus_.density(i, j, k) - minus_.density(i, j, k)) / span_;
+      if (dc) dc[k] = (other_.density(i, j, k) - c[k]) / span_;
     }
   }
 
@@ -89,8 +91,8 @@ class ArchimedeanGrid final : public GridCopula {
   const Copula& copula_;
   double lo_, hi_;
   int n3_ = 0;
-  double step_ = 0, span_ = 1;
-  PreparedGrid grid_, plus_, minus_;
+  double other_theta_ = 0, span_ = 1;
+  PreparedGrid grid_, other_;
 };
 
 }  // namespace
@@ -100,6 +102,9 @@ class ArchimedeanGrid final : public GridCopula {
 // within |alpha| < 10); the file format accepts the whole domain.
 std::unique_ptr<GridCopula> make_archimedean_grid(CopulaFamily family) {
   switch (family) {
+    case CopulaFamily::kFrank:  // not fitted through this grid: its range is the whole domain
+      return std::make_unique<ArchimedeanGrid>(family, -std::numeric_limits<double>::max(),
+                                               std::numbers::ln2);
     case CopulaFamily::kClayton: return std::make_unique<ArchimedeanGrid>(family, 0.0, 50.0);
     case CopulaFamily::kGumbel: return std::make_unique<ArchimedeanGrid>(family, 1.0, 20.0);
     case CopulaFamily::kJoe: return std::make_unique<ArchimedeanGrid>(family, 1.0, 20.0);

@@ -31,7 +31,7 @@ SliceFitResult fit_family(const fit::SliceData& s, CopulaFamily family, const Fi
     r.report.impute_rounds +=
         fit::impute_marginals(s, *independence, 0.0, st.impute_iterations, st.impute_tolerance, &m);
   }
-  fit::ParameterFit p = fit::fit_parameter(s, m, *copula);
+  fit::ParameterFit p = fit::fit_parameter(s, m, *copula, st.loss);
   r.report.solver_iterations += p.iterations;
   // The marginals were imputed under independence: once the parameter is known, impute under the
   // fitted copula and refit (one more round gains nothing measurable).
@@ -39,7 +39,7 @@ SliceFitResult fit_family(const fit::SliceData& s, CopulaFamily family, const Fi
     fit::Marginals m2 = m;
     r.report.impute_rounds +=
         fit::impute_marginals(s, *copula, p.theta, st.impute_iterations, st.impute_tolerance, &m2);
-    fit::ParameterFit p2 = fit::fit_parameter(s, m2, *copula);
+    fit::ParameterFit p2 = fit::fit_parameter(s, m2, *copula, st.loss);
     r.report.solver_iterations += p2.iterations;
     if (p2.objective <= p.objective) {
       m = std::move(m2);
@@ -60,7 +60,8 @@ SliceFitResult fit_family(const fit::SliceData& s, CopulaFamily family, const Fi
 
 SliceFitResult fit_slice_channel(const BrdfTable& table, int channel, int begin, int end,
                                  const FitSettings& st) {
-  const fit::SliceData s = fit::extract_slice(table, channel, begin, end);
+  const fit::SliceData s =
+      fit::extract_slice(table, channel, begin, end, st.loss == FitLoss::kCosine);
   double sum = 0;
   for (double v : s.mv) sum += v;
   if (!(sum > 0)) {

@@ -15,10 +15,13 @@ namespace {
 // same cost |rho|^2 = |r|^2, the same J^T J and the same J^T r at every point, so Levenberg-Marquardt
 // takes exactly the steps it would take on the n residuals. Each evaluation is then one streaming
 // pass over the slice, and Ceres never stores an n x 2 Jacobian.
+//
+// Losses: kLinear r = v / vbar - m, kCosine the same times sqrt(cos theta_i cos theta_o), kLog
+// r = log1p(v) - log1p(m vbar), with m = K' c f the model in units of vbar.
 class SliceCost final : public ceres::SizedCostFunction<3, 1, 1> {
  public:
-  SliceCost(const SliceData& s, const Marginals& m, GridCopula& copula, double vbar)
-      : s_(s), m_(m), copula_(copula), inv_vbar_(1.0 / vbar) {}
+  SliceCost(const SliceData& s, const Marginals& m, GridCopula& copula, double vbar, FitLoss loss)
+      : s_(s), m_(m), copula_(copula), vbar_(vbar), inv_vbar_(1.0 / vbar), loss_(loss) {}
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
@@ -38,10 +41,19 @@ class SliceCost final : public ceres::SizedCostFunction<3, 1, 1> {
         for (std::uint32_t q = begin; q < end; ++q) {
           const int l = s_.mk[q];
           const double f = f12 * m_.f3[l];
-          const double r = s_.mv[q] * inv_vbar_ - k * c[l] * f;
+          const double model = k * c[l] * f;
+          double r, dr_dm;  // the residual and its derivative in the model value
+          if (loss_ == FitLoss::kLog) {
+            r = std::log1p(s_.mv[q]) - std::log1p(model * vbar_);
+            dr_dm = -vbar_ / (1.0 + model * vbar_);
+          } else {
+            const double w = loss_ == FitLoss::kCosine ? std::sqrt(s_.mw[q]) : 1.0;
+            r = w * (s_.mv[q] * inv_vbar_ - model);
+            dr_dm = -w;
+          }
           rr += r * r;
           if (!want_jacobian) continue;
-          const double a = -k * dc[l] * f, b = -c[l] * f;
+          const double a = dr_dm * k * dc[l] * f, b = dr_dm * c[l] * f;
           jtt += a * a;
           jtk += a * b;
           jkk += b * b;
@@ -82,7 +94,8 @@ class SliceCost final : public ceres::SizedCostFunction<3, 1, 1> {
   const SliceData& s_;
   const Marginals& m_;
   GridCopula& copula_;
-  double inv_vbar_;
+  double vbar_, inv_vbar_;
+  FitLoss loss_;
 };
 
 double mean_measured(const SliceData& s) {
@@ -94,7 +107,7 @@ double mean_measured(const SliceData& s) {
 }  // namespace
 
 ParameterFit evaluate_parameter(const SliceData& s, const Marginals& m, GridCopula& copula,
-                                double theta) {
+                                double theta, FitLoss loss) {
   ParameterFit r;
   r.theta = theta;
   const double vbar = mean_measured(s);
@@ -112,21 +125,42 @@ ParameterFit evaluate_parameter(const SliceData& s, const Marginals& m, GridCopu
       for (std::uint32_t q = begin; q < end; ++q) {
         const double p = c[s.mk[q]] * f12 * m.f3[s.mk[q]];
         const double v = s.mv[q] / vbar;
-        vp += v * p;
-        pp += p * p;
-        vv += v * v;
+        const double w = loss == FitLoss::kCosine ? s.mw[q] : 1.0;
+        vp += w * v * p;
+        pp += w * p * p;
+        vv += w * v * v;
       }
     }
   }
   const double k = pp > 0 ? vp / pp : 0;
   r.scale = k * vbar;
   r.objective = std::max(0.0, vv - 2 * k * vp + k * k * pp) / double(s.measured_count());
+  if (loss == FitLoss::kLog) {
+    // A second pass: the log loss has no closed form in K.
+    double sum = 0;
+    for (int i = 0; i < s.nh; ++i) {
+      for (int j = 0; j < s.nd; ++j) {
+        const std::size_t row = std::size_t(i) * std::size_t(s.nd) + std::size_t(j);
+        const std::uint32_t begin = s.row_begin[row], end = s.row_begin[row + 1];
+        if (begin == end) continue;
+        copula.row(i, j, c.data(), nullptr);
+        const double f12 = m.f1[i] * m.f2[j];
+        for (std::uint32_t q = begin; q < end; ++q) {
+          const double model = r.scale * c[s.mk[q]] * f12 * m.f3[s.mk[q]];
+          const double d = std::log1p(s.mv[q]) - std::log1p(model);
+          sum += d * d;
+        }
+      }
+    }
+    r.objective = sum / double(s.measured_count());
+  }
   return r;
 }
 
-ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& copula) {
+ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& copula,
+                           FitLoss loss) {
   const double lo = copula.fit_lo(), hi = copula.fit_hi();
-  ParameterFit best = evaluate_parameter(s, m, copula, copula.independence());
+  ParameterFit best = evaluate_parameter(s, m, copula, copula.independence(), loss);
   best.objective_independence = best.objective;
   if (lo == hi || s.mv.empty() || best.scale <= 0) return best;
   // Coarse scan for a start: the objective can have shallow local minima far from independence.
@@ -137,7 +171,7 @@ ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& c
                                        : std::vector<double>{ind + 0.5, ind + 4};
   for (double theta : scan) {
     if (theta < lo || theta > hi) continue;
-    ParameterFit r = evaluate_parameter(s, m, copula, theta);
+    ParameterFit r = evaluate_parameter(s, m, copula, theta, loss);
     r.objective_independence = best.objective_independence;
     if (r.objective < best.objective) best = r;
   }
@@ -146,7 +180,7 @@ ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& c
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  problem.AddResidualBlock(new SliceCost(s, m, copula, vbar), nullptr, &theta, &k);
+  problem.AddResidualBlock(new SliceCost(s, m, copula, vbar, loss), nullptr, &theta, &k);
   problem.SetParameterLowerBound(&theta, 0, lo);
   problem.SetParameterUpperBound(&theta, 0, hi);
   ceres::Solver::Options options;

@@ -25,6 +25,11 @@ class GridCopula {
 };
 
 std::unique_ptr<GridCopula> make_grid_copula(CopulaFamily family);
+// The general grid of the Archimedean fast path (log domain, log_density where it is not finite,
+// a non-finite density read as 0) for Frank, Clayton, Gumbel and Joe; null for independence.
+// ModelEvaluator uses it for Frank parameters below kFrankGridMinAlpha, where FrankGrid's terms
+// underflow and its density turns NaN, since a file may hold any parameter of the domain.
+std::unique_ptr<GridCopula> make_archimedean_grid(CopulaFamily family);
 
 class FrankGrid;
 // The Frank grid inside a GridCopula made for kFrank (null for other families), so that hot loops

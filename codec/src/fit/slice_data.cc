@@ -1,8 +1,34 @@
 #include "fit/slice_data.h"
 
+#include <algorithm>
+
+#include "cbrdf/coords.h"
+
 namespace cbrdf::fit {
 
-SliceData extract_slice(const BrdfTable& table, int channel, int theta_d_begin, int theta_d_end) {
+namespace {
+
+// cos(theta_i) cos(theta_o) at every bin's grid directions (phi_h = 0), computed once.
+const std::vector<float>& cosine_weight_table() {
+  static const std::vector<float> table = [] {
+    std::vector<float> w(kBinsPerChannel);
+    for (std::size_t idx = 0; idx < kBinsPerChannel; ++idx) {
+      const BinIndex b = merl_bin(idx);
+      Vec3 wi, wo;
+      from_half_diff(HalfDiff{theta_h_of(b.theta_h), 0.0, theta_d_of(b.theta_d), phi_d_of(b.phi_d)},
+                     &wi, &wo);
+      w[idx] = float(std::max(0.0, wi.z) * std::max(0.0, wo.z));
+    }
+    return w;
+  }();
+  return table;
+}
+
+}  // namespace
+
+SliceData extract_slice(const BrdfTable& table, int channel, int theta_d_begin, int theta_d_end,
+                        bool cosine_weights) {
+  const float* weights = cosine_weights ? cosine_weight_table().data() : nullptr;
   SliceData s;
   s.nd = theta_d_end - theta_d_begin;
   s.theta_d_begin = theta_d_begin;
@@ -13,6 +39,7 @@ SliceData extract_slice(const BrdfTable& table, int channel, int theta_d_begin, 
   s.mj.reserve(s.value.size());
   s.mk.reserve(s.value.size());
   s.mv.reserve(s.value.size());
+  s.mw.reserve(s.value.size());
   const double scale = kMerlScale[std::size_t(channel)];
   const double* data = table.channel_data(channel);
   for (int i = 0; i < s.nh; ++i) {
@@ -29,6 +56,7 @@ SliceData extract_slice(const BrdfTable& table, int channel, int theta_d_begin, 
         s.mj.push_back(std::uint8_t(j));
         s.mk.push_back(std::uint16_t(k));
         s.mv.push_back(v);
+        s.mw.push_back(weights ? double(weights[merl_index(i, theta_d_begin + j, k)]) : 1.0);
       }
     }
   }

@@ -18,6 +18,7 @@ struct SliceData {
   std::vector<std::uint8_t> mi, mj;
   std::vector<std::uint16_t> mk;
   std::vector<double> mv;
+  std::vector<double> mw;  // per measured bin: the loss's weight (1, or cos theta_i cos theta_o)
   // Measured bins of row (i, j) are mi/mj/mk/mv[row_begin[i * nd + j] .. row_begin[i * nd + j +
   // 1]).
   std::vector<std::uint32_t> row_begin;
@@ -29,6 +30,8 @@ struct SliceData {
   std::size_t measured_count() const { return mv.size(); }
 };
 
-SliceData extract_slice(const BrdfTable& table, int channel, int theta_d_begin, int theta_d_end);
+// cosine_weights: fill mw with cos(theta_i) cos(theta_o) at each bin's grid directions (else 1).
+SliceData extract_slice(const BrdfTable& table, int channel, int theta_d_begin, int theta_d_end,
+                        bool cosine_weights = false);
 
 }  // namespace cbrdf::fit
