@@ -20,6 +20,7 @@ struct EncodeOptions {
   int bits = EncodeSettings{}.bits;
   int level = EncodeSettings{}.zstd_level;
   int threads = 0;
+  std::string loss = "linear";
   bool naive_marginals = false;
   bool no_metrics = false;
 };
@@ -41,6 +42,15 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   } else {
     return usage_error("encode: unknown --family '" + o.family +
                        "' (frank, clayton, gumbel, joe, independence or auto)");
+  }
+  if (o.loss == "linear") {
+    st.fit.loss = FitLoss::kLinear;
+  } else if (o.loss == "cosine") {
+    st.fit.loss = FitLoss::kCosine;
+  } else if (o.loss == "log") {
+    st.fit.loss = FitLoss::kLog;
+  } else {
+    return usage_error("encode: unknown --loss '" + o.loss + "' (linear, cosine or log)");
   }
   st.container.bits = o.bits;
   st.container.zstd_level = o.level;
@@ -112,6 +122,10 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
       ->check(CLI::Range(1, 22));
   cmd->add_option("--threads", o->threads, "Fitting threads (0: one per core)")
       ->check(CLI::Range(0, 256));
+  cmd->add_option("--loss", o->loss,
+                  "What the fit minimizes: linear (the paper's), cosine (weighted by cos theta_i "
+                  "cos theta_o) or log")
+      ->capture_default_str();
   cmd->add_flag("--naive-marginals", o->naive_marginals,
                 "Estimate marginals as the paper does (missing bins as 0)");
   cmd->add_flag("--no-metrics", o->no_metrics, "Skip the PSNR check of the decoded file");
