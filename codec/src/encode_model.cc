@@ -116,7 +116,9 @@ Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
   chunks.push_back({std::string(kTagModel), encode_model_chunk(model), true});
   chunks.push_back(
       {std::string(kTagMarginals), encode_marginals_chunk(model, settings.bits), true});
-  chunks.push_back({std::string(kTagMask), encode_mask_chunk(model.not_measured), true});
+  // One stored value per not-measured bin makes MASK up to 35 MB; zstd's top levels take minutes
+  // on that for a few percent, so the level is capped for this chunk (a uniform value is tiny).
+  chunks.push_back({std::string(kTagMask), encode_mask_chunk(model.not_measured), true, 9});
   if (settings.write_metadata) {
     std::vector<std::pair<std::string, std::string>> meta;
     if (!settings.source_name.empty()) meta.emplace_back("source", sanitized(settings.source_name));

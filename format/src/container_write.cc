@@ -1,4 +1,5 @@
 // The container writer: the file header, chunks (zstd where it pays) and the end chunk.
+#include <algorithm>
 #include <string>
 
 #include "byte_writer.h"
@@ -46,7 +47,7 @@ Expected<std::vector<std::uint8_t>> write_container(std::span<const ChunkToWrite
     }
     const auto payload_bytes = std::uint32_t(c.payload.size());
     if (c.compress && !c.payload.empty()) {
-      Expected<std::vector<std::uint8_t>> z = zstd_compress(c.payload, zstd_level);
+      Expected<std::vector<std::uint8_t>> z = zstd_compress(c.payload, std::min(zstd_level, c.max_zstd_level));
       if (!z.ok()) return z.status().with_context("chunk '" + c.tag + "'");
       if (z->size() < c.payload.size()) {
         append_raw_chunk(&out, c.tag, kChunkFlagZstd, *z, payload_bytes);

@@ -97,6 +97,7 @@ struct ChunkToWrite {
   std::string tag;
   std::vector<std::uint8_t> payload;
   bool compress = true;  // zstd, kept only when it is smaller than the payload
+  int max_zstd_level = 22;  // caps write_container's level for this chunk (large payloads)
 };
 
 // Writes header, chunks in the given order and the end chunk. Refuses invalid tags and payloads
