@@ -8,6 +8,7 @@
 #include "cbrdf/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
+#include "cbrdf/rate_control.h"
 #include "cli.h"
 
 namespace cbrdf::cli {
@@ -23,6 +24,7 @@ struct EncodeOptions {
   std::string loss = "linear";
   bool naive_marginals = false;
   bool no_metrics = false;
+  double target_bytes = 0, target_psnr = 0;
 };
 
 int run_encode(const EncodeOptions& o, const Context& ctx) {
@@ -59,7 +61,21 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   const auto t0 = std::chrono::steady_clock::now();
   auto table = read_merl(o.input);
   if (!table.ok()) return fail(table.status());
-  auto result = encode_table(*table, st);
+  Expected<EncodeResult> result = error(ErrorCode::kInternal, "not encoded");
+  if (o.target_bytes > 0 || o.target_psnr > 0) {
+    auto rc = encode_to_target(*table, st, {o.target_bytes, o.target_psnr});
+    if (!rc.ok()) return fail(rc.status().with_context(o.input));
+    if (!ctx.quiet) {
+      std::printf("searched %zu settings: chose --slices %d --bits %d: %.0f bytes, %.2f dB "
+                  "tone-mapped%s\n",
+                  rc->tried.size(), rc->chosen.slices, rc->chosen.bits, rc->chosen.bytes,
+                  rc->chosen.psnr_tonemapped,
+                  rc->met ? "" : " (the target could not be met: this is the closest)");
+    }
+    result = std::move(rc->encoded);
+  } else {
+    result = encode_table(*table, st);
+  }
   if (!result.ok()) return fail(result.status().with_context(o.input));
   if (Status s = write_file_atomic(o.output, result->bytes); !s.ok()) return fail(s);
   const double seconds =
@@ -129,6 +145,14 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
   cmd->add_flag("--naive-marginals", o->naive_marginals,
                 "Estimate marginals as the paper does (missing bins as 0)");
   cmd->add_flag("--no-metrics", o->no_metrics, "Skip the PSNR check of the decoded file");
+  auto* tb = cmd->add_option("--target-bytes", o->target_bytes,
+                             "Search slices and bits for the best tone-mapped PSNR within N bytes")
+                 ->check(CLI::PositiveNumber);
+  auto* tp = cmd->add_option("--target-psnr", o->target_psnr,
+                             "Search slices and bits for the fewest bytes reaching DB dB "
+                             "(tone-mapped sphere PSNR)")
+                 ->check(CLI::PositiveNumber);
+  tb->excludes(tp);
   cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_encode(*o, ctx); }; });
 }
 

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
       "cbrdf: a copula-based lossy codec for measured BRDFs (MERL .binary <-> .cbrdf)", "cbrdf"};
   app.set_version_flag("--version", CBRDF_VERSION_STRING);
   app.require_subcommand(1);
+  app.fallthrough();  // -q and -v work after the subcommand too
   Context ctx;
   app.add_flag("-q,--quiet", ctx.quiet, "Print only errors");
   app.add_flag("-v,--verbose", ctx.verbose, "Print more detail");
@@ -32,6 +33,8 @@ int main(int argc, char** argv) {
   add_encode_command(app, ctx, &action);
   add_decode_command(app, ctx, &action);
   add_report_command(app, ctx, &action);
+  add_render_command(app, ctx, &action);
+  add_imgdiff_command(app, ctx, &action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
