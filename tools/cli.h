@@ -34,5 +34,7 @@ void add_info_command(CLI::App& app, const Context& ctx, Action* action);
 void add_encode_command(CLI::App& app, const Context& ctx, Action* action);
 void add_decode_command(CLI::App& app, const Context& ctx, Action* action);
 void add_report_command(CLI::App& app, const Context& ctx, Action* action);
+void add_render_command(CLI::App& app, const Context& ctx, Action* action);
+void add_imgdiff_command(CLI::App& app, const Context& ctx, Action* action);
 
 }  // namespace cbrdf::cli

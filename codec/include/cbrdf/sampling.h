@@ -1,0 +1,91 @@
+// Importance sampling of an isotropic BRDF (the copula model, a measured table or an analytic
+// BRDF) for renderers: sample(wo, u) -> wi and the exact density pdf(wo, wi) of what it draws.
+//
+// Design. Conditioning the copula on wo has no closed form (the paper leaves it open), so the
+// sampler tabulates, per wo, the BRDF's own distribution over half vectors and reflects wo about
+// the drawn h:
+//  - The BRDF is isotropic, so the distribution depends on wo only through theta_o. theta_o is cut
+//    into `theta_o_bins` uniform bins; each bin gets one table, built on first use (thread-safe)
+//    from the BRDF at the bin's central theta_o with phi_o = 0, and used for every wo in the bin
+//    after rotating by phi_o. Which wo shares a table changes efficiency, never correctness: pdf()
+//    reads the same table sample() draws from.
+//  - A table is a piecewise-constant density over half-vector cells (theta_h, phi_h relative to
+//    wo's azimuth). theta_h edges follow the MERL grid, (a / n)^2 * 90 deg, fine near the normal
+//    where specular peaks live; phi_h edges are uniform over [0, 2 pi). A cell's mass is the mean
+//    of mean_rgb(f(wi, wo)) cos(theta_i) 4 (wo.h) over supersample x supersample points times the
+//    cell's solid angle: the integrand f cos_i dwi written over dh (dwi = 4 |wo.h| dh).
+//  - Within a cell h is uniform in solid angle (uniform in cos(theta_h) and phi_h), so
+//    pdf_h = mass / (delta cos * delta phi) exactly, and wi = 2 (wo.h) h - wo has
+//    pdf(wo, wi) = pdf_h(h) / (4 (wo.h)) with h = normalize(wi + wo).
+//  - A defensive fraction `cosine_fraction` of draws is cosine-weighted in wi, so the density is
+//    positive wherever wi is above the horizon (the table may miss a thin feature or differ from
+//    the BRDF at other theta_o in its bin). The full density is
+//      pdf = c cos(theta_i) / pi + (1 - c) pdf_table(wo, wi).
+//  - A drawn h whose reflection falls at or below the horizon is a rejected sample (valid =
+//    false). pdf() is 0 there, so it integrates over the upper hemisphere to 1 minus the rejected
+//    probability, the mass of cells that reflect below the horizon.
+// Cost: building a table evaluates the BRDF theta_h_cells * phi_h_cells * supersample^2 times
+// (23,040 by default); a draw or a pdf is two binary searches and a few square roots.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "cbrdf/coords.h"
+#include "cbrdf/metrics.h"
+#include "cbrdf/model.h"
+
+namespace cbrdf {
+
+struct SamplerSettings {
+  int theta_o_bins = 32;         // tables over theta_o in [0, 90 deg)
+  int theta_h_cells = 90;        // MERL-spaced theta_h cells
+  int phi_h_cells = 64;          // uniform phi_h cells
+  int supersample = 2;           // points per cell per axis when building a table
+  double cosine_fraction = 0.1;  // defensive cosine-weighted share, in [0, 1]
+};
+
+struct BrdfSample {
+  Vec3 wi;
+  double pdf = 0.0;    // pdf(wo, wi) per unit solid angle; 0 when !valid
+  bool valid = false;  // false: rejected (wo below the horizon or wi reflected below it)
+};
+
+class BrdfSampler {
+ public:
+  // f is called from several threads (it must not mutate shared state) and must outlive the
+  // sampler. Settings are clamped to sensible ranges (at least 1 bin/cell, c in [0, 1]).
+  explicit BrdfSampler(BrdfFn f, const SamplerSettings& settings = {});
+  ~BrdfSampler();
+  BrdfSampler(BrdfSampler&&) noexcept;
+  BrdfSampler& operator=(BrdfSampler&&) noexcept;
+
+  // Draws wi for a unit wo (local frame, z = normal) from u1, u2 in [0, 1).
+  BrdfSample sample(const Vec3& wo, double u1, double u2) const;
+  // The density of sample() per unit solid angle of wi; 0 when wo or wi is at or below the horizon.
+  double pdf(const Vec3& wo, const Vec3& wi) const;
+
+  const SamplerSettings& settings() const { return settings_; }
+
+ private:
+  struct Table;
+  const Table& table_for(double cos_theta_o) const;
+  double table_pdf(const Table& t, const Vec3& wo, const Vec3& wi) const;
+
+  BrdfFn f_;
+  SamplerSettings settings_;
+  std::vector<double> cos_edges_;  // cos of the theta_h cell edges, theta_h_cells + 1, decreasing
+  std::unique_ptr<Table[]> tables_;
+};
+
+// The model's eval() as a BrdfFn. The evaluator is referenced: it must outlive the function.
+BrdfFn model_brdf_fn(const ModelEvaluator& evaluator);
+
+// A sampler for the copula model (its eval() through model_brdf_fn).
+BrdfSampler make_model_sampler(const ModelEvaluator& evaluator,
+                               const SamplerSettings& settings = {});
+
+// Cosine-weighted hemisphere sampling, the usual baseline: wi with pdf cos(theta_i) / pi.
+Vec3 sample_cosine_hemisphere(double u1, double u2);
+
+}  // namespace cbrdf

@@ -1,0 +1,25 @@
+// Built-in scenes for `cbrdf render --builtin NAME`, exported as a scene file plus its assets.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cbrdf/status.h"
+
+namespace cbrdf::render {
+
+struct BuiltinScene {
+  std::string name;
+  std::string file;  // the scene file's name inside the export directory
+  std::string description;
+};
+
+std::vector<BuiltinScene> builtin_scenes();
+
+// Writes the scene and the assets it needs (.cbrdf materials fitted from built-in samples, a Draco
+// mesh, a lat-long EXR) into dir; returns the scene file's path.
+Expected<std::filesystem::path> export_builtin(const std::string& name,
+                                               const std::filesystem::path& dir);
+
+}  // namespace cbrdf::render
