@@ -1,12 +1,22 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds cbrdf with warnings as errors, and runs every test.
-#   Usage: tools/run-tests.sh [BUILD_DIR]
+# Installs what is missing, builds cbrdf with warnings as errors and runs every test; then runs
+# the whole suite again under AddressSanitizer + UBSan, and replays and fuzzes every parser for a
+# bounded time.   Usage: tools/run-tests.sh [BUILD_DIR]
+#   CBRDF_FUZZ_SECONDS: fuzzing time per target (default 60; 0 replays the corpus only).
+#   CBRDF_QUICK=1: the first build and its tests only.
 # Tests that need the real materials in ../shared skip with a message when it is absent.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
+start=$(date +%s)
 "$root/tools/install-deps.sh"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCBRDF_WERROR=ON \
   -DCBRDF_BENCH=ON > /dev/null
 cmake --build "$build" -j "$(nproc)"
-ctest --test-dir "$build" --output-on-failure -j "$(nproc)"
+ctest --test-dir "$build" --output-on-failure -j "$(nproc)" --timeout 900
+echo "run-tests: release suite passed at $(( $(date +%s) - start )) s"
+if [ "${CBRDF_QUICK:-0}" = 1 ]; then exit 0; fi
+"$root/tools/run-sanitizers.sh" "$build-sanitize"
+echo "run-tests: sanitizer suite passed at $(( $(date +%s) - start )) s"
+"$root/tools/run-fuzz.sh" "${CBRDF_FUZZ_SECONDS:-60}"
+echo "run-tests: everything passed in $(( $(date +%s) - start )) s"
