@@ -1,13 +1,17 @@
-// `cbrdf report`: size against quality and time, per material and setting.
+// `cbrdf report`: storage against PSNR and time, per material and setting, with baselines.
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <set>
 #include <thread>
 
-#include "cbrdf/merl_io.h"
 #include "cbrdf/samples.h"
 #include "cli.h"
 #include "report/measure.h"
+#include "report/sweep.h"
+#include "report/tables.h"
+#include "report/write.h"
 
 namespace cbrdf::cli {
 namespace {
@@ -17,34 +21,72 @@ struct ReportOptions {
   bool builtin = false;
   std::string output_dir;
   int jobs = 0;
-  int slices = 6;
-  int bits = EncodeSettings{}.bits;
+  std::vector<std::string> sweep;
+  std::string baselines = "separable,float16,analytic";
+  std::string analytic_loss = "cos";
+  int analytic_bins = 20000;
+  bool quiet = false;  // also accepted after the subcommand, where users type it
 };
 
-int run_report(const ReportOptions& o, const Context& ctx) {
+int run_report(const ReportOptions& o, const Context& global) {
+  Context ctx = global;
+  ctx.quiet = ctx.quiet || o.quiet;
   if (o.inputs.empty() && !o.builtin) {
     return usage_error("report: give MERL .binary files, --builtin, or both");
   }
-  std::vector<report::Material> materials;
-  if (o.builtin) {
-    for (const SampleInfo& s : sample_materials()) {
-      materials.push_back({std::string(s.name), "", true});
-    }
-  }
-  for (const std::string& f : o.inputs) {
-    materials.push_back({std::filesystem::path(f).stem().string(), f, false});
-  }
+  auto sweep = report::parse_sweep(o.sweep);
+  if (!sweep.ok()) return usage_error("report: " + sweep.status().message());
+  auto baselines = report::parse_baselines(o.baselines);
+  if (!baselines.ok()) return usage_error("report: " + baselines.status().message());
   report::Settings st;
-  st.slices = o.slices;
-  st.bits = o.bits;
+  st.sweep = *sweep;
+  st.baselines = *baselines;
+  if (o.analytic_loss == "log") {
+    st.analytic_loss = AnalyticLoss::kLog;
+  } else if (o.analytic_loss != "cos") {
+    return usage_error("report: --analytic-loss must be cos or log, not '" + o.analytic_loss + "'");
+  }
+  st.analytic_bins = o.analytic_bins;
   st.jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
   st.progress = !ctx.quiet;
-  auto rows = report::measure_all(materials, st);
-  if (!rows.ok()) return fail(rows.status());
-  std::printf("%s", report::format_table(*rows).c_str());
+
+  std::vector<report::Material> materials;
+  std::set<std::string> names;
+  auto add = [&](std::string name, const std::string& path, bool builtin) {
+    // Output files are named after materials: keep the names distinct.
+    const std::string stem = name;
+    for (int k = 2; names.count(name); ++k) name = stem + "-" + std::to_string(k);
+    names.insert(name);
+    materials.push_back({name, path, builtin});
+  };
+  if (o.builtin) {
+    for (const SampleInfo& s : sample_materials()) add(std::string(s.name), "", true);
+  }
+  for (const std::string& f : o.inputs) add(std::filesystem::path(f).stem().string(), f, false);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  auto results = report::measure_all(materials, st);
+  if (!results.ok()) return fail(results.status());
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!ctx.quiet) {
+    for (const report::TextTable& t : report::report_tables(*results, st)) {
+      if (t.id == "time" || t.id == "psnr" || t.id == "sweep") {
+        std::printf("%s\n", report::to_text(t).c_str());
+      }
+    }
+    std::printf("%s\n", report::run_summary(*results, st, elapsed).c_str());
+  }
   if (!o.output_dir.empty()) {
-    if (Status s = report::write_files(*rows, o.output_dir); !s.ok()) return fail(s);
-    if (!ctx.quiet) std::printf("wrote %s/report.md, report.csv, report.json\n", o.output_dir.c_str());
+    if (Status s = report::write_report(*results, st, o.output_dir, elapsed); !s.ok()) {
+      return fail(s);
+    }
+    if (!ctx.quiet) {
+      std::printf(
+          "wrote %s/report.html (with report.md, report.csv, report.json, SVG figures "
+          "and sphere PNGs)\n",
+          o.output_dir.c_str());
+    }
   }
   return kExitOk;
 }
@@ -53,19 +95,34 @@ int run_report(const ReportOptions& o, const Context& ctx) {
 
 void add_report_command(CLI::App& app, const Context& ctx, Action* action) {
   auto o = std::make_shared<ReportOptions>();
-  CLI::App* cmd =
-      app.add_subcommand("report", "Measure storage against PSNR and time, per material");
+  CLI::App* cmd = app.add_subcommand(
+      "report", "Measure storage against PSNR and time per material and setting, with baselines");
   cmd->add_option("inputs", o->inputs, "MERL .binary files")->check(CLI::ExistingFile);
   cmd->add_flag("--builtin", o->builtin, "Include the built-in sample materials");
-  cmd->add_option("-o,--output", o->output_dir, "Write report.md, report.csv and report.json here");
+  cmd->add_option("-o,--output", o->output_dir,
+                  "Write report.md, .csv, .json, .html, SVG figures and PNG renders here");
+  cmd->add_flag("-q,--quiet", o->quiet, "No progress bar and no tables on stdout");
   cmd->add_option("--jobs", o->jobs, "Materials measured in parallel (0: one per core)")
       ->check(CLI::Range(0, 256));
-  cmd->add_option("--slices", o->slices, "Slices along theta_d (1 to 90)")
+  cmd->add_option(
+         "--sweep", o->sweep,
+         std::string("Settings to measure, the cartesian product of KEY=V1,V2,... items: ") +
+             "slices=1..90, bits=6..16, family=frank,clayton,gumbel,joe,independence,auto "
+             "(default: family=" +
+             report::default_setting().family +
+             " slices=" + std::to_string(report::default_setting().slices) +
+             " bits=" + std::to_string(report::default_setting().bits) + ")")
+      ->expected(1, -1);
+  cmd->add_option("--baselines", o->baselines,
+                  std::string("Baselines beside the sweep: all, none, or a list of ") +
+                      report::kBaselineNames + " (lossless costs about 25 s per material)")
+      ->capture_default_str();
+  cmd->add_option("--analytic-loss", o->analytic_loss,
+                  "Loss of the analytic fits: cos (cosine-weighted L2, after Ngan et al.) or log")
+      ->capture_default_str();
+  cmd->add_option("--analytic-bins", o->analytic_bins, "Measured bins per analytic fit (0: all)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 90));
-  cmd->add_option("--bits", o->bits, "Bits per quantized marginal value (6 to 16)")
-      ->capture_default_str()
-      ->check(CLI::Range(6, 16));
+      ->check(CLI::Range(0, 2000000));
   cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_report(*o, ctx); }; });
 }
 

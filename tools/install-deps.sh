@@ -10,6 +10,7 @@ packages=(
   libceres-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev
+  chromium  # headless check of the report page (tests/report_html_test.cc)
 )
 
 missing=()

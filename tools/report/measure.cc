@@ -1,15 +1,13 @@
 #include "report/measure.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <mutex>
-#include <nlohmann/json.hpp>
+#include <numbers>
 #include <random>
-#include <sstream>
 #include <thread>
 
 #include "cbrdf/encoder.h"
@@ -17,6 +15,9 @@
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/samples.h"
+#include "report/float16_baseline.h"
+#include "report/lossless.h"
+#include "report/progress.h"
 
 namespace cbrdf::report {
 namespace {
@@ -26,86 +27,348 @@ double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Mean cost of one ModelEvaluator::eval over random upper-hemisphere direction pairs.
-double eval_ns(const Model& model) {
-  const ModelEvaluator ev(model);
+struct AnalyticModelDef {
+  const char* name;
+  std::vector<LobeKind> lobes;
+};
+// Ngan et al.'s competitors, each Lambertian + specular. "cook-torrance" is the Cook-Torrance
+// microfacet form with a GGX distribution (height-correlated Smith G, Schlick F), as analytic.h
+// defines the GGX lobe; the two-lobe GGX is where a second lobe helps most (Ngan et al.).
+const std::vector<AnalyticModelDef>& analytic_models() {
+  static const std::vector<AnalyticModelDef> defs = {
+      {"ward", {LobeKind::kLambertian, LobeKind::kWard}},
+      {"cook-torrance", {LobeKind::kLambertian, LobeKind::kGgx}},
+      {"ashikhmin-shirley", {LobeKind::kLambertian, LobeKind::kAshikhminShirley}},
+      {"ggx-2lobe", {LobeKind::kLambertian, LobeKind::kGgx, LobeKind::kGgx}},
+  };
+  return defs;
+}
+
+// Mean cost of one RGB evaluation over fixed random upper-hemisphere direction pairs.
+template <typename Eval>
+double eval_ns(const Eval& eval) {
   std::mt19937_64 rng(1);
   std::uniform_real_distribution<double> u(0, 1);
-  constexpr int kPairs = 4096, kRounds = 50;
+  constexpr int kPairs = 4096, kRounds = 8;
   std::vector<Vec3> dirs(2 * kPairs);
   for (Vec3& d : dirs) {
-    const double z = u(rng), phi = 2 * M_PI * u(rng), r = std::sqrt(1 - z * z);
+    const double z = u(rng), phi = 2 * std::numbers::pi * u(rng), r = std::sqrt(1 - z * z);
     d = {r * std::cos(phi), r * std::sin(phi), z};
   }
-  double sink = 0, rgb[3];
+  volatile double sink = 0;
+  double rgb[3];
   const auto t0 = Clock::now();
   for (int round = 0; round < kRounds; ++round) {
     for (int n = 0; n < kPairs; ++n) {
-      ev.eval(dirs[2 * n], dirs[2 * n + 1], rgb);
-      sink += rgb[0];
+      eval(dirs[2 * std::size_t(n)], dirs[2 * std::size_t(n) + 1], rgb);
+      sink = sink + rgb[0];  // keeps the loop from being optimized away
     }
   }
-  const double ns = 1e9 * since(t0) / (double(kPairs) * kRounds);
-  return sink >= 0 ? ns : ns;  // keeps the loop from being optimized away
+  return 1e9 * since(t0) / (double(kPairs) * kRounds);
 }
 
-Expected<Row> measure(const Material& m, const Settings& st, int fit_threads) {
-  Row r;
-  r.material = m.name;
-  auto table = m.builtin ? make_sample(m.name) : read_merl(m.path);
-  if (!table.ok()) return table.status();
-  r.input_bytes = double(kMerlFileBytes);
-  EncoderSettings es;
-  es.fit.slices = st.slices;
-  es.fit.threads = fit_threads;
-  es.container.bits = st.bits;
-  es.container.source_name = m.name;
-  auto t0 = Clock::now();
-  auto enc = encode_table(*table, es);
-  if (!enc.ok()) return enc.status().with_context(m.name);
-  r.encode_seconds = since(t0);
-  r.container_bytes = double(enc->bytes.size());
-  t0 = Clock::now();
-  auto model = decode_model(enc->bytes);
-  if (!model.ok()) return model.status().with_context(m.name);
-  const BrdfTable decoded = model->table();
-  r.decode_seconds = since(t0);
-  const BrdfMetrics bm = brdf_metrics(*table, decoded);
-  r.rel_rmse = bm.rel_rmse_mean;
-  r.log_rmse = bm.log_rmse_mean;
-  SphereSetup sphere;
-  sphere.threads = 1;
-  const ImageMetrics im = sphere_psnr(nearest_lookup_fn(*table), nearest_lookup_fn(decoded), sphere);
-  r.psnr_linear = im.psnr_linear;
-  r.psnr_tonemapped = im.psnr_tonemapped;
-  r.eval_ns_per_sample = eval_ns(*model);
-  return r;
+std::vector<PolarCurve> polar_curves(const std::string& model, const BrdfFn& f) {
+  std::vector<PolarCurve> out;
+  for (double ti : kPolarThetaI) {
+    PolarCurve c;
+    c.model = model;
+    c.theta_i_deg = ti;
+    const double a = ti * std::numbers::pi / 180;
+    const Vec3 wi{std::sin(a), 0.0, std::cos(a)};
+    for (int to = -89; to <= 89; ++to) {
+      const double b = to * std::numbers::pi / 180;
+      double rgb[3];
+      f(wi, Vec3{std::sin(b), 0.0, std::cos(b)}, rgb);
+      c.theta_o_deg.push_back(to);
+      c.value.push_back((rgb[0] + rgb[1] + rgb[2]) / 3);
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+// The sweep's settings (flag true), then the baselines' copula settings the sweep does not hold.
+std::vector<std::pair<CodecSetting, bool>> copula_settings(const Settings& st) {
+  std::vector<std::pair<CodecSetting, bool>> out;
+  for (const CodecSetting& s : st.sweep.settings()) out.emplace_back(s, true);
+  const CodecSetting p = st.sweep.primary();
+  std::vector<std::string> extra;
+  if (st.baselines.separable) extra.push_back("independence");
+  if (st.baselines.families) {
+    for (const char* f : {"frank", "clayton", "gumbel", "joe", "auto"}) extra.push_back(f);
+  }
+  for (const std::string& f : extra) {
+    const CodecSetting s{f, p.slices, p.bits};
+    const bool present =
+        std::any_of(out.begin(), out.end(), [&](const auto& e) { return e.first == s; });
+    if (!present) out.emplace_back(s, false);
+  }
+  return out;
+}
+
+class MaterialRun {
+ public:
+  MaterialRun(const Material& m, const Settings& st, int threads, Progress* progress)
+      : m_(m), st_(st), threads_(threads), progress_(progress) {
+    sphere_.size = st.sphere_size;
+    sphere_.threads = threads;
+  }
+
+  Expected<MaterialResult> run() {
+    CBRDF_RETURN_IF_ERROR(load());
+    result_.name = m_.name;
+    result_.polar = polar_curves("measured", nearest_lookup_fn(table_));
+    CBRDF_RETURN_IF_ERROR(copula_rows());
+    if (st_.baselines.analytic) CBRDF_RETURN_IF_ERROR(analytic_rows());
+    if (st_.baselines.float16) CBRDF_RETURN_IF_ERROR(float16_row());
+    if (st_.baselines.lossless) CBRDF_RETURN_IF_ERROR(lossless_rows());
+    return std::move(result_);
+  }
+
+ private:
+  Status load() {
+    if (m_.builtin) {
+      auto t = make_sample(m_.name);
+      if (!t.ok()) return t.status();
+      table_ = std::move(t).value();
+      if (st_.baselines.lossless) raw_ = serialize_merl(table_);
+      input_bytes_ = double(kMerlFileBytes);
+      return ok_status();
+    }
+    auto t = read_merl(m_.path);
+    if (!t.ok()) return t.status();
+    table_ = std::move(t).value();
+    std::error_code ec;
+    input_bytes_ = double(std::filesystem::file_size(m_.path, ec));
+    if (ec) return error(ErrorCode::kIo, m_.path + ": cannot read its size: " + ec.message());
+    if (st_.baselines.lossless) {
+      auto raw = read_file(m_.path, kMerlFileBytes * 2);
+      if (!raw.ok()) return raw.status();
+      raw_ = std::move(raw).value();
+    }
+    return ok_status();
+  }
+
+  Row base_row(const std::string& model, const char* kind) const {
+    Row r;
+    r.material = m_.name;
+    r.model = model;
+    r.kind = kind;
+    r.input_bytes = input_bytes_;
+    return r;
+  }
+
+  void set_metrics(Row* r, const BrdfTable& test) const {
+    const BrdfMetrics bm = brdf_metrics(table_, test);
+    r->rel_rmse = bm.rel_rmse_mean;
+    r->log_rmse = bm.log_rmse_mean;
+    r->cos_rmse = bm.cos_rmse_mean;
+    const ImageMetrics im = sphere_psnr(table_, test, sphere_);
+    r->psnr_linear = im.psnr_linear;
+    r->psnr_tonemapped = im.psnr_tonemapped;
+  }
+
+  Status copula_rows() {
+    const auto settings = copula_settings(st_);
+    const CodecSetting primary = st_.sweep.primary();
+    // Settings that differ only in bits share one fit (adjacent in the sweep's order).
+    Model model;
+    double fit_s = 0;
+    CodecSetting fitted{"", 0, 0};
+    for (const auto& [s, in_sweep] : settings) {
+      if (fitted.family != s.family || fitted.slices != s.slices) {
+        FitSettings fs;
+        fs.slices = s.slices;
+        fs.threads = threads_;
+        if (s.family == "auto") {
+          fs.auto_family = true;
+        } else {
+          fs.family = *family_from_name(s.family);
+        }
+        const auto t0 = Clock::now();
+        auto m = fit_model(table_, fs);
+        fit_s = since(t0);
+        if (!m.ok()) return m.status().with_context(m_.name + " (" + s.label() + ")");
+        model = std::move(m).value();
+        fitted = s;
+      }
+      Row r = base_row(s.model_name(), kKindCopula);
+      r.slices = s.slices;
+      r.bits = s.bits;
+      r.in_sweep = in_sweep;
+      r.primary = s == primary;
+      EncodeSettings es;
+      es.bits = s.bits;
+      // As `cbrdf encode` records it, so that the sizes match what it writes.
+      es.source_name = m_.builtin ? m_.name : std::filesystem::path(m_.path).filename().string();
+      auto t0 = Clock::now();
+      auto bytes = encode_model(model, es);
+      r.encode_s = fit_s + since(t0);
+      if (!bytes.ok()) return bytes.status().with_context(m_.name + " (" + s.label() + ")");
+      r.bytes = double(bytes->size());
+      t0 = Clock::now();
+      auto decoded_model = decode_model(*bytes);
+      if (!decoded_model.ok()) {
+        return decoded_model.status().with_context(m_.name + " (" + s.label() + ")");
+      }
+      const BrdfTable decoded = decoded_model->table();
+      r.decode_s = since(t0);
+      set_metrics(&r, decoded);
+      const ModelEvaluator ev(*decoded_model);
+      r.eval_ns =
+          eval_ns([&](const Vec3& wi, const Vec3& wo, double* rgb) { ev.eval(wi, wo, rgb); });
+      if (r.primary) {
+        images(decoded, r.label());
+        const auto curves = polar_curves(r.label(), [&](const Vec3& wi, const Vec3& wo,
+                                                        double rgb[3]) { ev.eval(wi, wo, rgb); });
+        result_.polar.insert(result_.polar.end(), curves.begin(), curves.end());
+      }
+      result_.rows.push_back(std::move(r));
+      progress_->step(m_.name + ": " + s.label());
+    }
+    return ok_status();
+  }
+
+  void images(const BrdfTable& decoded, const std::string& label) {
+    const std::vector<std::uint8_t> mask = sphere_mask(st_.sphere_size);
+    const Image ref = render_sphere(table_, kImageLightDeg, st_.sphere_size, threads_);
+    const Image dec = render_sphere(decoded, kImageLightDeg, st_.sphere_size, threads_);
+    const double exposure = tonemap_exposure(ref, &mask);
+    result_.reference = tonemap(ref, exposure);
+    result_.decoded = tonemap(dec, exposure);
+    result_.difference =
+        difference_image(result_.reference, result_.decoded, kDifferenceScale, &mask);
+    result_.decoded_label = label;
+  }
+
+  Status analytic_rows() {
+    for (const AnalyticModelDef& def : analytic_models()) {
+      Row r = base_row(def.name, kKindAnalytic);
+      AnalyticFitSettings fs;
+      fs.lobes = def.lobes;
+      fs.sample_bins = st_.analytic_bins;
+      fs.loss = st_.analytic_loss;
+      fs.threads = threads_;
+      auto t0 = Clock::now();
+      auto brdf = fit_analytic(table_, fs);
+      r.encode_s = since(t0);
+      if (!brdf.ok()) return brdf.status().with_context(m_.name + " (" + def.name + ")");
+      r.bytes = 8.0 * brdf->num_params();
+      t0 = Clock::now();
+      auto fitted = tabulate_like(*brdf, table_);
+      r.decode_s = since(t0);
+      if (!fitted.ok()) return fitted.status().with_context(m_.name + " (" + def.name + ")");
+      set_metrics(&r, *fitted);
+      const AnalyticBrdf& b = *brdf;
+      r.eval_ns =
+          eval_ns([&](const Vec3& wi, const Vec3& wo, double* rgb) { b.eval(wi, wo, rgb); });
+      for (const Lobe& l : b.lobes) {
+        char text[160];
+        std::snprintf(text, sizeof text, "%s%s rgb (%.4g %.4g %.4g)", r.detail.empty() ? "" : "; ",
+                      std::string(lobe_kind_name(l.kind)).c_str(), l.rgb[0], l.rgb[1], l.rgb[2]);
+        r.detail += text;
+        if (l.kind != LobeKind::kLambertian) {
+          std::snprintf(text, sizeof text, " shape %.4g", l.shape);
+          r.detail += text;
+        }
+      }
+      if (def.lobes.size() == 2) {  // the paper's Figure 3 shows the one-lobe models
+        const auto curves = polar_curves(
+            def.name, [&](const Vec3& wi, const Vec3& wo, double rgb[3]) { b.eval(wi, wo, rgb); });
+        result_.polar.insert(result_.polar.end(), curves.begin(), curves.end());
+      }
+      result_.rows.push_back(std::move(r));
+      progress_->step(m_.name + ": " + def.name);
+    }
+    return ok_status();
+  }
+
+  Status float16_row() {
+    Row r = base_row("float16+zstd", kKindNearLossless);
+    auto f = float16_round_trip(table_, st_.float16_zstd_level);
+    if (!f.ok()) return f.status().with_context(m_.name + " (float16)");
+    r.bytes = double(f->compressed.bytes.size());
+    r.encode_s = f->compressed.encode_s;
+    r.decode_s = f->compressed.decode_s;
+    set_metrics(&r, f->decoded);
+    const BrdfTable& t = f->decoded;
+    r.eval_ns = eval_ns(
+        [&](const Vec3& wi, const Vec3& wo, double* rgb) { lookup_nearest(t, wi, wo, rgb); });
+    r.detail = "zstd level " + std::to_string(st_.float16_zstd_level);
+    result_.rows.push_back(std::move(r));
+    progress_->step(m_.name + ": float16");
+    return ok_status();
+  }
+
+  Status lossless_rows() {
+    const double lookup_ns = eval_ns(
+        [&](const Vec3& wi, const Vec3& wo, double* rgb) { lookup_nearest(table_, wi, wo, rgb); });
+    auto add = [&](const std::string& model, const Expected<Compressed>& c) -> Status {
+      if (!c.ok()) return c.status().with_context(m_.name + " (" + model + ")");
+      Row r = base_row(model, kKindLossless);
+      r.bytes = double(c->bytes.size());
+      r.encode_s = c->encode_s;
+      r.decode_s = c->decode_s;
+      // Bit-exact (verified by the round trip): no error, the PSNR cap.
+      r.psnr_linear = r.psnr_tonemapped = kPsnrCapDb;
+      r.eval_ns = lookup_ns;
+      r.detail = "of the .binary bytes; eval = nearest-bin table lookup";
+      result_.rows.push_back(std::move(r));
+      progress_->step(m_.name + ": " + model);
+      return ok_status();
+    };
+    CBRDF_RETURN_IF_ERROR(add("zstd-" + std::to_string(st_.lossless_zstd_level),
+                              zstd_round_trip(raw_, st_.lossless_zstd_level)));
+    return add("xz-" + std::to_string(st_.xz_preset), xz_round_trip(raw_, st_.xz_preset));
+  }
+
+  const Material& m_;
+  const Settings& st_;
+  int threads_;
+  Progress* progress_;
+  SphereSetup sphere_;
+  BrdfTable table_;
+  std::vector<std::uint8_t> raw_;
+  double input_bytes_ = 0;
+  MaterialResult result_;
+};
+
+std::size_t steps_per_material(const Settings& st) {
+  std::size_t n = copula_settings(st).size();
+  if (st.baselines.analytic) n += analytic_models().size();
+  if (st.baselines.float16) ++n;
+  if (st.baselines.lossless) n += 2;
+  return n;
 }
 
 }  // namespace
 
-Expected<std::vector<Row>> measure_all(const std::vector<Material>& materials, const Settings& st) {
-  std::vector<Row> rows(materials.size());
+std::string Row::label() const {
+  if (kind == std::string(kKindCopula)) {
+    return model + " s" + std::to_string(slices) + " b" + std::to_string(bits);
+  }
+  return model;
+}
+
+Expected<std::vector<MaterialResult>> measure_all(const std::vector<Material>& materials,
+                                                  const Settings& st) {
+  std::vector<MaterialResult> results(materials.size());
   std::vector<Status> errors(materials.size());
-  std::atomic<std::size_t> next{0}, done{0};
-  std::mutex print;
   const int jobs = std::max(1, std::min<int>(st.jobs, int(materials.size())));
-  // With one job, the fit itself uses every core; with several, each material gets one.
-  const int fit_threads = jobs == 1 ? std::max(1, st.jobs) : 1;
+  // With one job the fits and renders use every core; with several, each material gets one.
+  const int threads = jobs == 1 ? std::max(1, int(std::thread::hardware_concurrency())) : 1;
+  Progress progress(materials.size() * steps_per_material(st), st.progress);
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
   auto worker = [&] {
-    for (std::size_t i = next++; i < materials.size(); i = next++) {
-      auto r = measure(materials[i], st, fit_threads);
+    for (std::size_t i = next++; i < materials.size() && !failed; i = next++) {
+      MaterialRun run(materials[i], st, threads, &progress);
+      auto r = run.run();
       if (r.ok()) {
-        rows[i] = *r;
+        results[i] = std::move(r).value();
       } else {
         errors[i] = r.status();
-      }
-      const std::size_t n = ++done;
-      if (st.progress) {
-        std::lock_guard<std::mutex> lock(print);
-        std::fprintf(stderr, "\r[%zu/%zu] %-32s", n, materials.size(), materials[i].name.c_str());
-        if (n == materials.size()) std::fprintf(stderr, "\r%60s\r", "");
-        std::fflush(stderr);
+        failed = true;
       }
     }
   };
@@ -113,82 +376,11 @@ Expected<std::vector<Row>> measure_all(const std::vector<Material>& materials, c
   for (int t = 1; t < jobs; ++t) pool.emplace_back(worker);
   worker();
   for (auto& t : pool) t.join();
+  progress.finish();
   for (const Status& e : errors) {
     if (!e.ok()) return e;
   }
-  return rows;
-}
-
-std::string format_table(const std::vector<Row>& rows) {
-  std::ostringstream out;
-  char line[256];
-  std::snprintf(line, sizeof line, "%-28s %9s %8s %9s %9s %8s %9s %9s %8s\n", "material", "bytes",
-                "ratio", "PSNR dB", "PSNR tm", "relRMSE", "encode s", "decode s", "eval ns");
-  out << line;
-  double bytes = 0, psnr = 0, psnr_tm = 0, enc = 0;
-  for (const Row& r : rows) {
-    std::snprintf(line, sizeof line, "%-28s %9.0f %7.0f:1 %9.2f %9.2f %8.4f %9.3f %9.3f %8.1f\n",
-                  r.material.c_str(), r.container_bytes, r.input_bytes / r.container_bytes,
-                  r.psnr_linear, r.psnr_tonemapped, r.rel_rmse, r.encode_seconds,
-                  r.decode_seconds, r.eval_ns_per_sample);
-    out << line;
-    bytes += r.container_bytes;
-    psnr += r.psnr_linear;
-    psnr_tm += r.psnr_tonemapped;
-    enc += r.encode_seconds;
-  }
-  if (!rows.empty()) {
-    const double n = double(rows.size());
-    std::snprintf(line, sizeof line, "%-28s %9.0f %8s %9.2f %9.2f %8s %9.3f\n", "mean", bytes / n,
-                  "", psnr / n, psnr_tm / n, "", enc / n);
-    out << line;
-  }
-  return out.str();
-}
-
-Status write_files(const std::vector<Row>& rows, const std::string& dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) return error(ErrorCode::kIo, dir + ": cannot create the directory: " + ec.message());
-  std::ostringstream md, csv;
-  md << "# cbrdf report\n\nSphere PSNR: 256x256 direct-lit spheres, lights at 10, 45 and 75 "
-        "degrees, decoded against input; 'tm' after tone mapping.\n\n";
-  md << "| material | bytes | ratio | PSNR dB | PSNR tm dB | rel RMSE | encode s | decode s | "
-        "eval ns |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  csv << "material,input_bytes,container_bytes,psnr_linear_db,psnr_tonemapped_db,rel_rmse,"
-         "log_rmse,encode_s,decode_s,eval_ns\n";
-  nlohmann::json j = nlohmann::json::array();
-  for (const Row& r : rows) {
-    char line[512];
-    std::snprintf(line, sizeof line, "| %s | %.0f | %.0f:1 | %.2f | %.2f | %.4f | %.3f | %.3f | %.1f |\n",
-                  r.material.c_str(), r.container_bytes, r.input_bytes / r.container_bytes,
-                  r.psnr_linear, r.psnr_tonemapped, r.rel_rmse, r.encode_seconds,
-                  r.decode_seconds, r.eval_ns_per_sample);
-    md << line;
-    std::snprintf(line, sizeof line, "%s,%.0f,%.0f,%.4f,%.4f,%.6g,%.6g,%.4f,%.4f,%.2f\n",
-                  r.material.c_str(), r.input_bytes, r.container_bytes, r.psnr_linear,
-                  r.psnr_tonemapped, r.rel_rmse, r.log_rmse, r.encode_seconds, r.decode_seconds,
-                  r.eval_ns_per_sample);
-    csv << line;
-    j.push_back({{"material", r.material},
-                 {"input_bytes", r.input_bytes},
-                 {"container_bytes", r.container_bytes},
-                 {"psnr_linear_db", r.psnr_linear},
-                 {"psnr_tonemapped_db", r.psnr_tonemapped},
-                 {"rel_rmse", r.rel_rmse},
-                 {"log_rmse", r.log_rmse},
-                 {"encode_s", r.encode_seconds},
-                 {"decode_s", r.decode_seconds},
-                 {"eval_ns", r.eval_ns_per_sample}});
-  }
-  auto write = [&](const std::string& name, const std::string& text) {
-    return write_file_atomic(std::filesystem::path(dir) / name,
-                             std::span<const std::uint8_t>(
-                                 reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
-  };
-  CBRDF_RETURN_IF_ERROR(write("report.md", md.str()));
-  CBRDF_RETURN_IF_ERROR(write("report.csv", csv.str()));
-  return write("report.json", j.dump(2) + "\n");
+  return results;
 }
 
 }  // namespace cbrdf::report

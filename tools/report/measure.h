@@ -1,11 +1,14 @@
-// The measurements behind `cbrdf report`: encode, decode and compare each material.
+// The measurements behind `cbrdf report`: per material, the codec at every sweep setting and the
+// baselines, each as one Row; plus what the plots and images need.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "cbrdf/codec.h"
+#include "cbrdf/analytic_fit.h"
+#include "cbrdf/image.h"
 #include "cbrdf/status.h"
+#include "report/sweep.h"
 
 namespace cbrdf::report {
 
@@ -16,24 +19,67 @@ struct Material {
 };
 
 struct Settings {
-  int slices = 6;
-  int bits = EncodeSettings{}.bits;
+  Sweep sweep;
+  Baselines baselines;
+  int lossless_zstd_level = 19;
+  std::uint32_t xz_preset = 6;  // preset 9 is slower and no smaller on MERL files
+  int float16_zstd_level = 19;
+  int analytic_bins = 20000;
+  AnalyticLoss analytic_loss = AnalyticLoss::kCosineWeighted;
+  int sphere_size = 256;
   int jobs = 1;
-  bool progress = true;  // a progress line on stderr
+  bool progress = true;  // a progress bar on stderr
 };
+
+// Row kinds.
+inline constexpr const char* kKindCopula = "copula";
+inline constexpr const char* kKindLossless = "lossless";
+inline constexpr const char* kKindNearLossless = "near-lossless";
+inline constexpr const char* kKindAnalytic = "analytic";
 
 struct Row {
   std::string material;
-  double input_bytes = 0;
-  double container_bytes = 0;
-  double psnr_linear = 0, psnr_tonemapped = 0;  // sphere images, decoded vs input
-  double rel_rmse = 0, log_rmse = 0;            // over measured bins
-  double encode_seconds = 0, decode_seconds = 0;
-  double eval_ns_per_sample = 0;  // ModelEvaluator::eval, random direction pairs
+  std::string model;         // frank, ..., separable, auto, zstd-19, xz-6, float16+zstd, ward, ...
+  std::string kind;          // one of the kinds above
+  int slices = 0, bits = 0;  // copula rows
+  bool in_sweep = false;     // a copula row of the sweep (not only a baseline)
+  bool primary = false;      // the sweep's primary setting
+  double input_bytes = 0;    // the .binary
+  double bytes = 0;          // container, compressed file, or 8 bytes per analytic parameter
+  double rel_rmse = 0, log_rmse = 0, cos_rmse = 0;  // metrics.h, over the measured bins
+  double psnr_linear = 0, psnr_tonemapped = 0;      // sphere images, against the input
+  double encode_s = 0;  // fit + quantize + container (or compression, or the analytic fit)
+  double decode_s = 0;  // bytes (or parameters) to a full table
+  double eval_ns = 0;   // one RGB evaluation at a random direction pair
+  std::string detail;   // e.g. the fitted analytic parameters
+
+  std::string label() const;  // "frank s6 b10", "ward", ...
+  double ratio() const { return bytes > 0 ? input_bytes / bytes : 0.0; }
 };
 
-Expected<std::vector<Row>> measure_all(const std::vector<Material>& materials, const Settings& st);
-std::string format_table(const std::vector<Row>& rows);
-Status write_files(const std::vector<Row>& rows, const std::string& dir);
+// BRDF (mean of the channels) in the plane of incidence, theta_o signed (negative on the side
+// of the mirror direction), as the paper's Figure 3.
+struct PolarCurve {
+  std::string model;  // "measured" or a row's label
+  double theta_i_deg = 0;
+  std::vector<double> theta_o_deg, value;
+};
+inline constexpr double kPolarThetaI[] = {0.0, 45.0, 75.0};
+
+struct MaterialResult {
+  std::string name;
+  std::vector<Row> rows;
+  std::vector<PolarCurve> polar;
+  // Sphere renders lit at 45 degrees, tone-mapped with the reference's exposure, and their
+  // false-colour difference (viridis, the same scale for every material): paper's Figure 4.
+  Image reference, decoded, difference;
+  std::string decoded_label;
+};
+inline constexpr double kImageLightDeg = 45.0;
+inline constexpr double kDifferenceScale = 0.1;  // display units shown as full yellow
+
+// Measures every material (`jobs` at a time). The first error stops the report.
+Expected<std::vector<MaterialResult>> measure_all(const std::vector<Material>& materials,
+                                                  const Settings& st);
 
 }  // namespace cbrdf::report

@@ -1,0 +1,215 @@
+#include "report/plots.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "report/svg.h"
+#include "report/tables.h"
+
+namespace cbrdf::report {
+namespace {
+
+bool is_lossless(const std::string& label) {
+  return label.rfind("zstd-", 0) == 0 || label.rfind("xz-", 0) == 0;
+}
+
+// The labels plotted as lone points: every compared model that is not a copula sweep setting
+// (lossless rows sit at the PSNR cap and are left out).
+std::vector<std::string> point_labels(const std::vector<MaterialResult>& results,
+                                      const Settings& st) {
+  const std::vector<std::string> sweep = sweep_labels(st);
+  std::vector<std::string> out;
+  for (const std::string& l : compared_labels(results, st)) {
+    if (is_lossless(l) || std::find(sweep.begin(), sweep.end(), l) != sweep.end()) continue;
+    out.push_back(l);
+  }
+  return out;
+}
+
+using Getter = std::function<double(const std::string& label, double Row::*field)>;
+
+// One chart of PSNR against a cost: per swept family all its settings as points and their
+// Pareto front as a line, then each baseline as a point.
+Chart cost_chart(const Settings& st, const std::vector<std::string>& baselines, const Getter& get,
+                 double Row::*x_field, const std::string& title, const std::string& x_label) {
+  Chart c;
+  c.title = title;
+  c.x_label = x_label;
+  c.y_label = "sphere PSNR, tone-mapped (dB)";
+  c.log_x = true;
+  std::size_t colour = 0;
+  for (const std::string& family : st.sweep.families) {
+    std::vector<std::pair<double, double>> pts;
+    for (const CodecSetting& s : st.sweep.settings()) {
+      if (s.family != family) continue;
+      pts.emplace_back(get(s.label(), x_field), get(s.label(), &Row::psnr_tonemapped));
+    }
+    std::sort(pts.begin(), pts.end());
+    Series all{CodecSetting{family, 0, 0}.model_name() + " settings",
+               {},
+               {},
+               palette(colour),
+               false,
+               true};
+    Series front{
+        CodecSetting{family, 0, 0}.model_name() + " front", {}, {}, palette(colour), true, false};
+    double best = -INFINITY;
+    for (const auto& [x, y] : pts) {
+      all.x.push_back(x), all.y.push_back(y);
+      if (y > best) {
+        best = y;
+        front.x.push_back(x), front.y.push_back(y);
+      }
+    }
+    c.series.push_back(all);
+    if (pts.size() > 1) c.series.push_back(front);
+    ++colour;
+  }
+  for (const std::string& l : baselines) {
+    c.series.push_back(Series{
+        l, {get(l, x_field)}, {get(l, &Row::psnr_tonemapped)}, palette(colour++), false, true});
+  }
+  return c;
+}
+
+Figure polar_figure(const MaterialResult& m) {
+  // Columns: each fitted model with polar curves (the primary copula setting first).
+  std::vector<std::string> models;
+  for (const PolarCurve& c : m.polar) {
+    if (c.model != "measured" && std::find(models.begin(), models.end(), c.model) == models.end()) {
+      models.push_back(c.model);
+    }
+  }
+  auto curve = [&](const std::string& model, double ti) -> const PolarCurve* {
+    for (const PolarCurve& c : m.polar) {
+      if (c.model == model && c.theta_i_deg == ti) return &c;
+    }
+    return nullptr;
+  };
+  auto cube_root = [](const PolarCurve& c, const std::string& colour, bool dashed) {
+    Series s{c.model, c.theta_o_deg, {}, colour, true, false, dashed, dashed ? 1.5 : 1.8};
+    for (double v : c.value) s.y.push_back(std::cbrt(std::max(v, 0.0)));
+    return s;
+  };
+  std::vector<PolarPanel> panels;
+  for (double ti : kPolarThetaI) {
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      PolarPanel p;
+      char title[96];
+      std::snprintf(title, sizeof title, "%s, theta_i %.0f", models[k].c_str(), ti);
+      p.title = title;
+      if (const PolarCurve* c = curve("measured", ti))
+        p.series.push_back(cube_root(*c, "#000", true));
+      if (const PolarCurve* c = curve(models[k], ti)) {
+        p.series.push_back(cube_root(*c, palette(k), false));
+      }
+      panels.push_back(std::move(p));
+    }
+  }
+  Figure f;
+  f.material = m.name;
+  f.file = "polar_" + file_stem(m.name) + ".svg";
+  f.caption = m.name +
+              ": BRDF in the plane of incidence (mean of R, G, B, cube root) at "
+              "theta_i = 0, 45, 75 degrees; measured black dashed, fitted in colour; the mirror "
+              "direction is on the left.";
+  f.svg = render_polar_grid(m.name + " (cube root; measured dashed)", panels,
+                            int(std::max<std::size_t>(models.size(), 1)));
+  return f;
+}
+
+}  // namespace
+
+std::string file_stem(const std::string& name) {
+  std::string out;
+  for (char c : name) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '-' || c == '_' || c == '.';
+    out += ok ? c : '_';
+  }
+  return out.empty() ? "_" : out;
+}
+
+std::vector<Figure> report_figures(const std::vector<MaterialResult>& results, const Settings& st) {
+  std::vector<Figure> figs;
+  if (results.empty()) return figs;
+  const std::vector<std::string> points = point_labels(results, st);
+  const Getter mean = [&](const std::string& l, double Row::*f) { return mean_of(results, l, f); };
+
+  figs.push_back({"rd_mean.svg",
+                  "Rate-distortion, mean over the materials: bytes against tone-mapped sphere "
+                  "PSNR; each swept family's settings and their Pareto front, baselines as "
+                  "points (lossless baselines are bit-exact and left out).",
+                  render_chart(cost_chart(st, points, mean, &Row::bytes,
+                                          "Bytes vs PSNR, mean over materials", "bytes (log)")),
+                  ""});
+  figs.push_back(
+      {"time_psnr.svg", "What accuracy costs: mean encode time against mean tone-mapped PSNR.",
+       render_chart(cost_chart(st, points, mean, &Row::encode_s,
+                               "Encode time vs PSNR, mean over materials", "encode seconds (log)")),
+       ""});
+  figs.push_back({"eval_psnr.svg",
+                  "Mean evaluation time per RGB sample against mean tone-mapped PSNR.",
+                  render_chart(cost_chart(st, points, mean, &Row::eval_ns,
+                                          "Evaluation time vs PSNR, mean over materials",
+                                          "ns per evaluation (log)")),
+                  ""});
+
+  // Figure 5: PSNR per material, sorted by the Ashikhmin-Shirley PSNR when it was fitted.
+  std::vector<const MaterialResult*> order;
+  for (const MaterialResult& m : results) order.push_back(&m);
+  const std::string primary = st.sweep.primary().label();
+  const std::string sort_by =
+      find_row(results.front(), "ashikhmin-shirley") ? "ashikhmin-shirley" : primary;
+  auto key = [&](const MaterialResult* m) {
+    const Row* r = find_row(*m, sort_by);
+    return r ? r->psnr_tonemapped : 0.0;
+  };
+  std::stable_sort(
+      order.begin(), order.end(),
+      [&](const MaterialResult* a, const MaterialResult* b) { return key(a) < key(b); });
+  Chart fig5;
+  fig5.title = "PSNR per material, sorted by " + sort_by;
+  fig5.y_label = "sphere PSNR, tone-mapped (dB)";
+  for (const MaterialResult* m : order) fig5.categories.push_back(m->name);
+  std::vector<std::string> fig5_models = {"ashikhmin-shirley", "cook-torrance", "ward", "ggx-2lobe",
+                                          primary};
+  for (const std::string& l : compared_labels(results, st)) {
+    if (!is_lossless(l) &&
+        std::find(fig5_models.begin(), fig5_models.end(), l) == fig5_models.end()) {
+      fig5_models.push_back(l);
+    }
+  }
+  for (std::size_t k = 0; k < fig5_models.size(); ++k) {
+    Series s{fig5_models[k], {}, {}, palette(k), true, true};
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      if (const Row* r = find_row(*order[i], fig5_models[k])) {
+        s.x.push_back(double(i));
+        s.y.push_back(r->psnr_tonemapped);
+      }
+    }
+    if (!s.x.empty()) fig5.series.push_back(std::move(s));
+  }
+  fig5.height = 520;
+  figs.push_back({"psnr_by_material.svg",
+                  "Tone-mapped sphere PSNR per material and model, materials sorted by the " +
+                      sort_by + " PSNR (the paper's Figure 5).",
+                  render_chart(fig5), ""});
+
+  for (const MaterialResult& m : results) {
+    const Getter one = [&](const std::string& l, double Row::*f) {
+      const Row* r = find_row(m, l);
+      return r ? r->*f : NAN;
+    };
+    figs.push_back({"rd_" + file_stem(m.name) + ".svg",
+                    m.name + ": bytes against tone-mapped sphere PSNR.",
+                    render_chart(cost_chart(st, points, one, &Row::bytes,
+                                            m.name + ": bytes vs PSNR", "bytes (log)")),
+                    m.name});
+    figs.push_back(polar_figure(m));
+  }
+  return figs;
+}
+
+}  // namespace cbrdf::report

@@ -1,0 +1,164 @@
+#include "report/sweep.h"
+
+#include <algorithm>
+#include <charconv>
+#include <sstream>
+
+#include "cbrdf/codec.h"
+#include "cbrdf/copula_family.h"
+#include "cbrdf/fit.h"
+
+namespace cbrdf::report {
+namespace {
+
+Status bad(const std::string& message) {
+  return error(ErrorCode::kInvalidArgument, "--sweep: " + message);
+}
+
+std::vector<std::string> split(const std::string& text, char sep) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(text);
+  while (std::getline(in, part, sep)) parts.push_back(part);
+  if (!text.empty() && text.back() == sep) parts.emplace_back();
+  return parts;
+}
+
+Expected<std::vector<int>> parse_ints(const std::string& key, const std::string& values, int lo,
+                                      int hi) {
+  std::vector<int> out;
+  for (const std::string& v : split(values, ',')) {
+    int x = 0;
+    const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
+    if (v.empty() || ec != std::errc() || end != v.data() + v.size() || x < lo || x > hi) {
+      return bad(key + "='" + v + "' is not an integer from " + std::to_string(lo) + " to " +
+                 std::to_string(hi));
+    }
+    if (std::find(out.begin(), out.end(), x) != out.end()) {
+      return bad(key + " lists " + v + " twice");
+    }
+    out.push_back(x);
+  }
+  return out;
+}
+
+Expected<std::vector<std::string>> parse_families(const std::string& values) {
+  std::vector<std::string> out;
+  for (std::string v : split(values, ',')) {
+    if (v == "separable") v = "independence";
+    if (v != "auto" && !family_from_name(v)) {
+      return bad("family='" + v +
+                 "' is not one of frank, clayton, gumbel, joe, independence (or separable), auto");
+    }
+    if (std::find(out.begin(), out.end(), v) != out.end()) {
+      return bad("family lists " + v + " twice");
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string CodecSetting::model_name() const {
+  return family == "independence" ? "separable" : family;
+}
+
+std::string CodecSetting::label() const {
+  return model_name() + " s" + std::to_string(slices) + " b" + std::to_string(bits);
+}
+
+CodecSetting default_setting() {
+  const FitSettings fit;
+  CodecSetting s;
+  s.family = fit.auto_family ? "auto" : std::string(family_name(fit.family));
+  s.slices = fit.slices;
+  s.bits = EncodeSettings{}.bits;
+  return s;
+}
+
+std::vector<CodecSetting> Sweep::settings() const {
+  std::vector<CodecSetting> out;
+  for (const std::string& f : families) {
+    for (int s : slices) {
+      for (int b : bits) out.push_back(CodecSetting{f, s, b});
+    }
+  }
+  return out;
+}
+
+CodecSetting Sweep::primary() const {
+  const std::vector<CodecSetting> all = settings();
+  const CodecSetting def = default_setting();
+  if (std::find(all.begin(), all.end(), def) != all.end()) return def;
+  return all.front();
+}
+
+Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
+  Sweep sweep;
+  sweep.families = {default_setting().family};
+  sweep.slices = {default_setting().slices};
+  sweep.bits = {default_setting().bits};
+  std::vector<std::string> seen;
+  for (const std::string& item : items) {
+    std::istringstream words(item);
+    std::string word;
+    while (words >> word) {
+      const std::size_t eq = word.find('=');
+      if (eq == std::string::npos || eq == 0) {
+        return bad(
+            "'" + word +
+            "' is not KEY=VALUES (keys: slices, bits, family; give input files before --sweep)");
+      }
+      const std::string key = word.substr(0, eq), values = word.substr(eq + 1);
+      if (std::find(seen.begin(), seen.end(), key) != seen.end()) {
+        return bad("'" + key + "' is given twice; list all its values once, e.g. " + key + "=A,B");
+      }
+      if (values.empty()) return bad("'" + key + "=' has no values");
+      seen.push_back(key);
+      if (key == "slices") {
+        auto v = parse_ints(key, values, 1, 90);
+        if (!v) return v.status();
+        sweep.slices = *v;
+      } else if (key == "bits") {
+        auto v = parse_ints(key, values, 6, 16);
+        if (!v) return v.status();
+        sweep.bits = *v;
+      } else if (key == "family" || key == "families") {
+        auto v = parse_families(values);
+        if (!v) return v.status();
+        sweep.families = *v;
+      } else {
+        return bad("unknown key '" + key + "' (keys: slices, bits, family)");
+      }
+    }
+  }
+  return sweep;
+}
+
+Expected<Baselines> parse_baselines(const std::string& list) {
+  Baselines b;
+  if (list == "all") return Baselines{true, true, true, true, true};
+  b = Baselines{false, false, false, false, false};
+  if (list == "none") return b;
+  for (const std::string& name : split(list, ',')) {
+    if (name == "lossless") {
+      b.lossless = true;
+    } else if (name == "float16") {
+      b.float16 = true;
+    } else if (name == "separable") {
+      b.separable = true;
+    } else if (name == "families") {
+      b.families = true;
+    } else if (name == "analytic") {
+      b.analytic = true;
+    } else {
+      return error(ErrorCode::kInvalidArgument, "--baselines: unknown baseline '" + name +
+                                                    "' (all, none, or a list of " + kBaselineNames +
+                                                    ")");
+    }
+  }
+  return b;
+}
+
+}  // namespace cbrdf::report

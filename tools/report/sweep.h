@@ -1,0 +1,55 @@
+// `cbrdf report --sweep`: which codec settings to measure, and which baselines to run beside them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cbrdf/status.h"
+
+namespace cbrdf::report {
+
+// One codec setting: a point of the sweep.
+struct CodecSetting {
+  std::string family = "frank";  // frank, clayton, gumbel, joe, independence or auto
+  int slices = 6;
+  int bits = 10;
+  bool operator==(const CodecSetting&) const = default;
+  // "frank s6 b10"; the independence family is called "separable", as in the paper.
+  std::string label() const;
+  std::string model_name() const;  // "frank", ..., "separable", "auto"
+};
+
+// The default setting of `cbrdf encode` (FitSettings and EncodeSettings defaults).
+CodecSetting default_setting();
+
+struct Sweep {
+  std::vector<std::string> families = {"frank"};
+  std::vector<int> slices = {6};
+  std::vector<int> bits = {10};
+  // The cartesian product, family outermost and bits innermost (settings that share a fit are
+  // adjacent).
+  std::vector<CodecSetting> settings() const;
+  // The setting the per-material images and the baseline comparison use: the default setting
+  // when the sweep holds it, otherwise the first one.
+  CodecSetting primary() const;
+};
+
+// Parses items "slices=1,2,3", "bits=6,8", "family=frank,auto" (keys in any order, each at most
+// once; an item may also hold several, separated by spaces). Errors (kInvalidArgument) are one
+// line naming the item and what would be valid.
+Expected<Sweep> parse_sweep(const std::vector<std::string>& items);
+
+// Baselines measured beside the sweep.
+struct Baselines {
+  bool lossless = false;  // zstd -19 and xz -6 of the .binary bytes (about 25 s per material)
+  bool float16 = true;    // physical values as IEEE half, then zstd
+  bool separable = true;  // the independence copula at the primary setting
+  bool families = false;  // every copula family and auto at the primary setting
+  bool analytic = true;   // Ward, Cook-Torrance (GGX), Ashikhmin-Shirley, two-lobe GGX
+};
+inline constexpr const char* kBaselineNames = "lossless, float16, separable, families, analytic";
+
+// "all", "none", or a comma-separated list of the names above.
+Expected<Baselines> parse_baselines(const std::string& list);
+
+}  // namespace cbrdf::report

@@ -1,0 +1,42 @@
+// The report's tables, built once and rendered as Markdown (report.md), HTML (report.html) and
+// plain text (stdout).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "report/measure.h"
+
+namespace cbrdf::report {
+
+struct TextTable {
+  std::string id;     // anchor name, e.g. "psnr"
+  std::string title;  // "Table 1: ..."
+  std::string note;   // one paragraph under the title
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
+// The labels of the rows compared across models: the primary copula setting, the copula
+// baselines at its slices and bits, the analytic fits, float16 and the lossless compressors, in
+// the order the report measured them.
+std::vector<std::string> compared_labels(const std::vector<MaterialResult>& results,
+                                         const Settings& st);
+// The sweep's settings' labels in sweep order.
+std::vector<std::string> sweep_labels(const Settings& st);
+
+// Mean of a field over the materials for rows with this label (NaN when no row has it).
+double mean_of(const std::vector<MaterialResult>& results, const std::string& label,
+               double Row::*field);
+const Row* find_row(const MaterialResult& m, const std::string& label);
+
+// Tables 1 to 3 shaped like the paper's (PSNR, storage, time), the sweep, and what accuracy
+// costs in time.
+std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
+                                     const Settings& st);
+
+std::string to_markdown(const TextTable& t);
+std::string to_html(const TextTable& t);
+std::string to_text(const TextTable& t);  // aligned columns for a terminal
+
+}  // namespace cbrdf::report

@@ -1,0 +1,82 @@
+#include "report/write.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <span>
+#include <sstream>
+#include <thread>
+
+#include "cbrdf/file_io.h"
+#include "cbrdf/image_io.h"
+#include "report/export.h"
+#include "report/html.h"
+#include "report/plots.h"
+#include "report/tables.h"
+
+namespace cbrdf::report {
+namespace {
+
+Status write_text(const std::filesystem::path& path, const std::string& text) {
+  return write_file_atomic(
+      path, std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()),
+                                          text.size()));
+}
+
+}  // namespace
+
+std::string run_summary(const std::vector<MaterialResult>& results, const Settings& st,
+                        double elapsed_s) {
+  std::ostringstream out;
+  char secs[32];
+  std::snprintf(secs, sizeof secs, "%.1f", elapsed_s);
+  out << results.size() << " materials, " << st.sweep.settings().size()
+      << " codec settings (families";
+  for (const std::string& f : st.sweep.families) out << " " << f;
+  out << "; slices";
+  for (int s : st.sweep.slices) out << " " << s;
+  out << "; bits";
+  for (int b : st.sweep.bits) out << " " << b;
+  out << "), primary setting " << st.sweep.primary().label()
+      << ". Baselines:" << (st.baselines.separable ? " separable" : "")
+      << (st.baselines.families ? " families" : "") << (st.baselines.analytic ? " analytic" : "")
+      << (st.baselines.float16 ? " float16" : "") << (st.baselines.lossless ? " lossless" : "")
+      << (!st.baselines.separable && !st.baselines.families && !st.baselines.analytic &&
+                  !st.baselines.float16 && !st.baselines.lossless
+              ? " none"
+              : "")
+      << ". Measured in " << secs << " s with --jobs " << st.jobs << " on "
+      << std::thread::hardware_concurrency() << " hardware threads.";
+  return out.str();
+}
+
+Status write_report(const std::vector<MaterialResult>& results, const Settings& st,
+                    const std::string& dir, double elapsed_s) {
+  const std::filesystem::path root(dir);
+  std::error_code ec;
+  std::filesystem::create_directories(root, ec);
+  if (ec) return error(ErrorCode::kIo, dir + ": cannot create the directory: " + ec.message());
+  const std::string summary = run_summary(results, st, elapsed_s);
+  const std::vector<TextTable> tables = report_tables(results, st);
+  const std::vector<Figure> figures = report_figures(results, st);
+
+  std::ostringstream md;
+  md << "# cbrdf report\n\n" << summary << "\n\n";
+  for (const TextTable& t : tables) md << to_markdown(t);
+  md << "## Figures\n\n";
+  for (const Figure& f : figures)
+    md << "- [" << f.file << "](" << f.file << "): " << f.caption << "\n";
+  md << "\nSphere renders per material (input, decoded, difference) and every figure are "
+        "gathered in [report.html](report.html).\n";
+  CBRDF_RETURN_IF_ERROR(write_text(root / "report.md", md.str()));
+  CBRDF_RETURN_IF_ERROR(write_text(root / "report.csv", to_csv(results)));
+  CBRDF_RETURN_IF_ERROR(write_text(root / "report.json", to_json(results, st, elapsed_s)));
+  for (const Figure& f : figures) CBRDF_RETURN_IF_ERROR(write_text(root / f.file, f.svg));
+  for (const MaterialResult& m : results) {
+    CBRDF_RETURN_IF_ERROR(write_png(root / sphere_file(m.name, "reference"), m.reference));
+    CBRDF_RETURN_IF_ERROR(write_png(root / sphere_file(m.name, "decoded"), m.decoded));
+    CBRDF_RETURN_IF_ERROR(write_png(root / sphere_file(m.name, "difference"), m.difference));
+  }
+  return write_text(root / "report.html", report_html(results, st, tables, figures, summary));
+}
+
+}  // namespace cbrdf::report
