@@ -128,14 +128,19 @@ Status decode_mask_chunk(std::span<const std::uint8_t> payload, std::uint16_t fi
   }
 
   const std::size_t n_values = fields->values == MaskValues::kSingle ? 1 : count;
-  CBRDF_RETURN_IF_ERROR(r.need(n_values * 8, "not-measured values"));
+  const std::uint64_t values_at = r.offset();
+  std::span<const std::uint8_t> raw;
+  CBRDF_RETURN_IF_ERROR(r.bytes(n_values * 8, &raw, "not-measured values"));
+  // One bounds check, then one copy: a checked read per value made the 4.4 million values of the
+  // largest file cost seconds under the sanitizers (a fuzzer timeout). Little-endian hosts only.
+  static_assert(std::endian::native == std::endian::little);
   out->values.resize(n_values);
+  std::memcpy(out->values.data(), raw.data(), raw.size());
   for (std::size_t k = 0; k < n_values; ++k) {
-    const std::uint64_t at = r.offset();
-    CBRDF_RETURN_IF_ERROR(r.f64(&out->values[k], "not-measured value"));
     if (out->values[k] >= 0.0) {
       return error(ErrorCode::kNumeric, "not-measured value " + number_text(out->values[k]) +
-                                            " at payload offset " + std::to_string(at) +
+                                            " at payload offset " +
+                                            std::to_string(values_at + 8 * k) +
                                             " is not negative (it would read as measured)");
     }
   }

@@ -3,12 +3,25 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "fit/frank_grid.h"
 #include "fit/grid_copula.h"
 #include "fit/marginals.h"
 
 namespace cbrdf {
+namespace {
+
+// Model values are finite. A file may hold any K and parameter of the domain, and their product
+// with a density near a singular corner can exceed the double range: it saturates at the largest
+// double, so that a table reconstructed from any valid file can be written and read back. A NaN
+// here can only be an overflowed factor times an exact zero (a zero mass), which is 0.
+inline double saturate(double v) {
+  constexpr double kMax = std::numeric_limits<double>::max();
+  return v < kMax ? v : (v == v ? kMax : 0.0);
+}
+
+}  // namespace
 
 std::size_t NotMeasured::count() const {
   std::size_t n = 0;
@@ -60,7 +73,7 @@ struct ModelEvaluator::Part {
     if (f == 0.0 || cs->scale == 0.0) return 0.0;
     const double c = frank ? frank->density(i, j - theta_d_begin, k)
                            : copula->density(i, j - theta_d_begin, k);
-    return cs->scale * c * f;
+    return saturate(cs->scale * c * f);
   }
 };
 
@@ -73,7 +86,12 @@ ModelEvaluator::ModelEvaluator(const Model& model) : model_(&model) {
       auto part = std::make_unique<Part>();
       const ChannelSlice& cs = model.slices[s].channel[c];
       part->cs = &cs;
-      part->copula = fit::make_grid_copula(cs.family);
+      // FrankGrid is accurate only down to kFrankGridMinAlpha (the fitter's bound); a file may
+      // hold any parameter of the domain, which the general grid evaluates in the log domain.
+      const bool frank_beyond_grid =
+          cs.family == CopulaFamily::kFrank && cs.theta < fit::kFrankGridMinAlpha;
+      part->copula = frank_beyond_grid ? fit::make_archimedean_grid(cs.family)
+                                       : fit::make_grid_copula(cs.family);
       std::vector<double> u1, u2, u3;
       fit::midpoint_cdf(cs.pdf_h, &u1);
       fit::midpoint_cdf(cs.pdf_d, &u2);
@@ -120,6 +138,7 @@ void ModelEvaluator::eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const {
       }
     }
   }
+  for (int c = 0; c < kChannels; ++c) rgb[c] = saturate(rgb[c]);
 }
 
 BrdfTable ModelEvaluator::table() const {
@@ -143,24 +162,21 @@ BrdfTable ModelEvaluator::table() const {
           }
           // A whole phi_d row at once: the copula's per-row factors are shared and it vectorizes.
           p.copula->row(i, j - slice.theta_d_begin, c.data(), nullptr);
-          for (int k = 0; k < kPhiDBins; ++k) row[k] = f12 * c[k] * cs.pdf_p[k];
+          for (int k = 0; k < kPhiDBins; ++k) row[k] = saturate(f12 * c[k] * cs.pdf_p[k]);
         }
       }
     }
-    // The source's stored values where it measured nothing, bit for bit.
-    if (nm.values.size() == 1) {
-      for (std::size_t idx = 0; idx < kBinsPerChannel; ++idx) {
-        if (nm.test(ch, idx)) out[idx] = nm.values[0];
-      }
-    }
   }
-  if (nm.values.size() != 1) {
-    std::size_t next_value = 0;
-    for (int ch = 0; ch < kChannels; ++ch) {
-      double* out = t.channel_data(ch);
-      for (std::size_t idx = 0; idx < kBinsPerChannel; ++idx) {
-        if (nm.test(ch, idx)) out[idx] = nm.values[next_value++];
-      }
+  // The source's stored values where it measured nothing, bit for bit: walk the set bits of the
+  // mask (bit c * kBinsPerChannel + i) word by word, in bit order, as the values list is.
+  const bool uniform = nm.values.size() == 1;
+  std::size_t next_value = 0;
+  double* all = t.stored_values().data();
+  for (std::size_t w = 0; w < nm.bits.size(); ++w) {
+    for (std::uint64_t word = nm.bits[w]; word != 0; word &= word - 1) {
+      const std::size_t bit = w * 64 + std::size_t(__builtin_ctzll(word));
+      if (bit >= kChannels * kBinsPerChannel) break;
+      all[bit] = uniform ? nm.values[0] : nm.values[next_value++];
     }
   }
   return t;

@@ -1,0 +1,352 @@
+// fuzz_roundtrip: encode_model -> decode_model on Models built from the fuzzer's bytes.
+//
+// Fitting a table is far too slow for a fuzzer (seconds per input), and the codec's contract is
+// about Models anyway, so the bytes describe a Model directly: slice bounds, per slice and
+// channel a family with a parameter inside its domain (edges, huge and tiny values included), K,
+// three marginal tables of assorted shapes (zeros, one-hot, 700-decade ranges, raw doubles), a
+// mask (standard, empty, full, runs, flipped bits) and single or per-bin values (NaN payloads
+// included), plus the quantization bits. The checks are the codec's promises (codec.h,
+// spec/container.md 4.3): families, parameters, K, bounds, mask and values come back bit for bit;
+// each nonzero mass within the documented relative error e^step - 1, each zero mass exactly.
+// One input in two (by a byte) breaks one rule of the model instead, and encode_model must then
+// refuse it with kInvalidArgument.
+#pragma once
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "cbrdf/codec.h"
+#include "cbrdf/container.h"
+#include "cbrdf/coords.h"
+#include "cbrdf/model.h"
+#include "common.h"
+
+namespace cbrdf::fuzz {
+
+inline double pick_theta(CopulaFamily f, ByteSource& in) {
+  const std::uint8_t mode = in.u8() % 8;
+  const double raw = std::bit_cast<double>(in.u64());
+  if (mode == 7 && copula_parameter_valid(f, raw)) return raw;
+  switch (f) {
+    case CopulaFamily::kIndependence:
+      return 0.0;
+    case CopulaFamily::kFrank: {
+      const double choices[] = {0.0,
+                                std::numbers::ln2,
+                                -in.in_range(0.0, 200.0),
+                                -std::exp(in.in_range(0.0, 700.0)),
+                                std::min(in.in_range(0.0, 0.69), std::numbers::ln2),
+                                -1e-300,
+                                -in.in_range(0.0, 5.0)};
+      return choices[std::min<std::size_t>(mode, 6)];
+    }
+    case CopulaFamily::kClayton: {
+      const double choices[] = {0.0, std::exp(in.in_range(-30.0, 700.0)), 5e-324,
+                                in.in_range(0.0, 10.0)};
+      return choices[mode % 4];
+    }
+    default: {  // Gumbel, Joe: [1, inf)
+      const double choices[] = {1.0, 1.0 + std::exp(in.in_range(-40.0, 700.0)),
+                                std::nextafter(1.0, 2.0), in.in_range(1.0, 10.0)};
+      return choices[mode % 4];
+    }
+  }
+}
+
+inline double pick_scale(ByteSource& in) {
+  const std::uint8_t mode = in.u8() % 6;
+  const double raw = std::bit_cast<double>(in.u64());
+  switch (mode) {
+    case 0:
+      return 0.0;
+    case 1:
+      return std::numeric_limits<double>::max();
+    case 2:
+      return 5e-324;
+    case 3:
+      return std::isfinite(raw) && raw >= 0.0 ? raw : 1.0;
+    default:
+      return std::exp(in.in_range(-50.0, 50.0));
+  }
+}
+
+inline std::vector<double> pick_masses(std::size_t n, ByteSource& in) {
+  std::vector<double> t(n, 0.0);
+  const std::uint8_t kind = in.u8() % 7;
+  switch (kind) {
+    case 0:
+      break;  // all zero
+    case 1:
+      t[in.u8() % n] = 1.0;
+      break;
+    case 2: {
+      const double k = in.in_range(0.0, 20.0);
+      for (std::size_t i = 0; i < n; ++i) t[i] = std::exp(-k * double(i));
+      break;
+    }
+    case 3:
+      for (double& m : t) m = in.u8();
+      break;
+    case 4:
+      for (double& m : t) m = std::exp(-3.0 * in.u8());
+      break;
+    case 5:
+      std::fill(t.begin(), t.end(), 0.25);
+      break;
+    default:
+      for (double& m : t) {
+        const double raw = std::bit_cast<double>(in.u64());
+        m = std::isfinite(raw) && raw >= 0.0 ? raw : 0.0;
+      }
+      break;
+  }
+  // The encoder normalizes; an arbitrary overall factor must not matter.
+  const double factor = std::ldexp(1.0, int(std::int8_t(in.u8())) * 4);
+  std::vector<double> scaled = t;
+  for (double& m : scaled) m *= factor;
+  if (std::all_of(scaled.begin(), scaled.end(), [](double m) { return std::isfinite(m); })) {
+    t = std::move(scaled);
+  }
+  return t;
+}
+
+inline void pick_mask(Model* m, ByteSource& in) {
+  NotMeasured& nm = m->not_measured;
+  constexpr std::size_t kBits = std::size_t{kChannels} * kBinsPerChannel;
+  auto flip = [&](std::size_t b) { nm.bits[b >> 6] ^= std::uint64_t{1} << (b & 63); };
+  const std::uint8_t kind = in.u8() % 5;
+  if (kind == 0 || kind == 4) {
+    // The standard MERL mask, computed once (a million trigonometric evaluations).
+    static const NotMeasured standard = [] {
+      NotMeasured s;
+      for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+        const BinIndex b = merl_bin(i);
+        if (bin_below_horizon(b.theta_h, b.theta_d, b.phi_d)) {
+          for (int c = 0; c < kChannels; ++c) s.set(c, i);
+        }
+      }
+      return s;
+    }();
+    nm.bits = standard.bits;
+    if (kind == 4) {
+      for (int k = in.u8() % 16; k > 0; --k) flip(in.u32() % kBits);
+    }
+  } else if (kind == 2) {
+    std::fill(nm.bits.begin(), nm.bits.end(), ~std::uint64_t{0});
+    nm.bits.back() >>= 64 - kBits % 64;  // no bits past the last bin
+  } else if (kind == 3) {
+    std::size_t pos = 0;
+    bool set = false;
+    for (int k = 0; k < 64 && pos < kBits && !in.empty(); ++k, set = !set) {
+      const std::size_t len =
+          std::min<std::size_t>(in.u16() * std::size_t(1 + in.u8() % 4), kBits - pos);
+      if (set) {
+        for (std::size_t b = pos; b < pos + len; ++b) flip(b);
+      }
+      pos += len;
+    }
+  }
+  const std::size_t count = nm.count();
+  auto negative_or = [](double v, double fallback) { return v >= 0.0 ? fallback : v; };
+  const std::uint8_t values = in.u8() % 4;
+  // Millions of per-bin values cost a fuzzer input seconds under the sanitizers (the encoder
+  // writes them byte by byte); resource_bounds_test round-trips the largest such file.
+  if (values <= 1 || count <= 1 || count > 200000) {
+    nm.values = {values == 1 ? negative_or(std::bit_cast<double>(in.u64()), -1.0) : -1.0};
+    return;
+  }
+  std::vector<double> pool(8);
+  for (double& v : pool) v = negative_or(std::bit_cast<double>(in.u64()), -0.5);
+  nm.values.resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    nm.values[i] = values == 2 ? (i % 97 == 3 ? std::numeric_limits<double>::quiet_NaN()
+                                              : -0.5 * double(1 + i % 5))
+                               : pool[i % pool.size()];
+  }
+}
+
+inline Model build_model(ByteSource& in) {
+  Model m;
+  std::vector<int> cuts = {0, kThetaDBins};
+  const int n_cuts = in.u8() % 16 == 0 ? kThetaDBins - 1 : in.u8() % 8;
+  for (int k = 0; k < n_cuts; ++k)
+    cuts.push_back(n_cuts == kThetaDBins - 1 ? k + 1 : 1 + in.u8() % 89);
+  std::sort(cuts.begin(), cuts.end());
+  cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+  for (std::size_t s = 0; s + 1 < cuts.size(); ++s) {
+    Slice slice;
+    slice.theta_d_begin = cuts[s];
+    slice.theta_d_end = cuts[s + 1];
+    for (ChannelSlice& cs : slice.channel) {
+      cs.family = CopulaFamily(in.u8() % 5);
+      cs.theta = pick_theta(cs.family, in);
+      cs.scale = pick_scale(in);
+      cs.pdf_h = pick_masses(kThetaHBins, in);
+      cs.pdf_d = pick_masses(std::size_t(slice.width()), in);
+      cs.pdf_p = pick_masses(kPhiDBins, in);
+    }
+    m.slices.push_back(std::move(slice));
+  }
+  pick_mask(&m, in);
+  return m;
+}
+
+// Breaks one rule that encode_model documents; returns false when the model stays valid.
+inline bool break_model(Model* m, EncodeSettings* s, std::uint8_t how) {
+  ChannelSlice& cs = m->slices.front().channel[0];
+  NotMeasured& nm = m->not_measured;
+  switch (how % 8) {
+    case 0:
+      cs.pdf_h[0] = -1e-3;
+      return true;
+    case 1:
+      cs.theta = std::numeric_limits<double>::quiet_NaN();
+      return true;
+    case 2:
+      m->slices.back().theta_d_end -= 1;
+      return true;
+    case 3:
+      nm.values[0] = 0.0;
+      return true;
+    case 4:
+      nm.values.resize(nm.count() + 2, -1.0);
+      return true;
+    case 5:
+      cs.scale = -1.0;
+      return true;
+    case 6:
+      cs.pdf_p.pop_back();
+      return true;
+    default:
+      s->bits = how & 8 ? 5 : 17;
+      return true;
+  }
+}
+
+// Each nonzero mass within e^step - 1 of the source's normalized mass (spec 4.3), zeros exact.
+inline void check_masses(const std::vector<double>& src, const std::vector<double>& dec, int bits,
+                         const std::string& what, Result* r) {
+  if (src.size() != dec.size()) {
+    r->check(false, what + ": size changed");
+    return;
+  }
+  const double max = *std::max_element(src.begin(), src.end());
+  if (!(max > 0.0)) {
+    r->check(std::all_of(dec.begin(), dec.end(), [](double v) { return v == 0.0; }),
+             what + ": an all-zero table did not decode to zeros");
+    return;
+  }
+  double s = 0.0, min_nz = max;
+  for (double m : src) {
+    s += m / max;  // scaled by the maximum: cannot overflow
+    if (m > 0.0) min_nz = std::min(min_nz, m);
+  }
+  const double log_s = std::log(s);
+  double lo = std::max(std::log(min_nz / max) - log_s, -746.0);
+  if (min_nz / max == 0.0) lo = -746.0;  // a ratio below the double range
+  const double hi = std::max(-log_s, -746.0);
+  // lo and hi are stored as float32 rounded outwards: widen by one float ulp each.
+  const double span = hi - lo + (std::abs(lo) + std::abs(hi)) * 0x1p-23;
+  const double top = std::ldexp(1.0, bits) - 1.0;
+  const double bound = std::expm1(span / (top - 1.0));
+  for (std::size_t i = 0; i < src.size(); ++i) {
+    if (src[i] == 0.0) {
+      if (dec[i] != 0.0) {
+        r->check(false, what + ": a zero mass decoded as " + std::to_string(dec[i]));
+        return;
+      }
+      continue;
+    }
+    const double want = src[i] / max / s;
+    if (want < 1e-290) continue;  // subnormal weights carry no relative precision
+    const double rel = std::abs(dec[i] / want - 1.0);
+    if (!(rel <= bound * (1.0 + 1e-9) + 1e-12)) {
+      r->check(false, what + ": mass " + std::to_string(i) + " has relative error " +
+                          std::to_string(rel) + " above the bound " + std::to_string(bound) + " (" +
+                          std::to_string(bits) + " bits)");
+      return;
+    }
+  }
+}
+
+inline void check_roundtrip(const Model& a, const Model& b, int bits, Result* r) {
+  if (a.slices.size() != b.slices.size()) {
+    r->check(false, "the slice count changed");
+    return;
+  }
+  for (std::size_t s = 0; s < a.slices.size(); ++s) {
+    const Slice &sa = a.slices[s], &sb = b.slices[s];
+    r->check(sa.theta_d_begin == sb.theta_d_begin && sa.theta_d_end == sb.theta_d_end,
+             "slice bounds changed");
+    for (std::size_t c = 0; c < kChannels; ++c) {
+      const ChannelSlice &x = sa.channel[c], &y = sb.channel[c];
+      const std::string name = "slice " + std::to_string(s) + " channel " + std::to_string(c);
+      r->check(x.family == y.family, name + ": family changed");
+      r->check(std::memcmp(&x.theta, &y.theta, 8) == 0, name + ": parameter changed");
+      r->check(std::memcmp(&x.scale, &y.scale, 8) == 0, name + ": K changed");
+      check_masses(x.pdf_h, y.pdf_h, bits, name + " theta_h", r);
+      check_masses(x.pdf_d, y.pdf_d, bits, name + " theta_d", r);
+      check_masses(x.pdf_p, y.pdf_p, bits, name + " phi_d", r);
+    }
+  }
+  r->check(a.not_measured.bits == b.not_measured.bits, "the mask changed");
+  const std::vector<double>&va = a.not_measured.values, &vb = b.not_measured.values;
+  r->check(va.size() == vb.size() && std::memcmp(va.data(), vb.data(), 8 * va.size()) == 0,
+           "the not-measured values changed");
+}
+
+inline Result run_roundtrip(Bytes bytes) {
+  Result r;
+  ByteSource in(bytes);
+  EncodeSettings settings;
+  settings.bits = 6 + in.u8() % 11;
+  settings.zstd_level = 1 + in.u8() % 3;
+  settings.write_metadata = in.u8() % 2 == 0;
+  settings.source_name = "fuzz";
+  const std::uint8_t breakage = in.u8();
+  Model model = build_model(in);
+  const bool broken = (breakage & 1) && break_model(&model, &settings, std::uint8_t(breakage >> 1));
+
+  Expected<std::vector<std::uint8_t>> file = encode_model(model, settings);
+  if (broken) {
+    r.check(!file.ok(), "encode_model accepted a model that breaks one of its rules");
+    if (!file.ok()) {
+      r.reject(file.status(), "encode_model");
+      r.check(file.status().code() == ErrorCode::kInvalidArgument,
+              "an invalid model was refused with a code other than kInvalidArgument");
+    }
+    return r;
+  }
+  if (!file.ok()) {
+    r.reject(file.status(), "encode_model");
+    r.check(false, "encode_model refused a valid model: " + file.status().message());
+    return r;
+  }
+  Expected<Model> back = decode_model(*file);
+  if (!back.ok()) {
+    r.reject(back.status(), "decode_model");
+    r.check(false, "the encoder's output does not decode: " + back.status().message());
+    return r;
+  }
+  r.accept();
+  check_roundtrip(model, *back, settings.bits, &r);
+  // inspect_container decodes the whole file again: one input in eight is enough.
+  if (input_hash(bytes) % 8 != 0) return r;
+  Expected<ContainerInfo> info = inspect_container(*file);
+  r.check(info.ok(), "inspect_container refused the encoder's output");
+  if (info.ok()) {
+    r.check(info->bits == settings.bits, "bits not recorded");
+    r.check(info->not_measured_bins == model.not_measured.count(), "mask count not recorded");
+    r.check(info->per_bin_values == (model.not_measured.values.size() != 1),
+            "values mode not recorded");
+  }
+  return r;
+}
+
+}  // namespace cbrdf::fuzz

@@ -1,0 +1,253 @@
+// Writes the seed corpora fuzz/corpus/<target>/ and their manifest fuzz/corpus/EXPECTED.txt
+// (the outcome each seed is made to have; tests/fuzz_regression_test.cc checks it).
+//   Usage: fuzz_make_seeds OUT_DIR      (normally fuzz/corpus; the output is deterministic)
+// Seeds: the golden files and encoder outputs (container, decode; for decode also rewritten with
+// uncompressed chunks so that mutations hit payload fields), a few damaged files, MERL headers and
+// template patches (merl), and byte strings for the round trip.
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cbrdf/codec.h"
+#include "cbrdf/container.h"
+#include "synthetic_model.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Bytes = std::vector<std::uint8_t>;
+using cbrdf::Model;
+
+struct Writer {
+  fs::path root;
+  std::vector<std::string> manifest;
+  bool failed = false;
+
+  void add(const std::string& target, const std::string& name, const Bytes& bytes,
+           const std::string& expected) {
+    fs::create_directories(root / target);
+    std::ofstream out(root / target / name, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    if (!out) {
+      std::fprintf(stderr, "cannot write %s\n", (root / target / name).c_str());
+      failed = true;
+    }
+    manifest.push_back(target + "/" + name + " " + expected);
+  }
+};
+
+Bytes read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return Bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+Bytes encode(const Model& m, int bits, bool metadata = true, int zstd_level = 19) {
+  cbrdf::EncodeSettings s;
+  s.bits = bits;
+  s.zstd_level = zstd_level;
+  s.source_name = "seed.binary";
+  s.write_metadata = metadata;
+  cbrdf::Expected<Bytes> b = cbrdf::encode_model(m, s);
+  if (!b.ok()) {
+    std::fprintf(stderr, "encode failed: %s\n", b.status().message().c_str());
+    std::exit(1);
+  }
+  return *b;
+}
+
+// The same file with every known chunk stored uncompressed (unknown chunks copied as they are).
+Bytes uncompressed(const Bytes& file, std::uint16_t minor = cbrdf::kContainerMinorVersion) {
+  cbrdf::Expected<cbrdf::ParsedContainer> pc = cbrdf::parse_container(file);
+  if (!pc.ok()) std::exit(1);
+  Bytes out = cbrdf::container_file_header(cbrdf::kContainerMajorVersion, minor);
+  for (std::size_t i = 0; i < pc->layout.chunks.size(); ++i) {
+    const cbrdf::ChunkInfo& c = pc->layout.chunks[i];
+    if (c.known) {
+      const Bytes& p = pc->payloads[i];
+      cbrdf::append_raw_chunk(&out, c.tag, 0, p, std::uint32_t(p.size()));
+    } else {
+      const auto begin = file.begin() + std::ptrdiff_t(c.offset);
+      out.insert(out.end(), begin,
+                 begin + std::ptrdiff_t(cbrdf::kChunkHeaderBytes + c.stored_bytes +
+                                        cbrdf::kChunkChecksumBytes));
+    }
+  }
+  return out;
+}
+
+// Inserts an ancillary chunk before the end chunk (the last 24 bytes).
+Bytes with_ancillary(Bytes file) {
+  Bytes end(file.end() - 24, file.end());
+  file.resize(file.size() - 24);
+  const std::string hi = "hello";
+  cbrdf::append_raw_chunk(&file, "zTST", 0,
+                          {reinterpret_cast<const std::uint8_t*>(hi.data()), hi.size()},
+                          std::uint32_t(hi.size()));
+  file.insert(file.end(), end.begin(), end.end());
+  return file;
+}
+
+Model sparse_per_bin_mask_model() {
+  Model m = cbrdf::testing::make_model({0, 30, 90}, false, 7);
+  m.not_measured = cbrdf::NotMeasured{};
+  for (std::size_t i = 7; i < cbrdf::kBinsPerChannel; i += 1000) m.not_measured.set(0, i);
+  m.not_measured.values.clear();
+  for (std::size_t k = 0; k < m.not_measured.count(); ++k) {
+    m.not_measured.values.push_back(-1.0 - double(k % 3));
+  }
+  return m;
+}
+
+// Every bin masked with its own stored value: the largest Model a file holds (4.4 million values),
+// 13 KB compressed. Decoding it must stay fast under the sanitizers.
+Model all_masked_model() {
+  Model m = cbrdf::testing::make_model({0, 90}, false, 11);
+  m.not_measured = cbrdf::NotMeasured{};
+  for (int c = 0; c < cbrdf::kChannels; ++c) {
+    for (std::size_t i = 0; i < cbrdf::kBinsPerChannel; ++i) m.not_measured.set(c, i);
+  }
+  const std::size_t count = m.not_measured.count();
+  m.not_measured.values.clear();
+  for (std::size_t k = 0; k < count; ++k) m.not_measured.values.push_back(-1.0 - double(k % 1000));
+  return m;
+}
+
+Model bitmap_mask_model() {
+  Model m = cbrdf::testing::make_model({0, 45, 90}, false, 9);
+  m.not_measured = cbrdf::NotMeasured{};
+  for (int c = 0; c < cbrdf::kChannels; ++c) {
+    for (std::size_t i = 0; i < cbrdf::kBinsPerChannel; i += 3) m.not_measured.set(c, i);
+  }
+  m.not_measured.values = {-2.0};
+  return m;
+}
+
+Bytes merl_header(std::int32_t a, std::int32_t b, std::int32_t c) {
+  Bytes out(12);
+  const std::int32_t d[3] = {a, b, c};
+  std::memcpy(out.data(), d, 12);
+  return out;
+}
+
+void append_double(Bytes* out, double v) {
+  std::uint8_t b[8];
+  std::memcpy(b, &v, 8);
+  out->insert(out->end(), b, b + 8);
+}
+
+// "TPL" flags [header] [size change] u32 offset, then the window of doubles.
+Bytes merl_patch(std::uint8_t flags, const Bytes& header, int size_change, std::uint32_t offset,
+                 const std::vector<double>& window) {
+  Bytes out = {'T', 'P', 'L', flags};
+  if (flags & 4) out.insert(out.end(), header.begin(), header.end());
+  if (flags & 8) {
+    out.push_back(std::uint8_t(size_change & 0xFF));
+    out.push_back(std::uint8_t((size_change >> 8) & 0xFF));
+  }
+  for (int i = 0; i < 4; ++i) out.push_back(std::uint8_t(offset >> (8 * i)));
+  for (double v : window) append_double(&out, v);
+  return out;
+}
+
+void container_and_decode_seeds(Writer& w) {
+  using cbrdf::testing::make_model;
+  std::map<std::string, Bytes> valid;
+  for (const auto& e : fs::directory_iterator(CBRDF_GOLDEN_DIR)) {
+    valid["golden-" + e.path().filename().string()] = read_file(e.path());
+  }
+  valid["enc-tiny1-b6.cbrdf"] = encode(make_model({0, 90}, false, 1), 6);
+  valid["enc-six-peaked-b10.cbrdf"] = encode(make_model(cbrdf::testing::six_slices(), true, 2), 10);
+  valid["enc-three-b16-nometa.cbrdf"] = encode(make_model({0, 10, 40, 90}, false, 3), 16, false);
+  valid["enc-perbin-values.cbrdf"] = encode(sparse_per_bin_mask_model(), 8);
+  valid["enc-bitmap-mask.cbrdf"] = encode(bitmap_mask_model(), 8);
+  valid["enc-ancillary-chunk.cbrdf"] = with_ancillary(valid["enc-tiny1-b6.cbrdf"]);
+
+  for (const auto& [name, bytes] : valid) {
+    w.add("fuzz_container", name, bytes, "accepted");
+    w.add("fuzz_decode", name, bytes, "accepted");
+    w.add("fuzz_decode", "raw-" + name, uncompressed(bytes), "accepted");
+  }
+  // Compressed only: uncompressed it would be 35 MB.
+  const Bytes all_masked = encode(all_masked_model(), 8, true, 3);
+  w.add("fuzz_container", "enc-all-masked-perbin.cbrdf", all_masked, "accepted");
+  w.add("fuzz_decode", "enc-all-masked-perbin.cbrdf", all_masked, "accepted");
+  // A newer minor version may append fields: trailing payload bytes are then ignored.
+  w.add("fuzz_decode", "raw-minor1-enc-tiny1-b6.cbrdf",
+        uncompressed(valid["enc-tiny1-b6.cbrdf"], 1), "accepted");
+
+  const Bytes& tiny = valid["enc-tiny1-b6.cbrdf"];
+  w.add("fuzz_container", "bad-truncated.cbrdf", Bytes(tiny.begin(), tiny.begin() + 40),
+        "rejected truncated");
+  Bytes text_mode = tiny;
+  text_mode.erase(text_mode.begin() + 4);  // CR LF -> LF
+  w.add("fuzz_container", "bad-text-mode.cbrdf", text_mode, "rejected bad-signature");
+  Bytes damaged = tiny;
+  damaged[damaged.size() / 2] ^= 0x40;
+  w.add("fuzz_container", "bad-checksum.cbrdf", damaged, "rejected checksum");
+}
+
+void merl_seeds(Writer& w) {
+  Bytes h180 = merl_header(90, 90, 180);
+  w.add("fuzz_merl", "raw-header-180.binary", h180, "rejected truncated");
+  Bytes some = h180;
+  for (int i = 0; i < 8; ++i) append_double(&some, i == 3 ? -1.0 : 0.5 * i);
+  w.add("fuzz_merl", "raw-short-180.binary", some, "rejected truncated");
+  w.add("fuzz_merl", "raw-header-360.binary", merl_header(90, 90, 360), "rejected truncated");
+  w.add("fuzz_merl", "raw-big-endian.binary", merl_header(0x5A000000, 0x5A000000, -1275068416),
+        "rejected corrupt");
+  w.add("fuzz_merl", "raw-huge-dims.binary", merl_header(10000, 10000, 10000), "rejected limit");
+  w.add("fuzz_merl", "raw-unsupported-dims.binary", merl_header(90, 90, 90),
+        "rejected unsupported");
+  w.add("fuzz_merl", "raw-short-header.binary", Bytes{90, 0, 0, 0, 90}, "rejected truncated");
+
+  const std::vector<double> plain = {0.5, 1.0, -1.0, 0.0, -0.0, 2.5, 1e-300, 3.0};
+  const std::vector<double> nan = {1.0, std::nan(""), 2.0};
+  const std::vector<double> inf = {1.0, 2.0, HUGE_VAL};
+  w.add("fuzz_merl", "tpl-180-values.bin", merl_patch(0, {}, 0, 8 * 1000, plain), "accepted");
+  w.add("fuzz_merl", "tpl-360-values.bin", merl_patch(1, {}, 0, 8 * 777, plain), "accepted");
+  w.add("fuzz_merl", "tpl-360-fold-off.bin", merl_patch(3, {}, 0, 0, {}), "rejected unsupported");
+  w.add("fuzz_merl", "tpl-180-nan.bin", merl_patch(0, {}, 0, 8 * 4000000, nan), "rejected numeric");
+  w.add("fuzz_merl", "tpl-360-inf.bin", merl_patch(1, {}, 0, 8 * 123456, inf), "rejected numeric");
+  w.add("fuzz_merl", "tpl-180-short.bin", merl_patch(8, {}, -8, 0, {}), "rejected truncated");
+  w.add("fuzz_merl", "tpl-180-long.bin", merl_patch(8, {}, 16, 0, {}), "rejected corrupt");
+  w.add("fuzz_merl", "tpl-180-as-360.bin", merl_patch(4, merl_header(90, 90, 360), 0, 0, {}),
+        "rejected truncated");
+}
+
+void roundtrip_seeds(Writer& w) {
+  std::mt19937 rng(20240611);
+  for (int i = 0; i < 24; ++i) {
+    Bytes b(std::size_t(64) << (i % 6));
+    for (std::uint8_t& v : b) v = std::uint8_t(rng());
+    const bool broken = i % 4 == 3;
+    b[3] = std::uint8_t((b[3] & 0xFE) | (broken ? 1 : 0));  // the byte that breaks a rule
+    w.add("fuzz_roundtrip", "seed-" + std::to_string(i) + ".bin", b,
+          broken ? "rejected invalid-argument" : "accepted");
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s OUT_DIR (normally fuzz/corpus)\n", argv[0]);
+    return 2;
+  }
+  Writer w{fs::path(argv[1]), {}, false};
+  container_and_decode_seeds(w);
+  merl_seeds(w);
+  roundtrip_seeds(w);
+  std::ofstream manifest(w.root / "EXPECTED.txt");
+  manifest << "# <target>/<seed> accepted | rejected <error code>: written by fuzz_make_seeds.\n";
+  for (const std::string& line : w.manifest) manifest << line << "\n";
+  if (!manifest || w.failed) return 1;
+  std::printf("wrote %zu seeds to %s\n", w.manifest.size(), argv[1]);
+  return 0;
+}
