@@ -195,17 +195,17 @@ void container_and_decode_seeds(Writer& w) {
 
 void merl_seeds(Writer& w) {
   Bytes h180 = merl_header(90, 90, 180);
-  w.add("fuzz_merl", "raw-header-180.binary", h180, "rejected truncated");
+  w.add("fuzz_merl", "raw-header-180.bin", h180, "rejected truncated");
   Bytes some = h180;
   for (int i = 0; i < 8; ++i) append_double(&some, i == 3 ? -1.0 : 0.5 * i);
-  w.add("fuzz_merl", "raw-short-180.binary", some, "rejected truncated");
-  w.add("fuzz_merl", "raw-header-360.binary", merl_header(90, 90, 360), "rejected truncated");
-  w.add("fuzz_merl", "raw-big-endian.binary", merl_header(0x5A000000, 0x5A000000, -1275068416),
+  w.add("fuzz_merl", "raw-short-180.bin", some, "rejected truncated");
+  w.add("fuzz_merl", "raw-header-360.bin", merl_header(90, 90, 360), "rejected truncated");
+  w.add("fuzz_merl", "raw-big-endian.bin", merl_header(0x5A000000, 0x5A000000, -1275068416),
         "rejected corrupt");
-  w.add("fuzz_merl", "raw-huge-dims.binary", merl_header(10000, 10000, 10000), "rejected limit");
-  w.add("fuzz_merl", "raw-unsupported-dims.binary", merl_header(90, 90, 90),
+  w.add("fuzz_merl", "raw-huge-dims.bin", merl_header(10000, 10000, 10000), "rejected limit");
+  w.add("fuzz_merl", "raw-unsupported-dims.bin", merl_header(90, 90, 90),
         "rejected unsupported");
-  w.add("fuzz_merl", "raw-short-header.binary", Bytes{90, 0, 0, 0, 90}, "rejected truncated");
+  w.add("fuzz_merl", "raw-short-header.bin", Bytes{90, 0, 0, 0, 90}, "rejected truncated");
 
   const std::vector<double> plain = {0.5, 1.0, -1.0, 0.0, -0.0, 2.5, 1e-300, 3.0};
   const std::vector<double> nan = {1.0, std::nan(""), 2.0};
