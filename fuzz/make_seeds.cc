@@ -203,8 +203,7 @@ void merl_seeds(Writer& w) {
   w.add("fuzz_merl", "raw-big-endian.bin", merl_header(0x5A000000, 0x5A000000, -1275068416),
         "rejected corrupt");
   w.add("fuzz_merl", "raw-huge-dims.bin", merl_header(10000, 10000, 10000), "rejected limit");
-  w.add("fuzz_merl", "raw-unsupported-dims.bin", merl_header(90, 90, 90),
-        "rejected unsupported");
+  w.add("fuzz_merl", "raw-unsupported-dims.bin", merl_header(90, 90, 90), "rejected unsupported");
   w.add("fuzz_merl", "raw-short-header.bin", Bytes{90, 0, 0, 0, 90}, "rejected truncated");
 
   const std::vector<double> plain = {0.5, 1.0, -1.0, 0.0, -0.0, 2.5, 1e-300, 3.0};
