@@ -35,6 +35,14 @@ const Bytes& small_file() {  // one slice: about 700 bytes
   return b;
 }
 
+// Version 1.1, one slice: channel R has 1 component, G 2 and B 3. MODL: slice end (1 byte), three
+// 17-byte first components (to offset 52), counts 0, 1, 2 at 52..54, then three 17-byte
+// components from 55 (G's, then B's two).
+const Bytes& mixture_file() {
+  static const Bytes b = encode(testing::make_mixture_model({0, 90}, 3, 5));
+  return b;
+}
+
 const Bytes& six_slice_file() {
   static const Bytes b = encode(testing::make_model(testing::six_slices(), true, 2), 10);
   return b;
@@ -68,8 +76,9 @@ void expect_error(const Bytes& b, ErrorCode code, const std::string& needle) {
 }
 
 // Re-writes a file chunk by chunk (valid checksums) after `edit` changes the list of chunks.
+// The version is the file's own unless `minor` is given.
 Bytes rebuild(const Bytes& file, const std::function<void(std::vector<ChunkToWrite>*)>& edit,
-              std::uint16_t minor = kContainerMinorVersion) {
+              int minor = -1) {
   Expected<ParsedContainer> pc = parse_container(file);
   EXPECT_TRUE(pc.ok());
   std::vector<ChunkToWrite> chunks;
@@ -80,13 +89,14 @@ Bytes rebuild(const Bytes& file, const std::function<void(std::vector<ChunkToWri
   Expected<Bytes> out = write_container(chunks, 3);
   EXPECT_TRUE(out.ok()) << out.status().message();
   Bytes b = *out;
-  b[10] = std::uint8_t(minor);
-  b[11] = std::uint8_t(minor >> 8);
+  const int m = minor >= 0 ? minor : int(pc->layout.minor);
+  b[10] = std::uint8_t(m);
+  b[11] = std::uint8_t(m >> 8);
   return b;
 }
 
 Bytes edit_payload(const Bytes& file, std::string_view tag, const std::function<void(Bytes*)>& edit,
-                   std::uint16_t minor = kContainerMinorVersion) {
+                   int minor = -1) {
   return rebuild(
       file,
       [&](std::vector<ChunkToWrite>* chunks) {
@@ -365,9 +375,9 @@ TEST(ContainerErrors, MarginalRangeNotFinite) {
 }
 
 TEST(ContainerErrors, DecompressedSizeOverItsBound) {
-  // A 2 MiB zstd bomb (a few dozen bytes) where MARG may hold at most 1 MiB: refused before
+  // A 4 MiB zstd bomb (a few dozen bytes) where MARG may hold at most 2 MiB: refused before
   // anything is allocated for it.
-  const Bytes zeros(2u << 20, 0);
+  const Bytes zeros(4u << 20, 0);
   Expected<Bytes> bomb = zstd_compress(zeros, 3);
   ASSERT_TRUE(bomb.ok());
   ASSERT_LT(bomb->size(), 1000u);
@@ -383,7 +393,7 @@ TEST(ContainerErrors, DecompressedSizeOverItsBound) {
     }
   }
   expect_error(b, ErrorCode::kLimit,
-               at(l, "MARG") + ": payload of 2097152 bytes exceeds the limit of 1048576 bytes");
+               at(l, "MARG") + ": payload of 4194304 bytes exceeds the limit of 2097152 bytes");
 }
 
 TEST(ContainerErrors, FrameContentSizeDisagreesWithChunk) {
@@ -437,9 +447,15 @@ TEST(ContainerErrors, TrailingPayloadBytesAreCorruptUnlessTheMinorVersionIsNewer
   auto grow = [](Bytes* p) { p->push_back(0); };
   expect_error(edit_payload(small_file(), "HEAD", grow), ErrorCode::kCorrupt,
                "chunk 'HEAD' at offset 12: 1 unexpected bytes after the payload's last field");
-  // A file of minor version 1 may append fields this reader does not know.
-  EXPECT_TRUE(decode_model(edit_payload(small_file(), "HEAD", grow, 1)).ok());
-  EXPECT_TRUE(decode_model(edit_payload(small_file(), "MODL", grow, 1)).ok());
+  // A file of a newer minor version may append fields this reader does not know. (A minor 2 file
+  // has the 1.1 fields: a mixture file, whose MODL ends with them.)
+  const Bytes mix = mixture_file();
+  const int newer = kContainerMinorVersion + 1;
+  EXPECT_TRUE(decode_model(edit_payload(mix, "HEAD", grow, newer)).ok());
+  EXPECT_TRUE(decode_model(edit_payload(mix, "MODL", grow, newer)).ok());
+  EXPECT_TRUE(decode_model(edit_payload(mix, "MARG", grow, newer)).ok());
+  expect_error(edit_payload(mix, "MODL", grow), ErrorCode::kCorrupt,
+               "1 unexpected bytes after the payload's last field");
 }
 
 TEST(ContainerErrors, UnsupportedGridAndScales) {
@@ -509,6 +525,79 @@ TEST(ContainerErrors, EncoderRefusesBitsOutOfRange) {
         b.status().message().find("bits per code " + std::to_string(bits) + " is outside 6..16"),
         std::string::npos);
   }
+}
+
+// ---- Version 1.1: mixtures ------------------------------------------------------------------
+
+TEST(ContainerErrors, MixtureFileIsVersion11AndDecodes) {
+  EXPECT_EQ(layout_of(mixture_file()).minor, 1);
+  Expected<Model> m = decode_model(mixture_file());
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ(m->slices[0].channel[0].components(), 1);
+  EXPECT_EQ(m->slices[0].channel[1].components(), 2);
+  EXPECT_EQ(m->slices[0].channel[2].components(), 3);
+}
+
+TEST(ContainerErrors, MixtureCountsAndComponentsAreChecked) {
+  expect_error(edit_payload(mixture_file(), "MODL", [](Bytes* p) { (*p)[53] = 8; }),
+               ErrorCode::kCorrupt,
+               "slice 0 channel G has 8 further components; at most 7 are allowed");
+  // A count larger than the components present runs off the payload.
+  expect_error(edit_payload(mixture_file(), "MODL", [](Bytes* p) { (*p)[53] = 2; }),
+               ErrorCode::kTruncated, "copula family needs 1 bytes");
+  // Family byte of G's extra component: 9 is no family.
+  expect_error(edit_payload(mixture_file(), "MODL", [](Bytes* p) { (*p)[55] = 9; }),
+               ErrorCode::kCorrupt, "slice 0 channel G component 1");
+  // Its scale: negative.
+  expect_error(edit_payload(mixture_file(), "MODL",
+                            [](Bytes* p) {
+                              const double v = -1.0;
+                              std::memcpy(p->data() + 64, &v, 8);
+                            }),
+               ErrorCode::kNumeric, "slice 0 channel G component 1");
+  // A version 1.1 file must hold the counts even when it has no mixture.
+  expect_error(rebuild(
+                   small_file(), [](std::vector<ChunkToWrite>*) {}, 1),
+               ErrorCode::kTruncated, "further component count needs 1 bytes");
+}
+
+TEST(ContainerErrors, MarginalLayoutByteMustMatchTheComponents) {
+  // In 1.1 the byte says whether component tables follow; it must agree with MODL.
+  expect_error(edit_payload(mixture_file(), "MARG", [](Bytes* p) { (*p)[1] = 0; }),
+               ErrorCode::kCorrupt,
+               "table layout byte at payload offset 1 is 0; it must be 1: MODL declares further "
+               "components");
+  expect_error(edit_payload(mixture_file(), "MARG", [](Bytes* p) { (*p)[1] = 2; }),
+               ErrorCode::kCorrupt, "table layout byte at payload offset 1 is 2");
+  // The table count covers every component: 1 + 2 + 3 components x 3 axes = 18.
+  expect_error(edit_payload(mixture_file(), "MARG", [](Bytes* p) { (*p)[2] = 17; }),
+               ErrorCode::kCorrupt, "table count 17 does not match 6 components x 3 axes");
+  // In a 1.0 file the byte is reserved: a 1.0 reader meeting a 1.1 mixture's MARG stops here
+  // rather than decoding the first components only.
+  expect_error(edit_payload(small_file(), "MARG", [](Bytes* p) { (*p)[1] = 1; }),
+               ErrorCode::kCorrupt, "reserved byte at payload offset 1 is not 0");
+}
+
+TEST(ContainerErrors, TruncatedMixtureAtEveryChunkBoundaryAndByte) {
+  const Bytes& f = mixture_file();
+  for (std::size_t n = 0; n < f.size(); ++n) {
+    Expected<Model> m = decode_model(Bytes(f.begin(), f.begin() + std::ptrdiff_t(n)));
+    ASSERT_FALSE(m.ok()) << n;
+  }
+}
+
+TEST(ContainerErrors, EncoderRefusesTooManyComponents) {
+  Model m = testing::make_mixture_model({0, 90}, 3, 5);
+  ChannelSlice& cs = m.slices[0].channel[0];
+  while (cs.components() < 9) cs.extra.push_back(m.slices[0].channel[2].extra[0]);
+  EncodeSettings s;
+  Expected<Bytes> b = encode_model(m, s);
+  ASSERT_FALSE(b.ok());
+  EXPECT_EQ(b.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(
+      b.status().message().find("slice 0 channel R has 9 components; at most 8 fit in a file"),
+      std::string::npos)
+      << b.status().message();
 }
 
 }  // namespace

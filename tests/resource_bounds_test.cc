@@ -135,7 +135,7 @@ TEST(ResourceBounds, PayloadAboveItsChunkLimitIsRefusedBeforeDecompression) {
 }
 
 TEST(ResourceBounds, UncompressedPayloadAboveItsLimitIsNotCopied) {
-  // 1 MiB + 1 bytes really stored in a MARG chunk (limit 1 MiB): refused, the bytes never copied.
+  // 2 MiB + 1 bytes really stored in a MARG chunk (limit 2 MiB): refused, the bytes never copied.
   const std::uint32_t n = max_chunk_payload_bytes(kTagMarginals) + 1;
   const Bytes file = head_then(kTagMarginals, 0, Bytes(n, 0x55), n);
   Meter m;

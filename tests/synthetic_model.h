@@ -114,6 +114,33 @@ inline Model make_model(const std::vector<int>& bounds, bool peaked = false,
   return m;
 }
 
+// make_model with further components: slice channel (s, c) gets (s + c) % max_components extra
+// components, each a lobe of its own with a Frank parameter and a smaller scale.
+inline Model make_mixture_model(const std::vector<int>& bounds, int max_components,
+                                std::uint32_t seed = 1) {
+  Model m = make_model(bounds, false, seed);
+  std::mt19937 rng(seed + 1000);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (std::size_t s = 0; s < m.slices.size(); ++s) {
+    Slice& slice = m.slices[s];
+    for (int c = 0; c < kChannels; ++c) {
+      ChannelSlice& cs = slice.channel[std::size_t(c)];
+      const int extra = int(s + std::size_t(c)) % max_components;
+      for (int e = 0; e < extra; ++e) {
+        Component comp;
+        comp.family = e % 2 == 0 ? CopulaFamily::kFrank : CopulaFamily::kClayton;
+        comp.theta = e % 2 == 0 ? -0.5 - 5.0 * u(rng) : 0.2 + u(rng);
+        comp.scale = cs.scale * (0.05 + 0.3 * u(rng));
+        comp.pdf_h = lobe_theta_h(0.02 + 0.1 * u(rng), 1e-6);
+        comp.pdf_d = smooth_theta_d(slice.theta_d_begin, slice.theta_d_end, 0.9 * u(rng));
+        comp.pdf_p = smooth_phi_d(0.9 * u(rng));
+        cs.extra.push_back(std::move(comp));
+      }
+    }
+  }
+  return m;
+}
+
 inline const std::vector<int>& six_slices() {
   static const std::vector<int> b = {0, 6, 15, 30, 50, 70, 90};
   return b;

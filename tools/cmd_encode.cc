@@ -1,4 +1,5 @@
 // `cbrdf encode`: MERL .binary -> .cbrdf.
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +18,7 @@ namespace {
 struct EncodeOptions {
   std::string input, output;
   int slices = 6;
+  std::string components = "1";
   std::string family = "frank";
   int bits = EncodeSettings{}.bits;
   int level = EncodeSettings{}.zstd_level;
@@ -36,7 +38,8 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   EncoderSettings st;
   st.fit.slices = o.slices;
   st.fit.impute_missing = !o.naive_marginals;
-  st.fit.threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  st.fit.threads =
+      o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   if (o.family == "auto") {
     st.fit.auto_family = true;
   } else if (auto f = family_from_name(o.family)) {
@@ -44,6 +47,20 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   } else {
     return usage_error("encode: unknown --family '" + o.family +
                        "' (frank, clayton, gumbel, joe, independence or auto)");
+  }
+  if (o.components == "auto") {
+    st.fit.components = kAutoMaxComponents;
+    st.fit.auto_components = true;
+  } else {
+    int k = 0;
+    const auto [end, ec2] =
+        std::from_chars(o.components.data(), o.components.data() + o.components.size(), k);
+    if (ec2 != std::errc() || end != o.components.data() + o.components.size() || k < 1 ||
+        k > kMaxComponents) {
+      return usage_error("encode: --components must be 1 to " + std::to_string(kMaxComponents) +
+                         " or auto, not '" + o.components + "'");
+    }
+    st.fit.components = k;
   }
   if (o.loss == "linear") {
     st.fit.loss = FitLoss::kLinear;
@@ -66,11 +83,12 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
     auto rc = encode_to_target(*table, st, {o.target_bytes, o.target_psnr});
     if (!rc.ok()) return fail(rc.status().with_context(o.input));
     if (!ctx.quiet) {
-      std::printf("searched %zu settings: chose --slices %d --bits %d: %.0f bytes, %.2f dB "
-                  "tone-mapped%s\n",
-                  rc->tried.size(), rc->chosen.slices, rc->chosen.bits, rc->chosen.bytes,
-                  rc->chosen.psnr_tonemapped,
-                  rc->met ? "" : " (the target could not be met: this is the closest)");
+      std::printf(
+          "searched %zu settings: chose --slices %d --bits %d: %.0f bytes, %.2f dB "
+          "tone-mapped%s\n",
+          rc->tried.size(), rc->chosen.slices, rc->chosen.bits, rc->chosen.bytes,
+          rc->chosen.psnr_tonemapped,
+          rc->met ? "" : " (the target could not be met: this is the closest)");
     }
     result = std::move(rc->encoded);
   } else {
@@ -110,9 +128,10 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
     auto decoded = decode_table(result->bytes);
     if (!decoded.ok()) return fail(decoded.status());
     const ImageMetrics im = sphere_psnr(nearest_lookup_fn(*table), nearest_lookup_fn(*decoded));
-    std::printf("sphere PSNR of the decoded file against the input: %.2f dB linear, %.2f dB "
-                "tone-mapped\n",
-                im.psnr_linear, im.psnr_tonemapped);
+    std::printf(
+        "sphere PSNR of the decoded file against the input: %.2f dB linear, %.2f dB "
+        "tone-mapped\n",
+        im.psnr_linear, im.psnr_tonemapped);
   }
   return kExitOk;
 }
@@ -127,6 +146,10 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
   cmd->add_option("--slices", o->slices, "Slices along theta_d (1 to 90)")
       ->capture_default_str()
       ->check(CLI::Range(1, 90));
+  cmd->add_option("--components", o->components,
+                  "Copula components per slice and channel: 1 (the paper's model) to 8, or auto "
+                  "(up to 4, added while each halves the fit's error)")
+      ->capture_default_str();
   cmd->add_option("--family", o->family,
                   "Copula family: frank, clayton, gumbel, joe, independence, auto")
       ->capture_default_str();

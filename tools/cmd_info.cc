@@ -49,7 +49,8 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
       for (int c = 0; c < kChannels; ++c) {
         js["channels"].push_back({{"family", family_name(s.family[c])},
                                   {"theta", s.theta[c]},
-                                  {"scale", s.scale[c]}});
+                                  {"scale", s.scale[c]},
+                                  {"components", s.components[c]}});
       }
       j["slices"].push_back(js);
     }
@@ -71,13 +72,19 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
               info->not_measured_bins,
               info->mask_relative_to_horizon ? " (coded against the horizon mask)" : "");
   for (const auto& [k, v] : info->metadata) std::printf("%s: %s\n", k.c_str(), v.c_str());
-  std::printf("%-10s %-8s %-13s %-13s %-13s %-11s %-11s %-11s\n", "theta_d", "family", "theta R",
-              "theta G", "theta B", "K R", "K G", "K B");
+  // Parameters of each slice channel's first component; a mixture adds the component counts.
+  bool mixture = false;
+  for (const SliceParams& s : info->slices) {
+    for (int n : s.components) mixture = mixture || n > 1;
+  }
+  std::printf("%-10s %-8s %-13s %-13s %-13s %-11s %-11s %-11s%s\n", "theta_d", "family", "theta R",
+              "theta G", "theta B", "K R", "K G", "K B", mixture ? " components R G B" : "");
   for (const SliceParams& s : info->slices) {
     std::printf("%2d-%-2d deg  %-8s", s.theta_d_begin, s.theta_d_end - 1,
                 std::string(family_name(s.family[0])).c_str());
     for (double t : s.theta) std::printf(" %-13.6g", t);
     for (double k : s.scale) std::printf(" %-11.5g", k);
+    if (mixture) std::printf(" %d %d %d", s.components[0], s.components[1], s.components[2]);
     std::printf("\n");
   }
   return kExitOk;
@@ -108,7 +115,8 @@ int info_merl(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
   }
   std::printf("%s: MERL table %dx%dx%d%s\n", o.input.c_str(), mi.dims[0], mi.dims[1], mi.dims[2],
               mi.folded_from_360 ? " (phi_d folded from 360 bins to 180)" : "");
-  std::printf("not-measured mask %s the below-horizon geometry", hm.matches() ? "equals" : "differs from");
+  std::printf("not-measured mask %s the below-horizon geometry",
+              hm.matches() ? "equals" : "differs from");
   if (!hm.matches()) std::printf(" (%zu bins differ)", hm.mismatches);
   std::printf("\n%-2s %10s %10s %8s %12s %12s %12s\n", "", "measured", "missing", "zeros", "min",
               "max", "mean");

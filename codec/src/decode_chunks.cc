@@ -97,6 +97,42 @@ Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t f
       cs.scale = scale;
     }
   }
+  if (file_minor >= 1) {
+    // Version 1.1: further components per slice and channel, counts first.
+    for (int s = 0; s < slice_count; ++s) {
+      for (int c = 0; c < kChannels; ++c) {
+        std::uint8_t count = 0;
+        CBRDF_RETURN_IF_ERROR(r.u8(&count, "further component count"));
+        if (count > kMaxExtraComponents) {
+          return error(ErrorCode::kCorrupt,
+                       "slice " + std::to_string(s) + " channel " + kChannelNames[c] + " has " +
+                           std::to_string(count) + " further components; at most " +
+                           std::to_string(kMaxExtraComponents) + " are allowed");
+        }
+        (*slices)[std::size_t(s)].channel[std::size_t(c)].extra.resize(count);
+      }
+    }
+    for (int s = 0; s < slice_count; ++s) {
+      for (int c = 0; c < kChannels; ++c) {
+        auto& extra = (*slices)[std::size_t(s)].channel[std::size_t(c)].extra;
+        for (std::size_t e = 0; e < extra.size(); ++e) {
+          std::uint8_t family = 0;
+          double theta = 0.0, scale = 0.0;
+          CBRDF_RETURN_IF_ERROR(r.u8(&family, "copula family"));
+          CBRDF_RETURN_IF_ERROR(r.f64(&theta, "copula parameter"));
+          CBRDF_RETURN_IF_ERROR(r.f64(&scale, "scale K"));
+          const Status st = check_channel_params(family, theta, scale);
+          if (!st.ok()) {
+            return st.with_context("slice " + std::to_string(s) + " channel " + kChannelNames[c] +
+                                   " component " + std::to_string(e + 1));
+          }
+          extra[e].family = CopulaFamily(family);
+          extra[e].theta = theta;
+          extra[e].scale = scale;
+        }
+      }
+    }
+  }
   return check_trailing(r.remaining(), file_minor);
 }
 
@@ -113,13 +149,26 @@ Status decode_marginals_chunk(std::span<const std::uint8_t> payload, std::uint16
                                           std::to_string(kMinMarginalBits) + ".." +
                                           std::to_string(kMaxMarginalBits));
   }
-  if (reserved != 0)
+  std::size_t components = 0;
+  for (const Slice& slice : *slices) {
+    for (const ChannelSlice& cs : slice.channel) components += std::size_t(cs.components());
+  }
+  const bool mixtures = components > slices->size() * kChannels;
+  if (file_minor == 0 && reserved != 0) {
     return error(ErrorCode::kCorrupt, "reserved byte at payload offset 1 is not 0");
-  const std::size_t expected_tables = slices->size() * kChannels * 3;
+  }
+  if (reserved != (mixtures ? kMarginalLayoutComponents : kMarginalLayoutSingle)) {
+    return error(ErrorCode::kCorrupt, "table layout byte at payload offset 1 is " +
+                                          std::to_string(reserved) + "; it must be " +
+                                          (mixtures ? "1: MODL declares further components"
+                                                    : "0: MODL declares no further components"));
+  }
+  const std::size_t expected_tables = components * 3;
   if (table_count != expected_tables) {
-    return error(ErrorCode::kCorrupt, "table count " + std::to_string(table_count) +
-                                          " does not match " + std::to_string(slices->size()) +
-                                          " slices x 3 channels x 3 axes");
+    return error(ErrorCode::kCorrupt,
+                 "table count " + std::to_string(table_count) + " does not match " +
+                     (mixtures ? std::to_string(components) + " components x 3 axes"
+                               : std::to_string(slices->size()) + " slices x 3 channels x 3 axes"));
   }
   std::vector<QuantizedTable> tables(expected_tables);
   for (QuantizedTable& t : tables) {
@@ -131,32 +180,37 @@ Status decode_marginals_chunk(std::span<const std::uint8_t> payload, std::uint16
   for (std::size_t s = 0; s < slices->size(); ++s) {
     Slice& slice = (*slices)[s];
     for (int c = 0; c < kChannels; ++c) {
-      ChannelSlice& cs = slice.channel[std::size_t(c)];
-      std::vector<double>* axes[3] = {&cs.pdf_h, &cs.pdf_d, &cs.pdf_p};
-      const int sizes[3] = {kThetaHBins, slice.width(), kPhiDBins};
-      for (int a = 0; a < 3; ++a, ++t_index) {
-        QuantizedTable& t = tables[t_index];
-        const std::string where = "slice " + std::to_string(s) + " channel " + kChannelNames[c] +
-                                  " " + kAxisNames[a] + " table";
-        t.codes.resize(std::size_t(sizes[a]));
-        std::int64_t prev = 0;
-        for (std::uint32_t& q : t.codes) {
-          std::uint32_t z = 0;
-          const std::uint64_t at = r.offset();
-          CBRDF_RETURN_IF_ERROR(r.varint32(&z, "code residual"));
-          const std::int64_t code = prev + unzigzag(z);
-          if (code < 0 || code > top) {
-            return error(ErrorCode::kCorrupt, where + ": residual at payload offset " +
-                                                  std::to_string(at) + " gives code " +
-                                                  std::to_string(code) + " outside 0.." +
-                                                  std::to_string(top));
+      ChannelSlice& channel = slice.channel[std::size_t(c)];
+      for (int comp = 0; comp < channel.components(); ++comp) {
+        Component& cs = channel.component(comp);
+        std::vector<double>* axes[3] = {&cs.pdf_h, &cs.pdf_d, &cs.pdf_p};
+        const int sizes[3] = {kThetaHBins, slice.width(), kPhiDBins};
+        for (int a = 0; a < 3; ++a, ++t_index) {
+          QuantizedTable& t = tables[t_index];
+          const std::string where =
+              "slice " + std::to_string(s) + " channel " + kChannelNames[c] +
+              (comp > 0 ? " component " + std::to_string(comp) : std::string()) + " " +
+              kAxisNames[a] + " table";
+          t.codes.resize(std::size_t(sizes[a]));
+          std::int64_t prev = 0;
+          for (std::uint32_t& q : t.codes) {
+            std::uint32_t z = 0;
+            const std::uint64_t at = r.offset();
+            CBRDF_RETURN_IF_ERROR(r.varint32(&z, "code residual"));
+            const std::int64_t code = prev + unzigzag(z);
+            if (code < 0 || code > top) {
+              return error(ErrorCode::kCorrupt, where + ": residual at payload offset " +
+                                                    std::to_string(at) + " gives code " +
+                                                    std::to_string(code) + " outside 0.." +
+                                                    std::to_string(top));
+            }
+            q = std::uint32_t(code);
+            prev = code;
           }
-          q = std::uint32_t(code);
-          prev = code;
+          Expected<std::vector<double>> m = dequantize_masses(t, bits);
+          if (!m.ok()) return m.status().with_context(where);
+          *axes[a] = std::move(m.value());
         }
-        Expected<std::vector<double>> m = dequantize_masses(t, bits);
-        if (!m.ok()) return m.status().with_context(where);
-        *axes[a] = std::move(m.value());
       }
     }
   }

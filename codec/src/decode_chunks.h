@@ -41,6 +41,16 @@ struct MaskFields {
   MaskValues values = MaskValues::kSingle;
 };
 
+// MARG's second byte: reserved (0) in version 1.0; in 1.1 the table layout, 1 when the model has
+// further components (their tables follow each slice channel's first component's).
+inline constexpr std::uint8_t kMarginalLayoutSingle = 0;
+inline constexpr std::uint8_t kMarginalLayoutComponents = 1;
+// At most this many further components per slice and channel (kMaxComponents - 1 in fit.h).
+inline constexpr int kMaxExtraComponents = 7;
+
+// Whether any slice channel has further components (a version 1.1 file).
+bool has_mixtures(const Model& model);
+
 // Trailing bytes after the known fields are allowed only in a file of a newer minor version
 // (which may append fields); otherwise they are corruption.
 Status check_trailing(std::size_t trailing, std::uint16_t file_minor);

@@ -61,6 +61,7 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
       p.family[c] = s.channel[c].family;
       p.theta[c] = s.channel[c].theta;
       p.scale[c] = s.channel[c].scale;
+      p.components[c] = s.channel[c].components();
     }
     d.info.slices.push_back(p);
   }

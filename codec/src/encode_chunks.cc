@@ -7,6 +7,15 @@
 
 namespace cbrdf {
 
+bool has_mixtures(const Model& model) {
+  for (const Slice& s : model.slices) {
+    for (const ChannelSlice& c : s.channel) {
+      if (!c.extra.empty()) return true;
+    }
+  }
+  return false;
+}
+
 std::vector<std::uint8_t> encode_header_chunk(const Model& model) {
   ByteWriter w;
   w.u16(kThetaHBins);
@@ -29,6 +38,20 @@ std::vector<std::uint8_t> encode_model_chunk(const Model& model) {
       w.f64(c.scale);
     }
   }
+  // Version 1.1: the number of further components of every slice and channel, then theirs.
+  if (!has_mixtures(model)) return w.take();
+  for (const Slice& s : model.slices) {
+    for (const ChannelSlice& c : s.channel) w.u8(std::uint8_t(c.extra.size()));
+  }
+  for (const Slice& s : model.slices) {
+    for (const ChannelSlice& c : s.channel) {
+      for (const Component& e : c.extra) {
+        w.u8(std::uint8_t(e.family));
+        w.f64(e.theta);
+        w.f64(e.scale);
+      }
+    }
+  }
   return w.take();
 }
 
@@ -36,14 +59,17 @@ std::vector<std::uint8_t> encode_marginals_chunk(const Model& model, int bits) {
   std::vector<QuantizedTable> tables;
   for (const Slice& s : model.slices) {
     for (const ChannelSlice& c : s.channel) {
-      for (const std::vector<double>* t : {&c.pdf_h, &c.pdf_d, &c.pdf_p}) {
-        tables.push_back(quantize_masses(*t, bits));
+      for (int r = 0; r < c.components(); ++r) {
+        const Component& comp = c.component(r);
+        for (const std::vector<double>* t : {&comp.pdf_h, &comp.pdf_d, &comp.pdf_p}) {
+          tables.push_back(quantize_masses(*t, bits));
+        }
       }
     }
   }
   ByteWriter w;
   w.u8(std::uint8_t(bits));
-  w.u8(0);
+  w.u8(has_mixtures(model) ? kMarginalLayoutComponents : kMarginalLayoutSingle);
   w.u16(std::uint16_t(tables.size()));
   // Ranges first, then all codes: like data next to like data compresses better under zstd.
   for (const QuantizedTable& t : tables) {

@@ -51,14 +51,23 @@ Status check_model(const Model& model) {
     }
     begin = slice.theta_d_end;
     for (std::size_t c = 0; c < kChannels; ++c) {
-      const ChannelSlice& cs = slice.channel[c];
-      const std::string cname = name + " channel " + "RGB"[c];
-      const Status st = check_channel_params(std::uint8_t(cs.family), cs.theta, cs.scale);
-      if (!st.ok()) return invalid(cname + ": " + st.message());
-      CBRDF_RETURN_IF_ERROR(check_table(cs.pdf_h, kThetaHBins, cname + " theta_h table"));
-      CBRDF_RETURN_IF_ERROR(
-          check_table(cs.pdf_d, std::size_t(slice.width()), cname + " theta_d table"));
-      CBRDF_RETURN_IF_ERROR(check_table(cs.pdf_p, kPhiDBins, cname + " phi_d table"));
+      const ChannelSlice& channel = slice.channel[c];
+      if (channel.extra.size() > std::size_t{kMaxExtraComponents}) {
+        return invalid(name + " channel " + "RGB"[c] + " has " +
+                       std::to_string(channel.components()) + " components; at most " +
+                       std::to_string(kMaxExtraComponents + 1) + " fit in a file");
+      }
+      for (int r = 0; r < channel.components(); ++r) {
+        const Component& cs = channel.component(r);
+        const std::string cname = name + " channel " + "RGB"[c] +
+                                  (r > 0 ? " component " + std::to_string(r) : std::string());
+        const Status st = check_channel_params(std::uint8_t(cs.family), cs.theta, cs.scale);
+        if (!st.ok()) return invalid(cname + ": " + st.message());
+        CBRDF_RETURN_IF_ERROR(check_table(cs.pdf_h, kThetaHBins, cname + " theta_h table"));
+        CBRDF_RETURN_IF_ERROR(
+            check_table(cs.pdf_d, std::size_t(slice.width()), cname + " theta_d table"));
+        CBRDF_RETURN_IF_ERROR(check_table(cs.pdf_p, kPhiDBins, cname + " phi_d table"));
+      }
     }
   }
   if (begin != kThetaDBins) {
@@ -127,7 +136,8 @@ Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
     meta.emplace_back("zstd_level", std::to_string(settings.zstd_level));
     chunks.push_back({std::string(kTagMetadata), encode_metadata_chunk(meta), true});
   }
-  return write_container(chunks, settings.zstd_level);
+  // The lowest version that holds the model: files without mixtures stay readable by 1.0 readers.
+  return write_container(chunks, settings.zstd_level, has_mixtures(model) ? 1 : 0);
 }
 
 }  // namespace cbrdf

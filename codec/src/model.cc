@@ -60,20 +60,53 @@ int Model::slice_of(int theta_d_bin) const {
   return int(slices.size()) - 1;
 }
 
-BrdfTable Model::table() const { return ModelEvaluator(*this).table(); }
+BrdfTable Model::table() const {
+  return ModelEvaluator(*this).table();
+}
+
+namespace {
+
+// One component prepared for evaluation.
+struct Term {
+  const Component* cs = nullptr;
+  std::unique_ptr<fit::GridCopula> copula;
+  const fit::FrankGrid* frank =
+      nullptr;  // the copula's grid when Frank: evaluated without a virtual call
+
+  explicit Term(const Component& c) : cs(&c) {
+    // FrankGrid is accurate only down to kFrankGridMinAlpha (the fitter's bound); a file may
+    // hold any parameter of the domain, which the general grid evaluates in the log domain.
+    const bool frank_beyond_grid =
+        c.family == CopulaFamily::kFrank && c.theta < fit::kFrankGridMinAlpha;
+    copula =
+        frank_beyond_grid ? fit::make_archimedean_grid(c.family) : fit::make_grid_copula(c.family);
+    std::vector<double> u1, u2, u3;
+    fit::midpoint_cdf(c.pdf_h, &u1);
+    fit::midpoint_cdf(c.pdf_d, &u2);
+    fit::midpoint_cdf(c.pdf_p, &u3);
+    copula->prepare(c.theta, u1, u2, u3);
+    frank = fit::frank_grid_of(*copula);
+  }
+
+  // j is the theta_d bin inside the slice.
+  double value(int i, int j, int k) const {
+    const double f = cs->pdf_h[i] * cs->pdf_d[j] * cs->pdf_p[k];
+    if (f == 0.0 || cs->scale == 0.0) return 0.0;
+    const double c = frank ? frank->density(i, j, k) : copula->density(i, j, k);
+    return saturate(cs->scale * c * f);
+  }
+};
+
+}  // namespace
 
 struct ModelEvaluator::Part {
-  const ChannelSlice* cs = nullptr;
-  std::unique_ptr<fit::GridCopula> copula;
-  const fit::FrankGrid* frank = nullptr;  // the copula's grid when Frank: evaluated without a virtual call
+  std::vector<Term> terms;  // one per component
   int theta_d_begin = 0;
 
   double value(int i, int j, int k) const {
-    const double f = cs->pdf_h[i] * cs->pdf_d[j - theta_d_begin] * cs->pdf_p[k];
-    if (f == 0.0 || cs->scale == 0.0) return 0.0;
-    const double c = frank ? frank->density(i, j - theta_d_begin, k)
-                           : copula->density(i, j - theta_d_begin, k);
-    return saturate(cs->scale * c * f);
+    double v = 0.0;
+    for (const Term& t : terms) v += t.value(i, j - theta_d_begin, k);
+    return saturate(v);
   }
 };
 
@@ -85,19 +118,8 @@ ModelEvaluator::ModelEvaluator(const Model& model) : model_(&model) {
     for (int c = 0; c < kChannels; ++c) {
       auto part = std::make_unique<Part>();
       const ChannelSlice& cs = model.slices[s].channel[c];
-      part->cs = &cs;
-      // FrankGrid is accurate only down to kFrankGridMinAlpha (the fitter's bound); a file may
-      // hold any parameter of the domain, which the general grid evaluates in the log domain.
-      const bool frank_beyond_grid =
-          cs.family == CopulaFamily::kFrank && cs.theta < fit::kFrankGridMinAlpha;
-      part->copula = frank_beyond_grid ? fit::make_archimedean_grid(cs.family)
-                                       : fit::make_grid_copula(cs.family);
-      std::vector<double> u1, u2, u3;
-      fit::midpoint_cdf(cs.pdf_h, &u1);
-      fit::midpoint_cdf(cs.pdf_d, &u2);
-      fit::midpoint_cdf(cs.pdf_p, &u3);
-      part->copula->prepare(cs.theta, u1, u2, u3);
-      part->frank = fit::frank_grid_of(*part->copula);
+      part->terms.reserve(std::size_t(cs.components()));
+      for (int r = 0; r < cs.components(); ++r) part->terms.emplace_back(cs.component(r));
       part->theta_d_begin = model.slices[s].theta_d_begin;
       parts_[s][c] = std::move(part);
     }
@@ -151,18 +173,22 @@ BrdfTable ModelEvaluator::table() const {
     for (std::size_t s = 0; s < model_->slices.size(); ++s) {
       const Slice& slice = model_->slices[s];
       const Part& p = *parts_[s][ch];
-      const ChannelSlice& cs = *p.cs;
       for (int i = 0; i < kThetaHBins; ++i) {
         for (int j = slice.theta_d_begin; j < slice.theta_d_end; ++j) {
           double* row = out + merl_index(i, j, 0);
-          const double f12 = cs.scale * cs.pdf_h[i] * cs.pdf_d[j - slice.theta_d_begin] * inv_scale;
-          if (f12 == 0.0) {
-            std::fill(row, row + kPhiDBins, 0.0);
-            continue;
+          std::fill(row, row + kPhiDBins, 0.0);
+          for (const Term& term : p.terms) {
+            const Component& cs = *term.cs;
+            const double f12 =
+                cs.scale * cs.pdf_h[i] * cs.pdf_d[j - slice.theta_d_begin] * inv_scale;
+            if (f12 == 0.0) continue;
+            // A whole phi_d row at once: the copula's per-row factors are shared and it vectorizes.
+            term.copula->row(i, j - slice.theta_d_begin, c.data(), nullptr);
+            for (int k = 0; k < kPhiDBins; ++k) row[k] += saturate(f12 * c[k] * cs.pdf_p[k]);
           }
-          // A whole phi_d row at once: the copula's per-row factors are shared and it vectorizes.
-          p.copula->row(i, j - slice.theta_d_begin, c.data(), nullptr);
-          for (int k = 0; k < kPhiDBins; ++k) row[k] = saturate(f12 * c[k] * cs.pdf_p[k]);
+          if (p.terms.size() > 1) {
+            for (int k = 0; k < kPhiDBins; ++k) row[k] = saturate(row[k]);
+          }
         }
       }
     }

@@ -104,7 +104,7 @@ bool chunk_tag_known(std::string_view tag) {
 std::uint32_t max_chunk_payload_bytes(std::string_view tag) {
   if (tag == kTagHeader) return 256;
   if (tag == kTagModel) return 64u << 10;
-  if (tag == kTagMarginals) return 1u << 20;
+  if (tag == kTagMarginals) return 2u << 20;  // 1 MiB in version 1.0; mixtures need more
   if (tag == kTagMask) return 36u << 20;
   if (tag == kTagMetadata) return 64u << 10;
   return 0;  // the end chunk is empty; unknown chunks are never decompressed

@@ -29,8 +29,13 @@ void append_raw_chunk(std::vector<std::uint8_t>* out, std::string_view tag, std:
 }
 
 Expected<std::vector<std::uint8_t>> write_container(std::span<const ChunkToWrite> chunks,
-                                                    int zstd_level) {
-  std::vector<std::uint8_t> out = container_file_header();
+                                                    int zstd_level, std::uint16_t minor) {
+  if (minor > kContainerMinorVersion) {
+    return error(ErrorCode::kInvalidArgument, "cannot write minor version " +
+                                                  std::to_string(minor) + ": this writer knows 1." +
+                                                  std::to_string(kContainerMinorVersion));
+  }
+  std::vector<std::uint8_t> out = container_file_header(kContainerMajorVersion, minor);
   for (const ChunkToWrite& c : chunks) {
     if (!chunk_tag_valid(c.tag) || c.tag == kTagEnd) {
       return error(ErrorCode::kInvalidArgument,
@@ -47,7 +52,8 @@ Expected<std::vector<std::uint8_t>> write_container(std::span<const ChunkToWrite
     }
     const auto payload_bytes = std::uint32_t(c.payload.size());
     if (c.compress && !c.payload.empty()) {
-      Expected<std::vector<std::uint8_t>> z = zstd_compress(c.payload, std::min(zstd_level, c.max_zstd_level));
+      Expected<std::vector<std::uint8_t>> z =
+          zstd_compress(c.payload, std::min(zstd_level, c.max_zstd_level));
       if (!z.ok()) return z.status().with_context("chunk '" + c.tag + "'");
       if (z->size() < c.payload.size()) {
         append_raw_chunk(&out, c.tag, kChunkFlagZstd, *z, payload_bytes);

@@ -43,7 +43,8 @@ struct SliceParams {
   int theta_d_end = 0;
   std::array<CopulaFamily, kChannels> family{};
   std::array<double, kChannels> theta{};
-  std::array<double, kChannels> scale{};
+  std::array<double, kChannels> scale{};    // of the first component
+  std::array<int, kChannels> components{};  // 1, or more in a mixture (version 1.1)
 };
 
 // What `cbrdf info` shows: the chunk layout and the decoded header, parameters and metadata.

@@ -15,7 +15,9 @@ struct Vec3 {
   double x = 0, y = 0, z = 0;
 };
 
-inline double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline double dot(const Vec3& a, const Vec3& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 
 struct HalfDiff {
   double theta_h = 0, phi_h = 0, theta_d = 0, phi_d = 0;
@@ -26,12 +28,14 @@ HalfDiff to_half_diff(const Vec3& wi, const Vec3& wo);
 // The inverse: the pair (wi, wo) with these coordinates.
 void from_half_diff(const HalfDiff& hd, Vec3* wi, Vec3* wo);
 
-// Bin indices exactly as the reference MERL reader (BRDFRead.cpp) computes them, clamped to the grid.
+// Bin indices exactly as the reference MERL reader (BRDFRead.cpp) computes them, clamped to the
+// grid.
 int theta_h_index(double theta_h);
 int theta_d_index(double theta_d);
 int phi_d_index(double phi_d);  // folds phi_d < 0 by + pi (reciprocity)
 
-// Continuous positions on the grid: bin i sits at position i exactly (the inverse of the bin angle).
+// Continuous positions on the grid: bin i sits at position i exactly (the inverse of the bin
+// angle).
 double theta_h_position(double theta_h);  // sqrt(theta_h / 90deg) * 90
 double theta_d_position(double theta_d);  // theta_d / 1deg
 double phi_d_position(double phi_d);      // folded to [0, pi), / 1deg

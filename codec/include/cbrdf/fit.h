@@ -37,25 +37,37 @@ enum class FitLoss {
 };
 
 struct FitSettings {
-  int slices = 6;                     // uniform slices along theta_d, 1 to 90
-  std::vector<int> slice_bounds;      // explicit boundaries (overrides `slices`): 0 = b0 < ... < bn = 90
+  int slices = 6;  // uniform slices along theta_d, 1 to 90
+  std::vector<int>
+      slice_bounds;  // explicit boundaries (overrides `slices`): 0 = b0 < ... < bn = 90
   CopulaFamily family = CopulaFamily::kFrank;
   FitLoss loss = FitLoss::kLinear;
-  bool auto_family = false;           // fit every family per slice and channel, keep the best
-  bool impute_missing = true;         // false: the paper's naive marginals (missing bins as 0)
-  int impute_iterations = 30;         // cap on fill/re-estimate rounds per parameter update
-  double impute_tolerance = 1e-7;     // stop when no mass changes by more than this (relative)
+  bool auto_family = false;        // fit every family per slice and channel, keep the best
+  bool impute_missing = true;      // false: the paper's naive marginals (missing bins as 0)
+  int impute_iterations = 30;      // cap on fill/re-estimate rounds per parameter update
+  double impute_tolerance = 1e-7;  // stop when no mass changes by more than this (relative)
   // After the first fit, impute again under the fitted copula and refit. Off by default: on the
   // 20 real materials it changed tone-mapped sphere PSNR by at most 0.06 dB for twice the time.
   bool impute_with_copula = false;
-  int threads = 1;                    // slices and channels fitted in parallel; results identical
+  // Components per slice and channel: 1 is the paper's model; more make each slice a mixture
+  // (fit/mixture.h; a version 1.1 file). With auto_components, `components` is the most per slice
+  // and channel, and each added component must bring the objective down to auto_component_gain
+  // times what it was.
+  int components = 1;
+  bool auto_components = false;
+  double auto_component_gain = 0.5;
+  int threads = 1;  // slices and channels fitted in parallel; results identical
 };
+
+inline constexpr int kMaxComponents = 8;
+inline constexpr int kAutoMaxComponents = 4;  // the most `--components auto` tries
 
 // What the fit did, per slice and channel.
 struct ChannelSliceFit {
-  double objective = 0;              // S(theta) of Eq. 17 at the fitted parameter, per measured bin
+  double objective = 0;  // S(theta) of Eq. 17 at the fitted parameter, per measured bin
   double objective_independence = 0;  // the same at the separable model (theta at independence)
   int solver_iterations = 0;
+  int hals_sweeps = 0;  // mixtures: sweeps of the factorization
   int impute_rounds = 0;
   int measured_bins = 0;
 };

@@ -1,7 +1,8 @@
-// The copula BRDF model (Ozturk, Kurt, Bilgili 2010): per theta_d slice and colour channel, the BRDF
-// is K * c(F1(theta_h), F2(theta_d), F3(phi_d); theta) * f1(theta_h) f2(theta_d) f3(phi_d), with
-// empirical marginals f (probability mass per MERL bin), their CDFs F, an Archimedean copula
-// density c with one parameter, and the slice's normalization K.
+// The copula BRDF model (Ozturk, Kurt, Bilgili 2010): per theta_d slice and colour channel, the
+// BRDF is K * c(F1(theta_h), F2(theta_d), F3(phi_d); theta) * f1(theta_h) f2(theta_d) f3(phi_d),
+// with empirical marginals f (probability mass per MERL bin), their CDFs F, an Archimedean copula
+// density c with one parameter, and the slice's normalization K. Beyond the paper, a slice may be a
+// mixture: a sum of such terms, each with its own marginals, parameter and K.
 #pragma once
 
 #include <array>
@@ -16,15 +17,26 @@
 
 namespace cbrdf {
 
-// One slice of one colour channel.
-struct ChannelSlice {
+// One product-copula term: K c(F1(theta_h), F2(theta_d), F3(phi_d); theta) f1 f2 f3.
+struct Component {
   CopulaFamily family = CopulaFamily::kFrank;
   double theta = 0.0;  // the family's parameter, in its own convention (copula_family.h)
-  double scale = 0.0;  // K: sum of physical values over the slice's bins (measured + imputed)
+  double scale =
+      0.0;  // K: the term's sum over the slice's bins (physical units; measured + imputed)
   // Probability mass per bin, each summing to 1 (all zero when scale == 0):
   std::vector<double> pdf_h;  // 90 theta_h bins
   std::vector<double> pdf_d;  // the slice's theta_d bins
   std::vector<double> pdf_p;  // 180 phi_d bins
+};
+
+// One slice of one colour channel. The paper's model is the single component held inline; a
+// mixture (container version 1.1) adds further components in `extra`, and the slice's value is the
+// sum of all of them. Each component has its own marginals, copula and weight K.
+struct ChannelSlice : Component {
+  std::vector<Component> extra;
+  int components() const { return 1 + int(extra.size()); }
+  const Component& component(int r) const { return r == 0 ? *this : extra[std::size_t(r - 1)]; }
+  Component& component(int r) { return r == 0 ? *this : extra[std::size_t(r - 1)]; }
 };
 
 struct Slice {
@@ -37,7 +49,8 @@ struct Slice {
 // Which bins the source did not measure, and the exact stored values it had there.
 struct NotMeasured {
   // Bit (c * kBinsPerChannel + i) set when channel c's bin i was not measured.
-  std::vector<std::uint64_t> bits = std::vector<std::uint64_t>((kChannels * kBinsPerChannel + 63) / 64, 0);
+  std::vector<std::uint64_t> bits =
+      std::vector<std::uint64_t>((kChannels * kBinsPerChannel + 63) / 64, 0);
   // One value for all (the usual case) or one per set bit, in bit order.
   std::vector<double> values = {-1.0};
 

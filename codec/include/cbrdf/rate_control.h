@@ -21,10 +21,10 @@ struct RateCandidate {
 };
 
 struct RateResult {
-  EncodeResult encoded;                // the chosen file
+  EncodeResult encoded;  // the chosen file
   RateCandidate chosen;
-  std::vector<RateCandidate> tried;    // every setting measured, in search order
-  bool met = false;                    // false: no setting met the target; the closest is chosen
+  std::vector<RateCandidate> tried;  // every setting measured, in search order
+  bool met = false;                  // false: no setting met the target; the closest is chosen
 };
 
 // Searches slices in {3, 6, 9, 15, 18, 30} and bits 6..16 with the other settings of `base`.

@@ -8,6 +8,7 @@
 #include "fit/fit_parameter.h"
 #include "fit/grid_copula.h"
 #include "fit/marginals.h"
+#include "fit/mixture.h"
 #include "fit/slice_data.h"
 
 namespace cbrdf {
@@ -58,6 +59,40 @@ SliceFitResult fit_family(const fit::SliceData& s, CopulaFamily family, const Fi
   return r;
 }
 
+// An RMS residual of 0.1% of the slice's mean value (the objective is in units of the mean
+// squared).
+constexpr double kAutoObjectiveFloor = 1e-6;
+
+// Grows the fit into a mixture (fit/mixture.h). A fixed count is fitted in one call, which adds
+// components one at a time; `auto_components` adds them one call at a time and keeps a component
+// only when it lowers the objective by the factor auto_component_gain, and stops early once the
+// residual is negligible.
+void add_components(const fit::SliceData& s, const FitSettings& st, SliceFitResult* r) {
+  const CopulaFamily family = st.auto_family ? CopulaFamily::kFrank : st.family;
+  if (!st.auto_components) {
+    fit::MixtureFit m = fit::fit_mixture(s, r->cs, st.components, family, st.loss);
+    if (m.objective < r->report.objective) {
+      r->cs = std::move(m.cs);
+      r->report.objective = m.objective;
+    }
+    r->report.hals_sweeps += m.sweeps;
+    r->report.solver_iterations += m.solver_iterations;
+    return;
+  }
+  for (int k = r->cs.components() + 1; k <= st.components; ++k) {
+    // Already within kAutoObjectiveFloor: nothing visible left to gain.
+    if (r->report.objective < kAutoObjectiveFloor) break;
+    fit::MixtureFit m = fit::fit_mixture(s, r->cs, k, family, st.loss);
+    r->report.hals_sweeps += m.sweeps;
+    r->report.solver_iterations += m.solver_iterations;
+    if (m.cs.components() < k || !(m.objective < st.auto_component_gain * r->report.objective)) {
+      break;
+    }
+    r->cs = std::move(m.cs);
+    r->report.objective = m.objective;
+  }
+}
+
 SliceFitResult fit_slice_channel(const BrdfTable& table, int channel, int begin, int end,
                                  const FitSettings& st) {
   const fit::SliceData s =
@@ -76,17 +111,21 @@ SliceFitResult fit_slice_channel(const BrdfTable& table, int channel, int begin,
     r.report.measured_bins = int(s.measured_count());
     return r;
   }
-  if (!st.auto_family) return fit_family(s, st.family, st);
   SliceFitResult best;
-  bool have = false;
-  for (CopulaFamily f : kAutoFamilies) {
-    if (!fit::make_grid_copula(f)) continue;
-    SliceFitResult r = fit_family(s, f, st);
-    if (!have || r.report.objective < best.report.objective) {
-      best = std::move(r);
-      have = true;
+  if (!st.auto_family) {
+    best = fit_family(s, st.family, st);
+  } else {
+    bool have = false;
+    for (CopulaFamily f : kAutoFamilies) {
+      if (!fit::make_grid_copula(f)) continue;
+      SliceFitResult r = fit_family(s, f, st);
+      if (!have || r.report.objective < best.report.objective) {
+        best = std::move(r);
+        have = true;
+      }
     }
   }
+  if (st.components > 1 && best.cs.scale > 0) add_components(s, st, &best);
   return best;
 }
 
@@ -122,6 +161,14 @@ Expected<Model> fit_model(const BrdfTable& table, const FitSettings& st, FitRepo
                  "copula family '" + std::string(family_name(st.family)) + "' cannot be fitted");
   }
   if (st.threads < 1) return error(ErrorCode::kInvalidArgument, "threads must be at least 1");
+  if (st.components < 1 || st.components > kMaxComponents) {
+    return error(ErrorCode::kInvalidArgument, "component count " + std::to_string(st.components) +
+                                                  " is outside 1 to " +
+                                                  std::to_string(kMaxComponents));
+  }
+  if (!(st.auto_component_gain > 0 && st.auto_component_gain <= 1)) {
+    return error(ErrorCode::kInvalidArgument, "auto_component_gain must lie in (0, 1]");
+  }
   const int slices = int(bounds->size()) - 1;
   Model model;
   model.slices.resize(slices);

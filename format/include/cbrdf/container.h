@@ -21,7 +21,9 @@ namespace cbrdf {
 inline constexpr std::array<std::uint8_t, 8> kContainerSignature = {0x8B, 'C',  'B',  'R',
                                                                     '\r', '\n', 0x1A, '\n'};
 inline constexpr std::uint16_t kContainerMajorVersion = 1;
-inline constexpr std::uint16_t kContainerMinorVersion = 0;
+// 1.1 added mixtures (several components per slice and channel); the writer writes 1.0 when the
+// model has none, so that such files stay readable by 1.0 readers.
+inline constexpr std::uint16_t kContainerMinorVersion = 1;
 
 inline constexpr std::size_t kContainerHeaderBytes = 12;  // signature, u16 major, u16 minor
 inline constexpr std::size_t kChunkHeaderBytes = 16;   // tag, stored length, flags, payload length
@@ -91,18 +93,19 @@ void append_raw_chunk(std::vector<std::uint8_t>* out, std::string_view tag, std:
                       std::span<const std::uint8_t> stored, std::uint32_t payload_bytes);
 // The 12-byte file header: signature and version.
 std::vector<std::uint8_t> container_file_header(std::uint16_t major = kContainerMajorVersion,
-                                                std::uint16_t minor = kContainerMinorVersion);
+                                                std::uint16_t minor = 0);
 
 struct ChunkToWrite {
   std::string tag;
   std::vector<std::uint8_t> payload;
-  bool compress = true;  // zstd, kept only when it is smaller than the payload
+  bool compress = true;     // zstd, kept only when it is smaller than the payload
   int max_zstd_level = 22;  // caps write_container's level for this chunk (large payloads)
 };
 
-// Writes header, chunks in the given order and the end chunk. Refuses invalid tags and payloads
-// above their limits (kInvalidArgument / kLimit), so that whatever it writes parses.
+// Writes header (version 1.minor), chunks in the given order and the end chunk. Refuses invalid
+// tags and payloads above their limits (kInvalidArgument / kLimit), so that whatever it writes
+// parses.
 Expected<std::vector<std::uint8_t>> write_container(std::span<const ChunkToWrite> chunks,
-                                                    int zstd_level);
+                                                    int zstd_level, std::uint16_t minor = 0);
 
 }  // namespace cbrdf
