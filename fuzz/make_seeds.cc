@@ -62,11 +62,13 @@ Bytes encode(const Model& m, int bits, bool metadata = true, int zstd_level = 19
   return *b;
 }
 
-// The same file with every known chunk stored uncompressed (unknown chunks copied as they are).
-Bytes uncompressed(const Bytes& file, std::uint16_t minor = cbrdf::kContainerMinorVersion) {
+// The same file with every known chunk stored uncompressed (unknown chunks copied as they are),
+// of its own version unless `minor` is given.
+Bytes uncompressed(const Bytes& file, int minor = -1) {
   cbrdf::Expected<cbrdf::ParsedContainer> pc = cbrdf::parse_container(file);
   if (!pc.ok()) std::exit(1);
-  Bytes out = cbrdf::container_file_header(cbrdf::kContainerMajorVersion, minor);
+  Bytes out = cbrdf::container_file_header(
+      cbrdf::kContainerMajorVersion, std::uint16_t(minor >= 0 ? minor : int(pc->layout.minor)));
   for (std::size_t i = 0; i < pc->layout.chunks.size(); ++i) {
     const cbrdf::ChunkInfo& c = pc->layout.chunks[i];
     if (c.known) {
@@ -163,6 +165,7 @@ void container_and_decode_seeds(Writer& w) {
     valid["golden-" + e.path().filename().string()] = read_file(e.path());
   }
   valid["enc-tiny1-b6.cbrdf"] = encode(make_model({0, 90}, false, 1), 6);
+  valid["enc-mixture-b8.cbrdf"] = encode(cbrdf::testing::make_mixture_model({0, 40, 90}, 4, 6), 8);
   valid["enc-six-peaked-b10.cbrdf"] = encode(make_model(cbrdf::testing::six_slices(), true, 2), 10);
   valid["enc-three-b16-nometa.cbrdf"] = encode(make_model({0, 10, 40, 90}, false, 3), 16, false);
   valid["enc-perbin-values.cbrdf"] = encode(sparse_per_bin_mask_model(), 8);
@@ -179,8 +182,8 @@ void container_and_decode_seeds(Writer& w) {
   w.add("fuzz_container", "enc-all-masked-perbin.cbrdf", all_masked, "accepted");
   w.add("fuzz_decode", "enc-all-masked-perbin.cbrdf", all_masked, "accepted");
   // A newer minor version may append fields: trailing payload bytes are then ignored.
-  w.add("fuzz_decode", "raw-minor1-enc-tiny1-b6.cbrdf",
-        uncompressed(valid["enc-tiny1-b6.cbrdf"], 1), "accepted");
+  w.add("fuzz_decode", "raw-minor2-enc-mixture-b8.cbrdf",
+        uncompressed(valid["enc-mixture-b8.cbrdf"], cbrdf::kContainerMinorVersion + 1), "accepted");
 
   const Bytes& tiny = valid["enc-tiny1-b6.cbrdf"];
   w.add("fuzz_container", "bad-truncated.cbrdf", Bytes(tiny.begin(), tiny.begin() + 40),

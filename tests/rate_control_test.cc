@@ -12,7 +12,9 @@ TEST(RateControl, ByteBudgetAndPsnrTargetPickTheBestSettingTried) {
   ASSERT_TRUE(table.ok());
   EncoderSettings base;
   base.fit.threads = 2;
-  auto by_bytes = encode_to_target(*table, base, {3000, 0});
+  // Mixtures up to 2 components are part of the search (4 and six slice counts by default; fewer
+  // keep the test short).
+  auto by_bytes = encode_to_target(*table, base, {3000, 0, 2, {3, 6}});
   ASSERT_TRUE(by_bytes.ok()) << by_bytes.status().message();
   EXPECT_TRUE(by_bytes->met);
   EXPECT_LE(by_bytes->encoded.bytes.size(), 3000u);
@@ -23,7 +25,7 @@ TEST(RateControl, ByteBudgetAndPsnrTargetPickTheBestSettingTried) {
     }
   }
   const double goal = by_bytes->chosen.psnr_tonemapped - 3.0;
-  auto by_psnr = encode_to_target(*table, base, {0, goal});
+  auto by_psnr = encode_to_target(*table, base, {0, goal, 2, {3, 6}});
   ASSERT_TRUE(by_psnr.ok());
   EXPECT_TRUE(by_psnr->met);
   EXPECT_GE(by_psnr->chosen.psnr_tonemapped, goal);
@@ -32,12 +34,18 @@ TEST(RateControl, ByteBudgetAndPsnrTargetPickTheBestSettingTried) {
       EXPECT_GE(c.bytes, by_psnr->chosen.bytes);
     }
   }
-  // 3 dB less for fewer bytes.
-  EXPECT_LT(by_psnr->chosen.bytes, by_bytes->chosen.bytes);
+  // 3 dB less never costs more bytes.
+  EXPECT_LE(by_psnr->chosen.bytes, by_bytes->chosen.bytes);
   // The decoded file is what was measured.
   auto decoded = decode_model(by_psnr->encoded.bytes);
   ASSERT_TRUE(decoded.ok());
   EXPECT_EQ(decoded->slices.size(), std::size_t(by_psnr->chosen.slices));
+  EXPECT_EQ(decoded->slices[0].channel[0].components(), by_psnr->chosen.components);
+  // Both component counts were tried, each at several bit depths.
+  int k1 = 0, k2 = 0;
+  for (const RateCandidate& c : by_bytes->tried) (c.components == 1 ? k1 : k2) += 1;
+  EXPECT_GT(k1, 2);
+  EXPECT_GT(k2, 0);
 }
 
 TEST(RateControl, UnreachableTargetsReportTheClosestAndBadTargetsAreRefused) {
@@ -45,13 +53,16 @@ TEST(RateControl, UnreachableTargetsReportTheClosestAndBadTargetsAreRefused) {
   ASSERT_TRUE(table.ok());
   EncoderSettings base;
   base.fit.threads = 2;
-  auto tiny = encode_to_target(*table, base, {10, 0});
+  auto tiny = encode_to_target(*table, base, {10, 0, 1, {3, 6}});
   ASSERT_TRUE(tiny.ok());
   EXPECT_FALSE(tiny->met);
   for (const RateCandidate& c : tiny->tried) EXPECT_GE(c.bytes, tiny->chosen.bytes);
   EXPECT_EQ(encode_to_target(*table, base, {0, 0}).status().code(), ErrorCode::kInvalidArgument);
-  EXPECT_EQ(encode_to_target(*table, base, {100, 40}).status().code(),
-            ErrorCode::kInvalidArgument);
+  EXPECT_EQ(encode_to_target(*table, base, {100, 40}).status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(encode_to_target(*table, base, {100, 0, 0}).status().message(),
+            "max_components 0 is outside 1 to 8");
+  EXPECT_EQ(encode_to_target(*table, base, {100, 0, 1, {}}).status().message(),
+            "no slice counts to search");
 }
 
 }  // namespace

@@ -78,6 +78,8 @@ TEST(ReportHtml, LoadsInChromiumWithEveryImage) {
   const std::string dom = dump_dom(out / "report.html", tmp);
   ASSERT_FALSE(dom.empty()) << "chromium did not produce a DOM";
   EXPECT_NE(dom.find("Table 1: sphere PSNR"), std::string::npos);
+  EXPECT_NE(dom.find("Frontier: gain over the paper"), std::string::npos);
+  EXPECT_NE(dom.find("src=\"frontier_mean.svg\""), std::string::npos);
   EXPECT_EQ(body_attribute(dom, "data-loaded"), "ok");
   EXPECT_EQ(body_attribute(dom, "data-images"), std::to_string(sources.size()));
   EXPECT_EQ(body_attribute(dom, "data-images-broken"), "0");

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
 
 #include "cbrdf/image_io.h"
 #include "cbrdf/merl_io.h"
@@ -38,6 +39,8 @@ TEST(ReportArgs, BadSweepsAreOneLineUsageErrors) {
       {"slices=2 slices=3", "given twice"},
       {"'slices=2 bits=6' slices=3", "given twice"},
       {"nokey", "'nokey' is not KEY=VALUES"},
+      {"components=0", "components='0' is not an integer from 1 to"},
+      {"components=1,auto,auto", "components lists auto twice"},
   };
   for (const auto& [sweep, expect] : cases) {
     const auto r = run_cli("report --builtin --sweep " + sweep);
@@ -61,7 +64,8 @@ TEST(ReportArgs, OtherUsageErrors) {
   EXPECT_NE(r.err.find("--builtin"), std::string::npos) << r.err;
 }
 
-// One material, two settings and two baselines: small enough for a unit test, large enough to
+// One material, four settings (K = 1 and 2 mixtures, 6 and 16 bits), the paper's setting as the
+// reference and two baselines: small enough for a unit test, large enough to
 // check every output against an independent computation.
 class ReportRun : public ::testing::Test {
  protected:
@@ -70,10 +74,10 @@ class ReportRun : public ::testing::Test {
     input_ = *dir_ / "plastic.binary";
     ASSERT_EQ(run_cli("sample plastic -o '" + input_.string() + "'").exit_code, 0);
     out_ = *dir_ / "report";
-    run_ = new testing::CommandResult(
-        run_cli("report '" + input_.string() +
-                "' --jobs 1 --sweep slices=3 bits=6,16 --baselines float16,separable -o '" +
-                out_.string() + "'"));
+    run_ = new testing::CommandResult(run_cli(
+        "report '" + input_.string() +
+        "' --jobs 1 --sweep slices=3 bits=6,16 components=1,2 --baselines float16,separable -o '" +
+        out_.string() + "'"));
   }
   static void TearDownTestSuite() {
     delete run_;
@@ -117,12 +121,24 @@ TEST_F(ReportRun, ContainerSizeIsWhatEncodeWritesAndPsnrIsWhatTheLibraryMeasures
   ASSERT_EQ(run_->exit_code, 0) << run_->err;
   const auto json = nlohmann::json::parse(testing::read_text(out_ / "report.json"));
   const auto rows = json["rows"];
-  // Sweep rows, the separable baseline at the primary (first) setting, float16 and lossless.
+  // Sweep rows, the paper's setting as a reference, the separable baseline at the primary (first)
+  // setting, float16.
   std::vector<std::string> labels;
   for (const auto& r : rows) labels.push_back(r["label"]);
-  EXPECT_EQ(labels, (std::vector<std::string>{"frank s3 b6", "frank s3 b16", "separable s3 b6",
+  EXPECT_EQ(labels, (std::vector<std::string>{"frank s3 b6", "frank s3 b16", "frank s3 b6 k2",
+                                              "frank s3 b16 k2", "frank s6 b12", "separable s3 b6",
                                               "float16+zstd"}));
   EXPECT_EQ(json["settings"]["primary"], "frank s3 b6");
+  EXPECT_EQ(json["settings"]["paper"], "frank s6 b12");
+  for (const auto& r : rows) {
+    const bool paper = r["label"] == "frank s6 b12";
+    EXPECT_EQ(r["paper"].get<bool>(), paper) << r["label"];
+    if (paper) {
+      EXPECT_FALSE(r["in_sweep"].get<bool>());
+    }
+  }
+  EXPECT_EQ(row(rows, "frank s3 b6 k2")["components"], "2");
+  EXPECT_EQ(row(rows, "frank s3 b6")["components"], "1");
 
   const fs::path cbrdf = *dir_ / "p.cbrdf", decoded = *dir_ / "p.binary";
   ASSERT_EQ(run_cli("-q encode '" + input_.string() + "' -o '" + cbrdf.string() +
@@ -170,10 +186,12 @@ TEST(ReportLossless, ZstdAndXzOfTheBinary) {
               "' --sweep slices=1 bits=6 --baselines lossless,float16 -o '" + out.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto rows = nlohmann::json::parse(testing::read_text(out / "report.json"))["rows"];
-  ASSERT_EQ(rows.size(), 4u);
-  EXPECT_EQ(rows[2]["label"], "zstd-19");
-  EXPECT_EQ(rows[3]["label"], "xz-6");
-  for (int i : {2, 3}) {
+  // The sweep's setting, the paper's setting (the reference), float16, then the lossless rows.
+  ASSERT_EQ(rows.size(), 5u);
+  EXPECT_EQ(rows[1]["label"], "frank s6 b12");
+  EXPECT_EQ(rows[3]["label"], "zstd-19");
+  EXPECT_EQ(rows[4]["label"], "xz-6");
+  for (int i : {3, 4}) {
     const auto& row = rows[std::size_t(i)];
     EXPECT_EQ(row["kind"], "lossless");
     EXPECT_EQ(row["psnr_tonemapped_db"].get<double>(), kPsnrCapDb);
@@ -185,6 +203,100 @@ TEST(ReportLossless, ZstdAndXzOfTheBinary) {
   }
   const std::string md = testing::read_text(out / "report.md");
   EXPECT_NE(md.find("| zstd-19 | xz-6 |"), std::string::npos) << md;
+}
+
+// Points on no other point's dominated side: an independent, quadratic frontier.
+std::vector<std::string> slow_frontier(
+    const std::vector<std::tuple<std::string, double, double>>& p) {
+  std::vector<std::pair<double, std::string>> kept;
+  for (const auto& [label, bytes, psnr] : p) {
+    bool dominated = false;
+    for (const auto& [l2, b2, p2] : p) {
+      if (b2 <= bytes && p2 >= psnr && (b2 < bytes || p2 > psnr)) dominated = true;
+    }
+    if (!dominated) kept.emplace_back(bytes, label);
+  }
+  std::sort(kept.begin(), kept.end());
+  std::vector<std::string> out;
+  for (const auto& k : kept) out.push_back(k.second);
+  return out;
+}
+
+TEST_F(ReportRun, MixturesFrontierAndGainOverThePapersSetting) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->err;
+  const auto json = nlohmann::json::parse(testing::read_text(out_ / "report.json"));
+  const auto rows = json["rows"];
+  // On the plastic sample two components cost bytes and buy accuracy, at both bit depths.
+  for (const char* b : {"b6", "b16"}) {
+    const auto k1 = row(rows, std::string("frank s3 ") + b);
+    const auto k2 = row(rows, std::string("frank s3 ") + b + " k2");
+    EXPECT_GT(k2["bytes"].get<double>(), k1["bytes"].get<double>()) << b;
+    EXPECT_GT(k2["psnr_tonemapped_db"].get<double>(), k1["psnr_tonemapped_db"].get<double>() + 3)
+        << b;
+  }
+  // The K = 2 row is what `cbrdf encode --components 2` writes.
+  const fs::path k2file = *dir_ / "k2.cbrdf";
+  ASSERT_EQ(run_cli("-q encode '" + input_.string() + "' -o '" + k2file.string() +
+                    "' --slices 3 --bits 16 --components 2 --no-metrics")
+                .exit_code,
+            0);
+  EXPECT_EQ(row(rows, "frank s3 b16 k2")["bytes"].get<double>(), double(fs::file_size(k2file)));
+
+  // frontier.csv: the sweep's frontier (not the paper's reference row) for the material and the
+  // means (one material: the same points).
+  std::vector<std::tuple<std::string, double, double>> sweep;
+  const nlohmann::json* paper = nullptr;
+  for (const auto& r : rows) {
+    if (r["in_sweep"].get<bool>()) {
+      sweep.emplace_back(r["label"], r["bytes"].get<double>(),
+                         r["psnr_tonemapped_db"].get<double>());
+    }
+    if (r["paper"].get<bool>()) paper = &r;
+  }
+  ASSERT_NE(paper, nullptr);
+  const std::vector<std::string> want = slow_frontier(sweep);
+  ASSERT_TRUE(fs::exists(out_ / "frontier.csv"));
+  std::istringstream csv(testing::read_text(out_ / "frontier.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "scope,setting,bytes,psnr_tonemapped_db,encode_s");
+  std::vector<std::string> got_material, got_mean;
+  while (std::getline(csv, line)) {
+    const std::string scope = line.substr(0, line.find(','));
+    const std::size_t a = line.find(',') + 1;
+    const std::string label = line.substr(a, line.find(',', a) - a);
+    (scope == "mean" ? got_mean : got_material).push_back(label);
+    EXPECT_TRUE(scope == "mean" || scope == "plastic") << line;
+  }
+  EXPECT_EQ(got_material, want);
+  EXPECT_EQ(got_mean, want);
+  EXPECT_EQ(json["frontier"]["per_material"]["plastic"].get<std::vector<std::string>>(), want);
+
+  // The gain table: per budget, the best sweep setting within it against the paper's setting.
+  const std::string md = testing::read_text(out_ / "report.md");
+  EXPECT_NE(md.find("## Frontier: gain over the paper's setting (frank s6 b12)"),
+            std::string::npos);
+  const double paper_bytes = (*paper)["bytes"].get<double>();
+  const double paper_psnr = (*paper)["psnr_tonemapped_db"].get<double>();
+  for (double f : {1.0, 2.0, 4.0}) {
+    double best = -1e9;
+    for (const auto& [label, bytes, psnr] : sweep) {
+      if (bytes <= f * paper_bytes) best = std::max(best, psnr);
+    }
+    char expect[96];
+    if (best > -1e9) {
+      std::snprintf(expect, sizeof expect, "| %gx | 1/1 | %+.2f |", f, best - paper_psnr);
+    } else {
+      std::snprintf(expect, sizeof expect, "| %gx | 0/1 | - |", f);
+    }
+    EXPECT_NE(md.find(expect), std::string::npos) << expect << "\n" << md.substr(0, 3000);
+  }
+  EXPECT_NE(md.find("frontier.csv"), std::string::npos);
+  // The frontier plot marks the paper's setting and names the frontier's settings.
+  const std::string svg = testing::read_text(out_ / "frontier_plastic.svg");
+  EXPECT_NE(svg.find("paper: frank s6 b12"), std::string::npos);
+  for (const std::string& l : want)
+    EXPECT_NE(svg.find(">" + l + "</text>"), std::string::npos) << l;
 }
 
 TEST_F(ReportRun, CsvHoldsTheSameRows) {
@@ -221,8 +333,8 @@ TEST_F(ReportRun, MarkdownHasThePapersTablesAndTheCostOfAccuracy) {
 
 TEST_F(ReportRun, WritesFiguresAndSphereImages) {
   ASSERT_EQ(run_->exit_code, 0) << run_->err;
-  for (const char* f : {"rd_mean.svg", "time_psnr.svg", "eval_psnr.svg", "psnr_by_material.svg",
-                        "rd_plastic.svg", "polar_plastic.svg"}) {
+  for (const char* f : {"frontier_mean.svg", "time_psnr.svg", "eval_psnr.svg",
+                        "psnr_by_material.svg", "frontier_plastic.svg", "polar_plastic.svg"}) {
     const std::string svg = testing::read_text(out_ / f);
     EXPECT_EQ(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\"", 0), 0u) << f;
     EXPECT_EQ(svg.substr(svg.size() - 7), "</svg>\n") << f;

@@ -17,7 +17,8 @@ namespace {
 
 struct EncodeOptions {
   std::string input, output;
-  int slices = 6;
+  std::string slices = "6";
+  std::string placement = "uniform";
   std::string components = "1";
   std::string family = "frank";
   int bits = EncodeSettings{}.bits;
@@ -36,7 +37,22 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
     return usage_error("encode: the output would overwrite the input " + o.input);
   }
   EncoderSettings st;
-  st.fit.slices = o.slices;
+  if (o.slices == "auto") {
+    st.fit.auto_slices = true;
+  } else {
+    int n = 0;
+    const auto [end, ec1] = std::from_chars(o.slices.data(), o.slices.data() + o.slices.size(), n);
+    if (ec1 != std::errc() || end != o.slices.data() + o.slices.size() || n < 1 || n > 90) {
+      return usage_error("encode: --slices must be 1 to 90 or auto, not '" + o.slices + "'");
+    }
+    st.fit.slices = n;
+  }
+  if (o.placement == "adaptive") {
+    st.fit.adaptive_slices = true;
+  } else if (o.placement != "uniform") {
+    return usage_error("encode: unknown --slice-placement '" + o.placement +
+                       "' (uniform or adaptive)");
+  }
   st.fit.impute_missing = !o.naive_marginals;
   st.fit.threads =
       o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
@@ -80,14 +96,17 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   if (!table.ok()) return fail(table.status());
   Expected<EncodeResult> result = error(ErrorCode::kInternal, "not encoded");
   if (o.target_bytes > 0 || o.target_psnr > 0) {
-    auto rc = encode_to_target(*table, st, {o.target_bytes, o.target_psnr});
+    RateTarget target{o.target_bytes, o.target_psnr};
+    // An explicit --components caps the search; otherwise it searches up to 4.
+    if (o.components != "1" && o.components != "auto") target.max_components = st.fit.components;
+    auto rc = encode_to_target(*table, st, target);
     if (!rc.ok()) return fail(rc.status().with_context(o.input));
     if (!ctx.quiet) {
       std::printf(
-          "searched %zu settings: chose --slices %d --bits %d: %.0f bytes, %.2f dB "
-          "tone-mapped%s\n",
-          rc->tried.size(), rc->chosen.slices, rc->chosen.bits, rc->chosen.bytes,
-          rc->chosen.psnr_tonemapped,
+          "searched %zu settings: chose --slices %d --components %d --bits %d: %.0f bytes, "
+          "%.2f dB tone-mapped%s\n",
+          rc->tried.size(), rc->chosen.slices, rc->chosen.components, rc->chosen.bits,
+          rc->chosen.bytes, rc->chosen.psnr_tonemapped,
           rc->met ? "" : " (the target could not be met: this is the closest)");
     }
     result = std::move(rc->encoded);
@@ -143,9 +162,12 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
   CLI::App* cmd = app.add_subcommand("encode", "Compress a MERL .binary into a .cbrdf file");
   cmd->add_option("input", o->input, "Input MERL .binary")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", o->output, "Output .cbrdf file")->required();
-  cmd->add_option("--slices", o->slices, "Slices along theta_d (1 to 90)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 90));
+  cmd->add_option("--slices", o->slices,
+                  "Slices along theta_d: 1 to 90, or auto (count and boundaries from the data)")
+      ->capture_default_str();
+  cmd->add_option("--slice-placement", o->placement,
+                  "Where slice boundaries go: uniform (the paper's) or adaptive (from the data)")
+      ->capture_default_str();
   cmd->add_option("--components", o->components,
                   "Copula components per slice and channel: 1 (the paper's model) to 8, or auto "
                   "(up to 4, added while each halves the fit's error)")
@@ -169,12 +191,14 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
                 "Estimate marginals as the paper does (missing bins as 0)");
   cmd->add_flag("--no-metrics", o->no_metrics, "Skip the PSNR check of the decoded file");
   auto* tb = cmd->add_option("--target-bytes", o->target_bytes,
-                             "Search slices and bits for the best tone-mapped PSNR within N bytes")
+                             "Search slices, components (up to --components, else 4) and bits for "
+                             "the best tone-mapped PSNR within N bytes")
                  ->check(CLI::PositiveNumber);
-  auto* tp = cmd->add_option("--target-psnr", o->target_psnr,
-                             "Search slices and bits for the fewest bytes reaching DB dB "
-                             "(tone-mapped sphere PSNR)")
-                 ->check(CLI::PositiveNumber);
+  auto* tp =
+      cmd->add_option("--target-psnr", o->target_psnr,
+                      "Search slices, components and bits for the fewest bytes reaching DB dB "
+                      "(tone-mapped sphere PSNR)")
+          ->check(CLI::PositiveNumber);
   tb->excludes(tp);
   cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_encode(*o, ctx); }; });
 }

@@ -6,6 +6,7 @@
 #include <set>
 #include <thread>
 
+#include "cbrdf/fit.h"
 #include "cbrdf/samples.h"
 #include "cli.h"
 #include "report/measure.h"
@@ -71,7 +72,7 @@ int run_report(const ReportOptions& o, const Context& global) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!ctx.quiet) {
     for (const report::TextTable& t : report::report_tables(*results, st)) {
-      if (t.id == "time" || t.id == "psnr" || t.id == "sweep") {
+      if (t.id == "time" || t.id == "psnr" || t.id == "sweep" || t.id == "gain") {
         std::printf("%s\n", report::to_text(t).c_str());
       }
     }
@@ -83,8 +84,8 @@ int run_report(const ReportOptions& o, const Context& global) {
     }
     if (!ctx.quiet) {
       std::printf(
-          "wrote %s/report.html (with report.md, report.csv, report.json, SVG figures "
-          "and sphere PNGs)\n",
+          "wrote %s/report.html (with report.md, report.csv, report.json, frontier.csv, SVG "
+          "figures and sphere PNGs)\n",
           o.output_dir.c_str());
     }
   }
@@ -107,11 +108,15 @@ void add_report_command(CLI::App& app, const Context& ctx, Action* action) {
   cmd->add_option(
          "--sweep", o->sweep,
          std::string("Settings to measure, the cartesian product of KEY=V1,V2,... items: ") +
-             "slices=1..90, bits=6..16, family=frank,clayton,gumbel,joe,independence,auto "
-             "(default: family=" +
-             report::default_setting().family +
+             "slices=1..90, bits=6..16, family=frank,clayton,gumbel,joe,independence,auto, "
+             "components=1.." +
+             std::to_string(kMaxComponents) +
+             ",auto (default: family=" + report::default_setting().family +
              " slices=" + std::to_string(report::default_setting().slices) +
-             " bits=" + std::to_string(report::default_setting().bits) + ")")
+             " bits=" + std::to_string(report::default_setting().bits) +
+             " components=" + report::components_name(report::default_setting().components) +
+             "). The paper's setting (" + report::paper_setting().label() +
+             ") is always measured as the reference.")
       ->expected(1, -1);
   cmd->add_option("--baselines", o->baselines,
                   std::string("Baselines beside the sweep: all, none, or a list of ") +

@@ -154,10 +154,17 @@ inline void check_reencode(const Model& m, int bits, Result* r) {
   r->check(back->slices.size() == m.slices.size(), "re-encoding changed the slice count");
   for (std::size_t s = 0; s < m.slices.size() && s < back->slices.size(); ++s) {
     for (std::size_t c = 0; c < kChannels; ++c) {
-      const ChannelSlice &a = m.slices[s].channel[c], &b = back->slices[s].channel[c];
-      r->check(a.family == b.family && std::memcmp(&a.theta, &b.theta, 8) == 0 &&
-                   std::memcmp(&a.scale, &b.scale, 8) == 0,
-               "re-encoding changed a family, parameter or K");
+      const ChannelSlice &ac = m.slices[s].channel[c], &bc = back->slices[s].channel[c];
+      if (ac.components() != bc.components()) {
+        r->check(false, "re-encoding changed a component count");
+        continue;
+      }
+      for (int k = 0; k < ac.components(); ++k) {
+        const Component &a = ac.component(k), &b = bc.component(k);
+        r->check(a.family == b.family && std::memcmp(&a.theta, &b.theta, 8) == 0 &&
+                     std::memcmp(&a.scale, &b.scale, 8) == 0,
+                 "re-encoding changed a family, parameter or K");
+      }
     }
   }
   r->check(back->not_measured.bits == m.not_measured.bits, "re-encoding changed the mask");

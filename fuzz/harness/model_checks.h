@@ -48,13 +48,18 @@ inline void check_decoded_model(const Model& m, Result* r) {
     }
     begin = slice.theta_d_end;
     for (int c = 0; c < kChannels; ++c) {
-      const ChannelSlice& cs = slice.channel[std::size_t(c)];
-      const std::string cname = name + " channel " + std::to_string(c);
-      r->check(copula_parameter_valid(cs.family, cs.theta), cname + ": parameter outside domain");
-      r->check(std::isfinite(cs.scale) && cs.scale >= 0.0, cname + ": K not finite or negative");
-      check_mass_table(cs.pdf_h, kThetaHBins, cname + " theta_h", r);
-      check_mass_table(cs.pdf_d, std::size_t(slice.width()), cname + " theta_d", r);
-      check_mass_table(cs.pdf_p, kPhiDBins, cname + " phi_d", r);
+      const ChannelSlice& channel = slice.channel[std::size_t(c)];
+      r->check(channel.components() <= 8, name + ": more than 8 components");
+      for (int k = 0; k < channel.components(); ++k) {
+        const Component& cs = channel.component(k);
+        const std::string cname =
+            name + " channel " + std::to_string(c) + " component " + std::to_string(k);
+        r->check(copula_parameter_valid(cs.family, cs.theta), cname + ": parameter outside domain");
+        r->check(std::isfinite(cs.scale) && cs.scale >= 0.0, cname + ": K not finite or negative");
+        check_mass_table(cs.pdf_h, kThetaHBins, cname + " theta_h", r);
+        check_mass_table(cs.pdf_d, std::size_t(slice.width()), cname + " theta_d", r);
+        check_mass_table(cs.pdf_p, kPhiDBins, cname + " phi_d", r);
+      }
     }
   }
   r->check(begin == kThetaDBins, "slices do not end at theta_d bin 90");

@@ -194,6 +194,22 @@ inline Model build_model(ByteSource& in) {
     m.slices.push_back(std::move(slice));
   }
   pick_mask(&m, in);
+  // Mixtures (version 1.1) from the bytes left, so that older seeds build the models they did.
+  for (Slice& slice : m.slices) {
+    for (ChannelSlice& cs : slice.channel) {
+      const int extra = in.u8() % 8;
+      for (int e = 0; e < extra; ++e) {
+        Component comp;
+        comp.family = CopulaFamily(in.u8() % 5);
+        comp.theta = pick_theta(comp.family, in);
+        comp.scale = pick_scale(in);
+        comp.pdf_h = pick_masses(kThetaHBins, in);
+        comp.pdf_d = pick_masses(std::size_t(slice.width()), in);
+        comp.pdf_p = pick_masses(kPhiDBins, in);
+        cs.extra.push_back(std::move(comp));
+      }
+    }
+  }
   return m;
 }
 
@@ -285,14 +301,22 @@ inline void check_roundtrip(const Model& a, const Model& b, int bits, Result* r)
     r->check(sa.theta_d_begin == sb.theta_d_begin && sa.theta_d_end == sb.theta_d_end,
              "slice bounds changed");
     for (std::size_t c = 0; c < kChannels; ++c) {
-      const ChannelSlice &x = sa.channel[c], &y = sb.channel[c];
-      const std::string name = "slice " + std::to_string(s) + " channel " + std::to_string(c);
-      r->check(x.family == y.family, name + ": family changed");
-      r->check(std::memcmp(&x.theta, &y.theta, 8) == 0, name + ": parameter changed");
-      r->check(std::memcmp(&x.scale, &y.scale, 8) == 0, name + ": K changed");
-      check_masses(x.pdf_h, y.pdf_h, bits, name + " theta_h", r);
-      check_masses(x.pdf_d, y.pdf_d, bits, name + " theta_d", r);
-      check_masses(x.pdf_p, y.pdf_p, bits, name + " phi_d", r);
+      const ChannelSlice &xc = sa.channel[c], &yc = sb.channel[c];
+      const std::string cname = "slice " + std::to_string(s) + " channel " + std::to_string(c);
+      if (xc.components() != yc.components()) {
+        r->check(false, cname + ": the component count changed");
+        continue;
+      }
+      for (int k = 0; k < xc.components(); ++k) {
+        const Component &x = xc.component(k), &y = yc.component(k);
+        const std::string name = cname + " component " + std::to_string(k);
+        r->check(x.family == y.family, name + ": family changed");
+        r->check(std::memcmp(&x.theta, &y.theta, 8) == 0, name + ": parameter changed");
+        r->check(std::memcmp(&x.scale, &y.scale, 8) == 0, name + ": K changed");
+        check_masses(x.pdf_h, y.pdf_h, bits, name + " theta_h", r);
+        check_masses(x.pdf_d, y.pdf_d, bits, name + " theta_d", r);
+        check_masses(x.pdf_p, y.pdf_p, bits, name + " phi_d", r);
+      }
     }
   }
   r->check(a.not_measured.bits == b.not_measured.bits, "the mask changed");

@@ -1,9 +1,13 @@
 #include "report/export.h"
 
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
+
+#include "report/frontier.h"
+#include "report/tables.h"
 
 namespace cbrdf::report {
 namespace {
@@ -21,12 +25,25 @@ std::string g(double v) {
   return buf;
 }
 
+// The frontier's labels, per material and for the means.
+nlohmann::json frontier_json(const std::vector<MaterialResult>& results, const Settings& st) {
+  auto labels = [](const std::vector<RdPoint>& points) {
+    nlohmann::json out = nlohmann::json::array();
+    for (std::size_t i : pareto_frontier(points)) out.push_back(points[i].label);
+    return out;
+  };
+  nlohmann::json per = nlohmann::json::object();
+  for (const MaterialResult& m : results) per[m.name] = labels(material_points(m).sweep);
+  return {{"mean", labels(mean_sweep_points(results, st))}, {"per_material", per}};
+}
+
 }  // namespace
 
 std::string to_csv(const std::vector<MaterialResult>& results) {
   std::ostringstream out;
   out << "material,model,kind,slices,bits,in_sweep,primary,input_bytes,bytes,ratio,rel_rmse,"
-         "log_rmse,cos_rmse,psnr_linear_db,psnr_tonemapped_db,encode_s,decode_s,eval_ns,detail\n";
+         "log_rmse,cos_rmse,psnr_linear_db,psnr_tonemapped_db,encode_s,decode_s,eval_ns,"
+         "components,paper,detail\n";
   for (const MaterialResult& m : results) {
     for (const Row& r : m.rows) {
       out << csv_field(r.material) << ',' << csv_field(r.model) << ',' << r.kind << ',' << r.slices
@@ -34,7 +51,9 @@ std::string to_csv(const std::vector<MaterialResult>& results) {
           << g(r.input_bytes) << ',' << g(r.bytes) << ',' << g(r.ratio()) << ',' << g(r.rel_rmse)
           << ',' << g(r.log_rmse) << ',' << g(r.cos_rmse) << ',' << g(r.psnr_linear) << ','
           << g(r.psnr_tonemapped) << ',' << g(r.encode_s) << ',' << g(r.decode_s) << ','
-          << g(r.eval_ns) << ',' << csv_field(r.detail) << '\n';
+          << g(r.eval_ns) << ','
+          << (r.kind == std::string(kKindCopula) ? components_name(r.components) : "") << ','
+          << int(r.paper) << ',' << csv_field(r.detail) << '\n';
     }
   }
   return out.str();
@@ -42,11 +61,21 @@ std::string to_csv(const std::vector<MaterialResult>& results) {
 
 std::string to_json(const std::vector<MaterialResult>& results, const Settings& st,
                     double elapsed_s) {
+  nlohmann::json components = nlohmann::json::array();
+  for (int k : st.sweep.components) {
+    if (k == kAutoComponents) {
+      components.push_back("auto");
+    } else {
+      components.push_back(k);
+    }
+  }
   nlohmann::json settings = {
       {"families", st.sweep.families},
       {"slices", st.sweep.slices},
       {"bits", st.sweep.bits},
+      {"components", components},
       {"primary", st.sweep.primary().label()},
+      {"paper", paper_setting().label()},
       {"baselines",
        {{"lossless", st.baselines.lossless},
         {"float16", st.baselines.float16},
@@ -73,7 +102,11 @@ std::string to_json(const std::vector<MaterialResult>& results, const Settings& 
                       {"kind", r.kind},
                       {"slices", r.slices},
                       {"bits", r.bits},
+                      {"components", r.kind == std::string(kKindCopula)
+                                         ? nlohmann::json(components_name(r.components))
+                                         : nlohmann::json(nullptr)},
                       {"in_sweep", r.in_sweep},
+                      {"paper", r.paper},
                       {"primary", r.primary},
                       {"input_bytes", r.input_bytes},
                       {"bytes", r.bytes},
@@ -96,7 +129,56 @@ std::string to_json(const std::vector<MaterialResult>& results, const Settings& 
                        {"value", c.value}});
     }
   }
-  return nlohmann::json{{"settings", settings}, {"rows", rows}, {"polar", polar}}.dump(1) + "\n";
+  nlohmann::json gains = nlohmann::json::array();
+  for (double f : kBudgetFactors) {
+    const BudgetGain b = budget_gain(material_points(results), f);
+    nlohmann::json per = nlohmann::json::array();
+    for (const MaterialGain& m : b.per_material) {
+      per.push_back(
+          {{"material", m.material},
+           {"qualifying", m.qualifying},
+           {"setting", m.best},
+           {"gain_db", m.qualifying ? nlohmann::json(m.gain_db) : nlohmann::json(nullptr)},
+           {"bytes_ratio", m.qualifying ? nlohmann::json(m.bytes_ratio) : nlohmann::json(nullptr)},
+           {"encode_ratio",
+            m.qualifying ? nlohmann::json(m.encode_ratio) : nlohmann::json(nullptr)}});
+    }
+    auto num = [](double v) {
+      return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+    };
+    gains.push_back({{"factor", f},
+                     {"materials", b.materials},
+                     {"qualifying", b.qualifying},
+                     {"mean_gain_db", num(b.mean_gain_db)},
+                     {"min_gain_db", num(b.min_gain_db)},
+                     {"max_gain_db", num(b.max_gain_db)},
+                     {"target_gain_db", num(target_gain_db(f))},
+                     {"mean_bytes_ratio", num(b.mean_bytes_ratio)},
+                     {"mean_encode_ratio", num(b.mean_encode_ratio)},
+                     {"per_material", per}});
+  }
+  return nlohmann::json{{"settings", settings},
+                        {"rows", rows},
+                        {"polar", polar},
+                        {"gains", gains},
+                        {"frontier", frontier_json(results, st)}}
+             .dump(1) +
+         "\n";
+}
+
+std::string frontier_csv(const std::vector<MaterialResult>& results, const Settings& st) {
+  std::ostringstream out;
+  out << "scope,setting,bytes,psnr_tonemapped_db,encode_s\n";
+  auto add = [&](const std::string& scope, const std::vector<RdPoint>& points) {
+    for (std::size_t i : pareto_frontier(points)) {
+      const RdPoint& p = points[i];
+      out << csv_field(scope) << ',' << csv_field(p.label) << ',' << g(p.bytes) << ',' << g(p.psnr)
+          << ',' << g(p.encode_s) << '\n';
+    }
+  };
+  for (const MaterialResult& m : results) add(m.name, material_points(m).sweep);
+  add("mean", mean_sweep_points(results, st));
+  return out.str();
 }
 
 }  // namespace cbrdf::report

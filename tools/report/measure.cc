@@ -12,6 +12,7 @@
 
 #include "cbrdf/encoder.h"
 #include "cbrdf/file_io.h"
+#include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/samples.h"
@@ -87,23 +88,43 @@ std::vector<PolarCurve> polar_curves(const std::string& model, const BrdfFn& f) 
   return out;
 }
 
-// The sweep's settings (flag true), then the baselines' copula settings the sweep does not hold.
+// The sweep's settings (flag true), then the paper's setting and the baselines' copula settings
+// that the sweep does not hold.
 std::vector<std::pair<CodecSetting, bool>> copula_settings(const Settings& st) {
   std::vector<std::pair<CodecSetting, bool>> out;
   for (const CodecSetting& s : st.sweep.settings()) out.emplace_back(s, true);
+  auto add = [&](const CodecSetting& s) {
+    const bool present =
+        std::any_of(out.begin(), out.end(), [&](const auto& e) { return e.first == s; });
+    if (!present) out.emplace_back(s, false);
+  };
+  add(paper_setting());
   const CodecSetting p = st.sweep.primary();
   std::vector<std::string> extra;
   if (st.baselines.separable) extra.push_back("independence");
   if (st.baselines.families) {
     for (const char* f : {"frank", "clayton", "gumbel", "joe", "auto"}) extra.push_back(f);
   }
-  for (const std::string& f : extra) {
-    const CodecSetting s{f, p.slices, p.bits};
-    const bool present =
-        std::any_of(out.begin(), out.end(), [&](const auto& e) { return e.first == s; });
-    if (!present) out.emplace_back(s, false);
-  }
+  for (const std::string& f : extra) add(CodecSetting{f, p.slices, p.bits, p.components});
   return out;
+}
+
+FitSettings fit_settings(const CodecSetting& s, int threads) {
+  FitSettings fs;
+  fs.slices = s.slices;
+  fs.threads = threads;
+  if (s.family == "auto") {
+    fs.auto_family = true;
+  } else {
+    fs.family = *family_from_name(s.family);
+  }
+  if (s.components == kAutoComponents) {
+    fs.components = kAutoMaxComponents;
+    fs.auto_components = true;
+  } else {
+    fs.components = s.components;
+  }
+  return fs;
 }
 
 class MaterialRun {
@@ -174,19 +195,12 @@ class MaterialRun {
     // Settings that differ only in bits share one fit (adjacent in the sweep's order).
     Model model;
     double fit_s = 0;
-    CodecSetting fitted{"", 0, 0};
+    CodecSetting fitted{"", 0, 0, 0};
     for (const auto& [s, in_sweep] : settings) {
-      if (fitted.family != s.family || fitted.slices != s.slices) {
-        FitSettings fs;
-        fs.slices = s.slices;
-        fs.threads = threads_;
-        if (s.family == "auto") {
-          fs.auto_family = true;
-        } else {
-          fs.family = *family_from_name(s.family);
-        }
+      if (fitted.family != s.family || fitted.slices != s.slices ||
+          fitted.components != s.components) {
         const auto t0 = Clock::now();
-        auto m = fit_model(table_, fs);
+        auto m = fit_model(table_, fit_settings(s, threads_));
         fit_s = since(t0);
         if (!m.ok()) return m.status().with_context(m_.name + " (" + s.label() + ")");
         model = std::move(m).value();
@@ -195,8 +209,10 @@ class MaterialRun {
       Row r = base_row(s.model_name(), kKindCopula);
       r.slices = s.slices;
       r.bits = s.bits;
+      r.components = s.components;
       r.in_sweep = in_sweep;
       r.primary = s == primary;
+      r.paper = s == paper_setting();
       EncodeSettings es;
       es.bits = s.bits;
       // As `cbrdf encode` records it, so that the sizes match what it writes.
@@ -344,9 +360,7 @@ std::size_t steps_per_material(const Settings& st) {
 }  // namespace
 
 std::string Row::label() const {
-  if (kind == std::string(kKindCopula)) {
-    return model + " s" + std::to_string(slices) + " b" + std::to_string(bits);
-  }
+  if (kind == std::string(kKindCopula)) return copula_label(model, slices, bits, components);
   return model;
 }
 

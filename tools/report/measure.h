@@ -42,8 +42,10 @@ struct Row {
   std::string model;         // frank, ..., separable, auto, zstd-19, xz-6, float16+zstd, ward, ...
   std::string kind;          // one of the kinds above
   int slices = 0, bits = 0;  // copula rows
+  int components = 1;        // copula rows: 1 to kMaxComponents, or kAutoComponents
   bool in_sweep = false;     // a copula row of the sweep (not only a baseline)
   bool primary = false;      // the sweep's primary setting
+  bool paper = false;        // the paper's setting (paper_setting()), measured in every report
   double input_bytes = 0;    // the .binary
   double bytes = 0;          // container, compressed file, or 8 bytes per analytic parameter
   double rel_rmse = 0, log_rmse = 0, cos_rmse = 0;  // metrics.h, over the measured bins
@@ -53,7 +55,7 @@ struct Row {
   double eval_ns = 0;   // one RGB evaluation at a random direction pair
   std::string detail;   // e.g. the fitted analytic parameters
 
-  std::string label() const;  // "frank s6 b10", "ward", ...
+  std::string label() const;  // "frank s6 b10", "frank s6 b10 k2", "ward", ...
   double ratio() const { return bytes > 0 ? input_bytes / bytes : 0.0; }
 };
 

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <sstream>
 
+#include "report/frontier.h"
 #include "report/svg.h"
 #include "report/tables.h"
 
@@ -73,6 +75,83 @@ Chart cost_chart(const Settings& st, const std::vector<std::string>& baselines, 
   return c;
 }
 
+// The rate-distortion frontier: every sweep setting as a point (one colour per family and
+// component count), the Pareto frontier as a black line with its settings named, the paper's
+// setting as a ring and the baselines as diamonds.
+Chart frontier_chart(const std::vector<RdPoint>& sweep, const RdPoint& paper,
+                     const std::vector<std::string>& baselines, const Getter& get,
+                     const std::string& title) {
+  Chart c;
+  c.title = title;
+  c.x_label = "bytes (log)";
+  c.y_label = "sphere PSNR, tone-mapped (dB)";
+  c.log_x = true;
+  c.width = 900;
+  c.height = 520;
+  // Groups: the label without " sN bM" (e.g. "frank", "frank k2").
+  auto group_of = [](const std::string& label) {
+    std::string g;
+    std::istringstream words(label);
+    for (std::string w; words >> w;) {
+      const bool axis =
+          w.size() > 1 && (w[0] == 's' || w[0] == 'b') &&
+          std::all_of(w.begin() + 1, w.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+      if (!axis) g += (g.empty() ? "" : " ") + w;
+    }
+    return g.find(" k") == std::string::npos ? g + " k1" : g;
+  };
+  std::vector<Series> groups;
+  for (const RdPoint& p : sweep) {
+    const std::string g = group_of(p.label);
+    auto it = std::find_if(groups.begin(), groups.end(),
+                           [&](const Series& s) { return s.name == g + " settings"; });
+    if (it == groups.end()) {
+      groups.push_back(Series{g + " settings", {}, {}, palette(groups.size()), false, true});
+      it = groups.end() - 1;
+    }
+    it->x.push_back(p.bytes);
+    it->y.push_back(p.psnr);
+  }
+  Series front{"Pareto frontier", {}, {}, "#000", true, false};
+  for (std::size_t i : pareto_frontier(sweep)) {
+    front.x.push_back(sweep[i].bytes);
+    front.y.push_back(sweep[i].psnr);
+    front.notes.push_back(sweep[i].label);
+  }
+  // The budgets of the gain table: 1x, 2x and 4x the paper setting's bytes.
+  double lo = paper.psnr, hi = paper.psnr;
+  for (const RdPoint& p : sweep) {
+    if (std::isfinite(p.psnr)) lo = std::min(lo, p.psnr), hi = std::max(hi, p.psnr);
+  }
+  std::vector<Series> budgets;
+  for (double f : kBudgetFactors) {
+    if (!std::isfinite(paper.bytes) || !std::isfinite(lo)) break;
+    char name[64];
+    std::snprintf(name, sizeof name, "%gx paper bytes", f);
+    Series b{name, {f * paper.bytes, f * paper.bytes}, {lo, hi}, "#999", true, false, true, 1.0};
+    if (f != kBudgetFactors[0]) b.name.clear();  // one legend entry for the three lines
+    budgets.push_back(std::move(b));
+  }
+  if (!budgets.empty()) budgets.front().name = "1x, 2x, 4x paper bytes";
+  c.series = std::move(groups);
+  c.series.insert(c.series.end(), budgets.begin(), budgets.end());
+  c.series.push_back(std::move(front));
+  Series ref{"paper: " + paper.label, {paper.bytes}, {paper.psnr}, "#000", false, true};
+  ref.marker = Marker::kRing;
+  ref.marker_size = 8;
+  c.series.push_back(std::move(ref));
+  std::size_t colour = c.series.size();
+  for (const std::string& l : baselines) {
+    if (l == paper.label) continue;
+    Series b{l,   {get(l, &Row::bytes)}, {get(l, &Row::psnr_tonemapped)}, palette(colour++), false,
+             true};
+    b.marker = Marker::kDiamond;
+    b.marker_size = 5;
+    c.series.push_back(std::move(b));
+  }
+  return c;
+}
+
 Figure polar_figure(const MaterialResult& m) {
   // Columns: each fitted model with polar curves (the primary copula setting first).
   std::vector<std::string> models;
@@ -137,13 +216,16 @@ std::vector<Figure> report_figures(const std::vector<MaterialResult>& results, c
   const std::vector<std::string> points = point_labels(results, st);
   const Getter mean = [&](const std::string& l, double Row::*f) { return mean_of(results, l, f); };
 
-  figs.push_back({"rd_mean.svg",
-                  "Rate-distortion, mean over the materials: bytes against tone-mapped sphere "
-                  "PSNR; each swept family's settings and their Pareto front, baselines as "
-                  "points (lossless baselines are bit-exact and left out).",
-                  render_chart(cost_chart(st, points, mean, &Row::bytes,
-                                          "Bytes vs PSNR, mean over materials", "bytes (log)")),
-                  ""});
+  const std::string frontier_caption =
+      "bytes against tone-mapped sphere PSNR: every sweep setting, their Pareto frontier (black, "
+      "settings named), the paper's setting (ring) and the baselines (diamonds; lossless "
+      "baselines are bit-exact and left out).";
+  figs.push_back(
+      {"frontier_mean.svg",
+       "Rate-distortion frontier, mean over the materials: " + frontier_caption,
+       render_chart(frontier_chart(mean_sweep_points(results, st), mean_paper_point(results),
+                                   points, mean, "Rate-distortion frontier, mean over materials")),
+       ""});
   figs.push_back(
       {"time_psnr.svg", "What accuracy costs: mean encode time against mean tone-mapped PSNR.",
        render_chart(cost_chart(st, points, mean, &Row::encode_s,
@@ -202,10 +284,12 @@ std::vector<Figure> report_figures(const std::vector<MaterialResult>& results, c
       const Row* r = find_row(m, l);
       return r ? r->*f : NAN;
     };
-    figs.push_back({"rd_" + file_stem(m.name) + ".svg",
-                    m.name + ": bytes against tone-mapped sphere PSNR.",
-                    render_chart(cost_chart(st, points, one, &Row::bytes,
-                                            m.name + ": bytes vs PSNR", "bytes (log)")),
+    const MaterialPoints mp = material_points(m);
+    const RdPoint paper = mp.has_paper ? mp.paper : RdPoint{paper_setting().label(), NAN, NAN, NAN};
+    figs.push_back({"frontier_" + file_stem(m.name) + ".svg",
+                    m.name + ": rate-distortion frontier, " + frontier_caption,
+                    render_chart(frontier_chart(mp.sweep, paper, points, one,
+                                                m.name + ": rate-distortion frontier")),
                     m.name});
     figs.push_back(polar_figure(m));
   }

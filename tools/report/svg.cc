@@ -52,15 +52,36 @@ struct Frame {
   double py(double y) const { return bottom - (y - y0) / (y1 - y0) * (bottom - top); }
 };
 
+void draw_marker(std::ostringstream& out, Marker m, double x, double y, double r,
+                 const std::string& colour) {
+  switch (m) {
+    case Marker::kCircle:
+      out << "<circle cx=\"" << num(x) << "\" cy=\"" << num(y) << "\" r=\"" << num(r)
+          << "\" fill=\"" << colour << "\"/>\n";
+      break;
+    case Marker::kRing:
+      out << "<circle cx=\"" << num(x) << "\" cy=\"" << num(y) << "\" r=\"" << num(r)
+          << "\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n";
+      break;
+    case Marker::kDiamond:
+      out << "<polygon points=\"" << num(x) << "," << num(y - r) << " " << num(x + r) << ","
+          << num(y) << " " << num(x) << "," << num(y + r) << " " << num(x - r) << "," << num(y)
+          << "\" fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n";
+      break;
+  }
+}
+
 void draw_series(std::ostringstream& out, const Series& s, const std::string& colour,
                  const Frame& f) {
   std::string points;
   for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
     if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || (f.log_x && s.x[i] <= 0)) continue;
     points += num(f.px(s.x[i])) + "," + num(f.py(s.y[i])) + " ";
-    if (s.markers) {
-      out << "<circle cx=\"" << num(f.px(s.x[i])) << "\" cy=\"" << num(f.py(s.y[i]))
-          << "\" r=\"3\" fill=\"" << colour << "\"/>\n";
+    if (s.markers) draw_marker(out, s.marker, f.px(s.x[i]), f.py(s.y[i]), s.marker_size, colour);
+    if (i < s.notes.size() && !s.notes[i].empty()) {
+      out << "<text x=\"" << num(f.px(s.x[i]) + 5) << "\" y=\"" << num(f.py(s.y[i]) - 5)
+          << "\" font-size=\"10\" fill=\"" << colour << "\">" << xml_escape(s.notes[i])
+          << "</text>\n";
     }
   }
   if (s.line && !points.empty()) {
@@ -175,22 +196,21 @@ std::string render_chart(const Chart& c) {
   }
   out << "<text transform=\"translate(18," << num((f.top + f.bottom) / 2)
       << ") rotate(-90)\" text-anchor=\"middle\">" << xml_escape(c.y_label) << "</text>\n";
-  // Series and legend.
+  // Series and legend (series without a name have no legend entry).
+  std::size_t entries = 0;
   for (std::size_t i = 0; i < c.series.size(); ++i) {
     const Series& s = c.series[i];
     const std::string colour = s.colour.empty() ? palette(i) : s.colour;
     draw_series(out, s, colour, f);
-    const double ly = f.top + 6 + 18.0 * double(i);
+    if (s.name.empty()) continue;
+    const double ly = f.top + 6 + 18.0 * double(entries++);
     const double lx = f.right + 14;
     if (s.line) {
       out << "<line x1=\"" << num(lx) << "\" x2=\"" << num(lx + 22) << "\" y1=\"" << num(ly)
           << "\" y2=\"" << num(ly) << "\" stroke=\"" << colour << "\" stroke-width=\"2\""
           << (s.dashed ? " stroke-dasharray=\"5,3\"" : "") << "/>\n";
     }
-    if (s.markers) {
-      out << "<circle cx=\"" << num(lx + 11) << "\" cy=\"" << num(ly) << "\" r=\"3\" fill=\""
-          << colour << "\"/>\n";
-    }
+    if (s.markers) draw_marker(out, s.marker, lx + 11, ly, std::min(s.marker_size, 6.0), colour);
     out << "<text x=\"" << num(lx + 28) << "\" y=\"" << num(ly + 4) << "\">" << xml_escape(s.name)
         << "</text>\n";
   }

@@ -8,6 +8,8 @@
 
 namespace cbrdf::report {
 
+enum class Marker { kCircle, kDiamond, kRing };
+
 struct Series {
   std::string name;
   std::vector<double> x, y;  // same length; non-finite points are skipped
@@ -16,6 +18,9 @@ struct Series {
   bool markers = true;
   bool dashed = false;
   double width = 1.5;
+  Marker marker = Marker::kCircle;
+  double marker_size = 3;               // radius in pixels
+  std::vector<std::string> notes = {};  // optional text beside each point (same length as x)
 };
 
 struct Chart {

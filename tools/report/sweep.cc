@@ -1,3 +1,4 @@
+// Included by name relative to this folder (not "report/..."): tests compile this file alone.
 #include "report/sweep.h"
 
 #include <algorithm>
@@ -58,14 +59,45 @@ Expected<std::vector<std::string>> parse_families(const std::string& values) {
   return out;
 }
 
+Expected<std::vector<int>> parse_components(const std::string& values) {
+  std::vector<int> out;
+  for (const std::string& v : split(values, ',')) {
+    int k = 0;
+    const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), k);
+    if (v == "auto") {
+      k = kAutoComponents;
+    } else if (v.empty() || ec != std::errc() || end != v.data() + v.size() || k < 1 ||
+               k > kMaxComponents) {
+      return bad("components='" + v + "' is not an integer from 1 to " +
+                 std::to_string(kMaxComponents) + " or auto");
+    }
+    if (std::find(out.begin(), out.end(), k) != out.end()) {
+      return bad("components lists " + v + " twice");
+    }
+    out.push_back(k);
+  }
+  return out;
+}
+
 }  // namespace
+
+std::string components_name(int components) {
+  return components == kAutoComponents ? "auto" : std::to_string(components);
+}
+
+std::string copula_label(const std::string& model_name, int slices, int bits, int components) {
+  std::string label = model_name + " s" + std::to_string(slices) + " b" + std::to_string(bits);
+  if (components == kAutoComponents) return label + " k-auto";
+  if (components != 1) return label + " k" + std::to_string(components);
+  return label;
+}
 
 std::string CodecSetting::model_name() const {
   return family == "independence" ? "separable" : family;
 }
 
 std::string CodecSetting::label() const {
-  return model_name() + " s" + std::to_string(slices) + " b" + std::to_string(bits);
+  return copula_label(model_name(), slices, bits, components);
 }
 
 CodecSetting default_setting() {
@@ -74,14 +106,21 @@ CodecSetting default_setting() {
   s.family = fit.auto_family ? "auto" : std::string(family_name(fit.family));
   s.slices = fit.slices;
   s.bits = EncodeSettings{}.bits;
+  s.components = fit.auto_components ? kAutoComponents : fit.components;
   return s;
+}
+
+CodecSetting paper_setting() {
+  return CodecSetting{"frank", 6, EncodeSettings{}.bits, 1};
 }
 
 std::vector<CodecSetting> Sweep::settings() const {
   std::vector<CodecSetting> out;
   for (const std::string& f : families) {
     for (int s : slices) {
-      for (int b : bits) out.push_back(CodecSetting{f, s, b});
+      for (int k : components) {
+        for (int b : bits) out.push_back(CodecSetting{f, s, b, k});
+      }
     }
   }
   return out;
@@ -99,6 +138,7 @@ Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
   sweep.families = {default_setting().family};
   sweep.slices = {default_setting().slices};
   sweep.bits = {default_setting().bits};
+  sweep.components = {default_setting().components};
   std::vector<std::string> seen;
   for (const std::string& item : items) {
     std::istringstream words(item);
@@ -106,9 +146,9 @@ Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
     while (words >> word) {
       const std::size_t eq = word.find('=');
       if (eq == std::string::npos || eq == 0) {
-        return bad(
-            "'" + word +
-            "' is not KEY=VALUES (keys: slices, bits, family; give input files before --sweep)");
+        return bad("'" + word +
+                   "' is not KEY=VALUES (keys: slices, bits, family, components; give input files "
+                   "before --sweep)");
       }
       const std::string key = word.substr(0, eq), values = word.substr(eq + 1);
       if (std::find(seen.begin(), seen.end(), key) != seen.end()) {
@@ -128,8 +168,12 @@ Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
         auto v = parse_families(values);
         if (!v) return v.status();
         sweep.families = *v;
+      } else if (key == "components") {
+        auto v = parse_components(values);
+        if (!v) return v.status();
+        sweep.components = *v;
       } else {
-        return bad("unknown key '" + key + "' (keys: slices, bits, family)");
+        return bad("unknown key '" + key + "' (keys: slices, bits, family, components)");
       }
     }
   }

@@ -8,13 +8,26 @@
 
 namespace cbrdf::report {
 
+// CodecSetting::components for `--components auto` (FitSettings::auto_components, up to
+// kAutoMaxComponents per slice and channel).
+inline constexpr int kAutoComponents = 0;
+
+// "1" to "8", or "auto" for kAutoComponents.
+std::string components_name(int components);
+
+// "frank s6 b10", with " k2" (or " k-auto") appended for mixtures: K = 1 labels are the paper's
+// model and read as they did before mixtures existed.
+std::string copula_label(const std::string& model_name, int slices, int bits, int components);
+
 // One codec setting: a point of the sweep.
 struct CodecSetting {
   std::string family = "frank";  // frank, clayton, gumbel, joe, independence or auto
   int slices = 6;
   int bits = 10;
+  int components = 1;  // 1 to kMaxComponents, or kAutoComponents
   bool operator==(const CodecSetting&) const = default;
-  // "frank s6 b10"; the independence family is called "separable", as in the paper.
+  // "frank s6 b10", "frank s6 b10 k2"; the independence family is called "separable", as in the
+  // paper.
   std::string label() const;
   std::string model_name() const;  // "frank", ..., "separable", "auto"
 };
@@ -22,21 +35,26 @@ struct CodecSetting {
 // The default setting of `cbrdf encode` (FitSettings and EncodeSettings defaults).
 CodecSetting default_setting();
 
+// The paper's setting, the reference every report measures: Frank, 6 uniform slices, one
+// component, the default bits.
+CodecSetting paper_setting();
+
 struct Sweep {
   std::vector<std::string> families = {"frank"};
   std::vector<int> slices = {6};
   std::vector<int> bits = {10};
-  // The cartesian product, family outermost and bits innermost (settings that share a fit are
-  // adjacent).
+  std::vector<int> components = {1};  // kAutoComponents for auto
+  // The cartesian product: family, slices, components, bits (innermost), so that settings that
+  // share a fit are adjacent.
   std::vector<CodecSetting> settings() const;
   // The setting the per-material images and the baseline comparison use: the default setting
   // when the sweep holds it, otherwise the first one.
   CodecSetting primary() const;
 };
 
-// Parses items "slices=1,2,3", "bits=6,8", "family=frank,auto" (keys in any order, each at most
-// once; an item may also hold several, separated by spaces). Errors (kInvalidArgument) are one
-// line naming the item and what would be valid.
+// Parses items "slices=1,2,3", "bits=6,8", "family=frank,auto", "components=1,2,auto" (keys in
+// any order, each at most once; an item may also hold several, separated by spaces). Errors
+// (kInvalidArgument) are one line naming the item and what would be valid.
 Expected<Sweep> parse_sweep(const std::vector<std::string>& items);
 
 // Baselines measured beside the sweep.

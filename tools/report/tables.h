@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "report/frontier.h"
 #include "report/measure.h"
 
 namespace cbrdf::report {
@@ -30,8 +31,17 @@ double mean_of(const std::vector<MaterialResult>& results, const std::string& la
                double Row::*field);
 const Row* find_row(const MaterialResult& m, const std::string& label);
 
-// Tables 1 to 3 shaped like the paper's (PSNR, storage, time), the sweep, and what accuracy
-// costs in time.
+// A material's sweep rows and its paper-setting row as points for frontier.h.
+MaterialPoints material_points(const MaterialResult& m);
+std::vector<MaterialPoints> material_points(const std::vector<MaterialResult>& results);
+// The sweep's settings with bytes, PSNR and encode time averaged over the materials (sweep order).
+std::vector<RdPoint> mean_sweep_points(const std::vector<MaterialResult>& results,
+                                       const Settings& st);
+// The paper's setting averaged over the materials.
+RdPoint mean_paper_point(const std::vector<MaterialResult>& results);
+
+// The gain over the paper's setting at 1x, 2x and 4x its bytes, then tables 1 to 3 shaped like the
+// paper's (PSNR, storage, time), the sweep, and what accuracy costs in time.
 std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
                                      const Settings& st);
 

@@ -36,8 +36,10 @@ std::string run_summary(const std::vector<MaterialResult>& results, const Settin
   for (int s : st.sweep.slices) out << " " << s;
   out << "; bits";
   for (int b : st.sweep.bits) out << " " << b;
-  out << "), primary setting " << st.sweep.primary().label()
-      << ". Baselines:" << (st.baselines.separable ? " separable" : "")
+  out << "; components";
+  for (int k : st.sweep.components) out << " " << components_name(k);
+  out << "), primary setting " << st.sweep.primary().label() << ", paper's setting "
+      << paper_setting().label() << ". Baselines:" << (st.baselines.separable ? " separable" : "")
       << (st.baselines.families ? " families" : "") << (st.baselines.analytic ? " analytic" : "")
       << (st.baselines.float16 ? " float16" : "") << (st.baselines.lossless ? " lossless" : "")
       << (!st.baselines.separable && !st.baselines.families && !st.baselines.analytic &&
@@ -63,6 +65,8 @@ Status write_report(const std::vector<MaterialResult>& results, const Settings& 
   md << "# cbrdf report\n\n" << summary << "\n\n";
   for (const TextTable& t : tables) md << to_markdown(t);
   md << "## Figures\n\n";
+  md << "- [frontier.csv](frontier.csv): the Pareto frontier of the sweep per material and of "
+        "the means.\n";
   for (const Figure& f : figures)
     md << "- [" << f.file << "](" << f.file << "): " << f.caption << "\n";
   md << "\nSphere renders per material (input, decoded, difference) and every figure are "
@@ -70,6 +74,7 @@ Status write_report(const std::vector<MaterialResult>& results, const Settings& 
   CBRDF_RETURN_IF_ERROR(write_text(root / "report.md", md.str()));
   CBRDF_RETURN_IF_ERROR(write_text(root / "report.csv", to_csv(results)));
   CBRDF_RETURN_IF_ERROR(write_text(root / "report.json", to_json(results, st, elapsed_s)));
+  CBRDF_RETURN_IF_ERROR(write_text(root / "frontier.csv", frontier_csv(results, st)));
   for (const Figure& f : figures) CBRDF_RETURN_IF_ERROR(write_text(root / f.file, f.svg));
   for (const MaterialResult& m : results) {
     CBRDF_RETURN_IF_ERROR(write_png(root / sphere_file(m.name, "reference"), m.reference));

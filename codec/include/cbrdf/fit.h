@@ -22,6 +22,7 @@
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/copula_family.h"
 #include "cbrdf/model.h"
+#include "cbrdf/slicing.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf {
@@ -38,8 +39,16 @@ enum class FitLoss {
 
 struct FitSettings {
   int slices = 6;  // uniform slices along theta_d, 1 to 90
-  std::vector<int>
-      slice_bounds;  // explicit boundaries (overrides `slices`): 0 = b0 < ... < bn = 90
+  // Explicit boundaries (overrides `slices`): 0 = b0 < ... < bn = 90.
+  std::vector<int> slice_bounds;
+  // Boundaries chosen from the data (slicing.h) instead of uniform: `adaptive_slices` places
+  // `slices` slices; `auto_slices` also chooses the count (choose_slice_count). Measured on the 20
+  // real materials at 6 slices: -3.7 dB tone-mapped sphere PSNR against uniform (the metric's
+  // three lights only see theta_d 5, 22 and 37 degrees), +0.3 to +0.6 dB with lights from 20 to
+  // 165 degrees; so they are options, not the default.
+  bool adaptive_slices = false;
+  bool auto_slices = false;
+  SlicingSettings slicing;
   CopulaFamily family = CopulaFamily::kFrank;
   FitLoss loss = FitLoss::kLinear;
   bool auto_family = false;        // fit every family per slice and channel, keep the best

@@ -32,7 +32,7 @@ enum class SliceCost : std::uint8_t {
 };
 
 struct SlicingSettings {
-  SliceCost cost = SliceCost::kSqrt;
+  SliceCost cost = SliceCost::kLinear;
   // Weight theta_d bin j by its solid-angle measure sin^2(j + 1 deg) - sin^2(j deg) (the share of
   // direction pairs it holds) instead of 1: grazing and near-retro bins count less.
   bool measure_weight = false;

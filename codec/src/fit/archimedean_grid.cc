@@ -1,9 +1,9 @@
 // GridCopula for the families without a closed product form (Clayton, Gumbel, Joe), through the
-// Archimedean fast path of copula.h: log c = log|psi'''(s)| + sum_i log|phi'(u_i)|, s = sum_i phi(u_i).
-// Per-axis terms are prepared once per parameter, so a bin costs two adds, one log/exp and the
-// family's third derivative. Where the fast path is not finite (phi over- or underflows at large
-// parameters) the bin falls back to the general log_density. The derivative in the parameter is a
-// one-sided difference with a second prepared grid (the fitter only needs it to steer: Ceres's
+// Archimedean fast path of copula.h: log c = log|psi'''(s)| + sum_i log|phi'(u_i)|, s = sum_i
+// phi(u_i). Per-axis terms are prepared once per parameter, so a bin costs two adds, one log/exp
+// and the family's third derivative. Where the fast path is not finite (phi over- or underflows at
+// large parameters) the bin falls back to the general log_density. The derivative in the parameter
+// is a one-sided difference with a second prepared grid (the fitter only needs it to steer: Ceres's
 // cost, and so its acceptance of steps, is exact).
 #include <cmath>
 #include <limits>
@@ -105,10 +105,14 @@ std::unique_ptr<GridCopula> make_archimedean_grid(CopulaFamily family) {
     case CopulaFamily::kFrank:  // not fitted through this grid: its range is the whole domain
       return std::make_unique<ArchimedeanGrid>(family, -std::numeric_limits<double>::max(),
                                                std::numbers::ln2);
-    case CopulaFamily::kClayton: return std::make_unique<ArchimedeanGrid>(family, 0.0, 50.0);
-    case CopulaFamily::kGumbel: return std::make_unique<ArchimedeanGrid>(family, 1.0, 20.0);
-    case CopulaFamily::kJoe: return std::make_unique<ArchimedeanGrid>(family, 1.0, 20.0);
-    default: return nullptr;
+    case CopulaFamily::kClayton:
+      return std::make_unique<ArchimedeanGrid>(family, 0.0, 50.0);
+    case CopulaFamily::kGumbel:
+      return std::make_unique<ArchimedeanGrid>(family, 1.0, 20.0);
+    case CopulaFamily::kJoe:
+      return std::make_unique<ArchimedeanGrid>(family, 1.0, 20.0);
+    default:
+      return nullptr;
   }
 }
 

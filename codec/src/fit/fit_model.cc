@@ -153,7 +153,19 @@ Expected<std::vector<int>> slice_bounds(const FitSettings& st) {
   return b;
 }
 
-Expected<Model> fit_model(const BrdfTable& table, const FitSettings& st, FitReport* report) {
+Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings, FitReport* report) {
+  FitSettings st = settings;
+  if (st.slice_bounds.empty() && (st.adaptive_slices || st.auto_slices)) {
+    if (st.auto_slices) {
+      Expected<int> n =
+          choose_slice_count(table, kDefaultSliceTolerance, kDefaultMaxAutoSlices, st.slicing);
+      if (!n.ok()) return n.status();
+      st.slices = *n;
+    }
+    Expected<std::vector<int>> b = adaptive_slice_bounds(table, st.slices, st.slicing);
+    if (!b.ok()) return b.status();
+    st.slice_bounds = std::move(b).value();
+  }
   auto bounds = slice_bounds(st);
   if (!bounds.ok()) return bounds.status();
   if (!fit::make_grid_copula(st.family)) {

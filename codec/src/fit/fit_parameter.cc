@@ -11,10 +11,10 @@ namespace {
 // The least-squares problem of Eq. 17 over the measured bins, r_q = v_q / vbar - K c_q f_q with
 // parameters (theta, K / vbar) (vbar: the mean measured value, so everything is of order 1), handed
 // to Ceres in compressed form. With J (n x 2) the Jacobian of r and J^T J = R^T R (Cholesky), the
-// three residuals rho = (R^{-T} J^T r, sqrt(|r|^2 - |R^{-T} J^T r|^2)) with Jacobian [R; 0] have the
-// same cost |rho|^2 = |r|^2, the same J^T J and the same J^T r at every point, so Levenberg-Marquardt
-// takes exactly the steps it would take on the n residuals. Each evaluation is then one streaming
-// pass over the slice, and Ceres never stores an n x 2 Jacobian.
+// three residuals rho = (R^{-T} J^T r, sqrt(|r|^2 - |R^{-T} J^T r|^2)) with Jacobian [R; 0] have
+// the same cost |rho|^2 = |r|^2, the same J^T J and the same J^T r at every point, so
+// Levenberg-Marquardt takes exactly the steps it would take on the n residuals. Each evaluation is
+// then one streaming pass over the slice, and Ceres never stores an n x 2 Jacobian.
 //
 // Losses: kLinear r = v / vbar - m, kCosine the same times sqrt(cos theta_i cos theta_o), kLog
 // r = log1p(v) - log1p(m vbar), with m = K' c f the model in units of vbar.
@@ -166,9 +166,8 @@ ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& c
   // Coarse scan for a start: the objective can have shallow local minima far from independence.
   // Frank (independence inside the range) scans both sides; the others start at independence.
   const double ind = copula.independence();
-  const std::vector<double> scan = lo < ind && ind < hi
-                                       ? std::vector<double>{-5.0, 0.4}
-                                       : std::vector<double>{ind + 0.5, ind + 4};
+  const std::vector<double> scan = lo < ind && ind < hi ? std::vector<double>{-5.0, 0.4}
+                                                        : std::vector<double>{ind + 0.5, ind + 4};
   for (double theta : scan) {
     if (theta < lo || theta > hi) continue;
     ParameterFit r = evaluate_parameter(s, m, copula, theta, loss);
