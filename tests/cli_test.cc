@@ -72,6 +72,40 @@ TEST(Cli, SampleEncodeInfoDecodeRoundTrip) {
   EXPECT_GT(fs::file_size(exr), 100000u);
 }
 
+TEST(Cli, MixturesAndDataChosenSlices) {
+  TempDir tmp;
+  const fs::path bin = tmp / "plastic.binary", one = tmp / "one.cbrdf", two = tmp / "two.cbrdf",
+                 sl = tmp / "auto.cbrdf";
+  ASSERT_EQ(run_cli("sample plastic -o '" + bin.string() + "'").exit_code, 0);
+  auto r = run_cli("encode '" + bin.string() + "' -o '" + one.string() + "' --slices 3");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli("encode '" + bin.string() + "' -o '" + two.string() + "' --slices 3 --components 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_GT(fs::file_size(two), fs::file_size(one));
+  r = run_cli("info '" + two.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("version 1.1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("components R G B"), std::string::npos) << r.out;
+  EXPECT_NE(run_cli("info '" + one.string() + "'").out.find("version 1.0"), std::string::npos);
+  r = run_cli("info --json '" + two.string() + "'");
+  EXPECT_NE(r.out.find("\"components\": 2"), std::string::npos) << r.out;
+  r = run_cli("encode '" + bin.string() + "' -o '" + sl.string() + "' --slices auto --no-metrics");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(sl));
+  for (const std::string bad :
+       {"--components 9", "--components two", "--components 0", "--slices 0", "--slices 91",
+        "--slices many", "--slice-placement random"}) {
+    const fs::path out = tmp / "bad.cbrdf";
+    r = run_cli("encode '" + bin.string() + "' -o '" + out.string() + "' " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_EQ(lines(r.err), 1) << bad << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << bad;
+  }
+  r = run_cli("encode '" + bin.string() + "' -o '" + (tmp / "x.cbrdf").string() +
+              "' --components 9");
+  EXPECT_NE(r.err.find("--components must be 1 to 8 or auto, not '9'"), std::string::npos) << r.err;
+}
+
 TEST(Cli, BadInputIsOneLineExitOneAndNoOutputFile) {
   TempDir tmp;
   const fs::path junk = tmp / "junk.cbrdf", out = tmp / "out.binary";
