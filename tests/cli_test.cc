@@ -14,7 +14,9 @@ namespace fs = std::filesystem;
 using testing::run_cli;
 using testing::TempDir;
 
-int lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+int lines(const std::string& s) {
+  return int(std::count(s.begin(), s.end(), '\n'));
+}
 
 TEST(Cli, HelpVersionAndUsageErrors) {
   auto r = run_cli("--help");

@@ -179,7 +179,7 @@ TEST(Mixture, MoreComponentsNeverFitWorse) {
   double prev = HUGE_VAL;
   for (int k = 1; k <= 3; ++k) {
     FitSettings st;
-    st.slices = 3;
+    st.slices = 2;
     st.components = k;
     st.threads = 2;
     FitReport report;
@@ -188,7 +188,7 @@ TEST(Mixture, MoreComponentsNeverFitWorse) {
     for (const auto& s : report.slices) {
       for (const ChannelSliceFit& f : s) obj += f.objective;
     }
-    std::printf("ggx-sharp, 3 slices: objective %.6g with %d component(s)\n", obj, k);
+    std::printf("ggx-sharp, 2 slices: objective %.6g with %d component(s)\n", obj, k);
     EXPECT_LE(obj, prev * (1 + 1e-9));
     if (k > 1) {
       EXPECT_LT(obj, 0.9 * prev) << "a second lobe of GGX is worth a lot";
@@ -200,7 +200,7 @@ TEST(Mixture, MoreComponentsNeverFitWorse) {
 TEST(Mixture, AutoComponentsStopWhenAComponentDoesNotPay) {
   FitSettings st;
   st.slice_bounds = {0, 45, 90};
-  st.components = kAutoMaxComponents;
+  st.components = 3;  // auto, up to 3 (kAutoMaxComponents is 4; 3 keeps the test short)
   st.auto_components = true;
   st.threads = 2;
   // Rank 2 by construction: auto keeps 2 (a third cannot halve an error that is already ~0...
@@ -229,8 +229,8 @@ TEST(Mixture, DeterministicAcrossThreadCountsAndHardInputsStayFinite) {
     if (table.measured(2, i)) table.set_physical(2, i, 0.0);
   }
   FitSettings st;
-  st.slices = 6;
-  st.components = 3;
+  st.slices = 3;
+  st.components = 2;
   st.threads = 1;
   Expected<Model> a = fit_model(table, st);
   st.threads = 2;

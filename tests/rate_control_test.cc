@@ -14,7 +14,7 @@ TEST(RateControl, ByteBudgetAndPsnrTargetPickTheBestSettingTried) {
   base.fit.threads = 2;
   // Mixtures up to 2 components are part of the search (4 and six slice counts by default; fewer
   // keep the test short).
-  auto by_bytes = encode_to_target(*table, base, {3000, 0, 2, {3, 6}});
+  auto by_bytes = encode_to_target(*table, base, {3000, 0, 2, {3}});
   ASSERT_TRUE(by_bytes.ok()) << by_bytes.status().message();
   EXPECT_TRUE(by_bytes->met);
   EXPECT_LE(by_bytes->encoded.bytes.size(), 3000u);
@@ -25,7 +25,7 @@ TEST(RateControl, ByteBudgetAndPsnrTargetPickTheBestSettingTried) {
     }
   }
   const double goal = by_bytes->chosen.psnr_tonemapped - 3.0;
-  auto by_psnr = encode_to_target(*table, base, {0, goal, 2, {3, 6}});
+  auto by_psnr = encode_to_target(*table, base, {0, goal, 2, {3}});
   ASSERT_TRUE(by_psnr.ok());
   EXPECT_TRUE(by_psnr->met);
   EXPECT_GE(by_psnr->chosen.psnr_tonemapped, goal);
