@@ -1,4 +1,6 @@
 // Fitting and reconstruction on synthetic tables, including the hard inputs.
+#include "cbrdf/fit.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,28 +9,15 @@
 
 #include "cbrdf/coords.h"
 #include "cbrdf/copula.h"
-#include "cbrdf/fit.h"
 #include "cbrdf/model.h"
 #include "fit/frank_grid.h"
 #include "fit/marginals.h"
+#include "table_builder.h"
 
 namespace cbrdf {
 namespace {
 
-// A table filled by f(channel, i, j, k), with the real files' below-horizon mask.
-template <typename F>
-BrdfTable make_table(F f, bool horizon_mask = true) {
-  BrdfTable t;
-  for (std::size_t idx = 0; idx < kBinsPerChannel; ++idx) {
-    const BinIndex b = merl_bin(idx);
-    if (horizon_mask && bin_below_horizon(b.theta_h, b.theta_d, b.phi_d)) {
-      t.set_not_measured(idx);
-      continue;
-    }
-    for (int c = 0; c < kChannels; ++c) t.set_physical(c, idx, f(c, b.theta_h, b.theta_d, b.phi_d));
-  }
-  return t;
-}
+using testing::make_table;
 
 // Largest relative error over measured bins.
 double max_rel_error(const BrdfTable& ref, const BrdfTable& test) {
@@ -110,7 +99,8 @@ TEST(Fit, RecoversAKnownFrankParameterAndMarginals) {
   }
   EXPECT_LT(max_rel_error(t, m->table()), 0.05);
   // The separable model cannot express this table.
-  EXPECT_GT(report.slices[0][0].objective_independence, 100 * report.slices[0][0].objective + 1e-12);
+  EXPECT_GT(report.slices[0][0].objective_independence,
+            100 * report.slices[0][0].objective + 1e-12);
 }
 
 TEST(Fit, AutoFamilyPicksTheFamilyThatMadeTheData) {
@@ -214,9 +204,8 @@ TEST(Fit, DenormalScaleAndSingleNonZeroBin) {
 
 TEST(Fit, NearMirrorStaysFinite) {
   // Mass concentrated in the first two theta_h bins: an extremely skewed marginal.
-  const BrdfTable t = make_table([](int c, int i, int j, int) {
-    return (i < 2 ? 1e4 * (1 + c) : 1e-6) * (1.0 + 0.01 * j);
-  });
+  const BrdfTable t = make_table(
+      [](int c, int i, int j, int) { return (i < 2 ? 1e4 * (1 + c) : 1e-6) * (1.0 + 0.01 * j); });
   FitReport report;
   auto m = fit_model(t, FitSettings{}, &report);
   ASSERT_TRUE(m.ok());

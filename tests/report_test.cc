@@ -74,10 +74,11 @@ class ReportRun : public ::testing::Test {
     input_ = *dir_ / "plastic.binary";
     ASSERT_EQ(run_cli("sample plastic -o '" + input_.string() + "'").exit_code, 0);
     out_ = *dir_ / "report";
-    run_ = new testing::CommandResult(run_cli(
-        "report '" + input_.string() +
-        "' --jobs 1 --sweep slices=3 bits=6,16 components=1,2 --baselines float16,separable -o '" +
-        out_.string() + "'"));
+    run_ = new testing::CommandResult(
+        run_cli("report '" + input_.string() +
+                "' --jobs 1 --progress always --sweep slices=3 bits=6,16 components=1,2 "
+                "--baselines float16,separable -o '" +
+                out_.string() + "'"));
   }
   static void TearDownTestSuite() {
     delete run_;
@@ -104,6 +105,27 @@ TEST_F(ReportRun, SucceedsWithAProgressBarAndATable) {
   EXPECT_NE(run_->err.find("100%"), std::string::npos) << run_->err;  // the bar's last step
   EXPECT_NE(run_->out.find("frank s3 b16"), std::string::npos) << run_->out;
   EXPECT_NE(run_->out.find("float16+zstd"), std::string::npos) << run_->out;
+}
+
+TEST_F(ReportRun, NoProgressBarWhenStderrIsNotATerminalAndOnlyThePapersSetting) {
+  TempDir other;
+  // run_cli sends stderr to a file: the default (auto) draws no bar there. The sweep holds only
+  // the paper's setting, so there is no gain table and no target verdict, but a hint.
+  const auto r =
+      run_cli("report '" + input_.string() + "' --sweep slices=6 bits=12 --baselines none -o '" +
+              (other / "r").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(r.out.find("Frontier: gain"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("held only the paper's setting"), std::string::npos) << r.out;
+  const std::string md = testing::read_text(other / "r" / "report.md");
+  EXPECT_NE(md.find("holds only the paper's setting"), std::string::npos);
+  EXPECT_EQ(md.find("| yes |"), std::string::npos);
+  EXPECT_EQ(md.find("| no |"), std::string::npos);
+
+  const auto bad = run_cli("report '" + input_.string() + "' --progress sometimes");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--progress"), std::string::npos) << bad.err;
 }
 
 TEST_F(ReportRun, QuietPrintsNothing) {

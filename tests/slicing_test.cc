@@ -10,9 +10,12 @@
 
 #include "cbrdf/coords.h"
 #include "cbrdf/fit.h"
+#include "table_builder.h"
 
 namespace cbrdf {
 namespace {
+
+using testing::make_table;
 
 constexpr SliceCost kCosts[] = {SliceCost::kLinear, SliceCost::kSqrt, SliceCost::kLog};
 
@@ -26,22 +29,6 @@ std::string cost_name(SliceCost c) {
       return "log";
   }
   return "?";
-}
-
-// A table filled by f(channel, theta_h bin, theta_d bin, phi_d bin); bins below the horizon are
-// marked not measured, as in real files, unless horizon_mask is false.
-template <typename F>
-BrdfTable make_table(F f, bool horizon_mask = true) {
-  BrdfTable t;
-  for (std::size_t idx = 0; idx < kBinsPerChannel; ++idx) {
-    const BinIndex b = merl_bin(idx);
-    if (horizon_mask && bin_below_horizon(b.theta_h, b.theta_d, b.phi_d)) {
-      t.set_not_measured(idx);
-      continue;
-    }
-    for (int c = 0; c < kChannels; ++c) t.set_physical(c, idx, f(c, b.theta_h, b.theta_d, b.phi_d));
-  }
-  return t;
 }
 
 // A lobe in theta_h whose width depends on theta_d, over a diffuse floor, with a phi_d ripple.

@@ -1,4 +1,6 @@
 // `cbrdf report`: storage against PSNR and time, per material and setting, with baselines.
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -27,6 +29,7 @@ struct ReportOptions {
   std::string analytic_loss = "cos";
   int analytic_bins = 20000;
   bool quiet = false;  // also accepted after the subcommand, where users type it
+  std::string progress = "auto";
 };
 
 int run_report(const ReportOptions& o, const Context& global) {
@@ -49,7 +52,10 @@ int run_report(const ReportOptions& o, const Context& global) {
   }
   st.analytic_bins = o.analytic_bins;
   st.jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
-  st.progress = !ctx.quiet;
+  // The bar redraws one line with carriage returns: by default only for a terminal, so that logs
+  // stay readable.
+  st.progress = !ctx.quiet &&
+                (o.progress == "always" || (o.progress == "auto" && isatty(fileno(stderr)) == 1));
 
   std::vector<report::Material> materials;
   std::set<std::string> names;
@@ -65,6 +71,9 @@ int run_report(const ReportOptions& o, const Context& global) {
   }
   for (const std::string& f : o.inputs) add(std::filesystem::path(f).stem().string(), f, false);
 
+  const std::vector<report::CodecSetting> swept = st.sweep.settings();
+  const bool paper_only =
+      swept.size() == 1 && swept.front().label() == report::paper_setting().label();
   const auto t0 = std::chrono::steady_clock::now();
   auto results = report::measure_all(materials, st);
   if (!results.ok()) return fail(results.status());
@@ -72,11 +81,17 @@ int run_report(const ReportOptions& o, const Context& global) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!ctx.quiet) {
     for (const report::TextTable& t : report::report_tables(*results, st)) {
+      if (t.id == "gain" && paper_only) continue;
       if (t.id == "time" || t.id == "psnr" || t.id == "sweep" || t.id == "gain") {
         std::printf("%s\n", report::to_text(t).c_str());
       }
     }
     std::printf("%s\n", report::run_summary(*results, st, elapsed).c_str());
+    if (paper_only) {
+      std::printf(
+          "The sweep held only the paper's setting; for the rate-distortion frontier and the gain "
+          "over it add e.g. --sweep components=1,2,4 bits=8,12.\n");
+    }
   }
   if (!o.output_dir.empty()) {
     if (Status s = report::write_report(*results, st, o.output_dir, elapsed); !s.ok()) {
@@ -103,6 +118,10 @@ void add_report_command(CLI::App& app, const Context& ctx, Action* action) {
   cmd->add_option("-o,--output", o->output_dir,
                   "Write report.md, .csv, .json, .html, SVG figures and PNG renders here");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress bar and no tables on stdout");
+  cmd->add_option("--progress", o->progress,
+                  "Progress bar on stderr: auto (when stderr is a terminal), always or never")
+      ->check(CLI::IsMember({"auto", "always", "never"}))
+      ->capture_default_str();
   cmd->add_option("--jobs", o->jobs, "Materials measured in parallel (0: one per core)")
       ->check(CLI::Range(0, 256));
   cmd->add_option(

@@ -15,12 +15,12 @@ jobs=$(nproc)
 # GCC 12's flow analysis under sanitizer instrumentation reports false -Wmaybe-uninitialized
 # positives inside libstdc++ (std::function in <regex>).
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DCBRDF_SANITIZE=ON -DCBRDF_WERROR=OFF \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DCBRDF_SANITIZE=ON -DCBRDF_WERROR=OFF -DCBRDF_TESTS=ON \
   -DCBRDF_BENCH=OFF > /dev/null
 cmake --build "$build" -j "$jobs"
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:check_initialization_order=1:strict_init_order=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 start=$(date +%s)
-ctest --test-dir "$build" --output-on-failure -j "$jobs" --timeout 900
+ctest --test-dir "$build" --no-tests=error --output-on-failure -j "$jobs" --timeout 900
 echo "run-sanitizers: the suite passed under ASan + UBSan in $(( $(date +%s) - start )) s"

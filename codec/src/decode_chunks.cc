@@ -16,6 +16,22 @@ ByteReader payload_reader(std::span<const std::uint8_t> payload) {
   return ByteReader(payload, 0, "payload offset");
 }
 
+// One component's family, parameter and scale (MODL), validated; `where` names it in errors.
+Status read_component(ByteReader* r, const std::string& where, Component* out) {
+  std::uint8_t family = 0;
+  double theta = 0.0, scale = 0.0;
+  CBRDF_RETURN_IF_ERROR(r->u8(&family, "copula family"));
+  CBRDF_RETURN_IF_ERROR(r->f64(&theta, "copula parameter"));
+  CBRDF_RETURN_IF_ERROR(r->f64(&scale, "scale K"));
+  if (Status st = check_channel_params(family, theta, scale); !st.ok()) {
+    return st.with_context(where);
+  }
+  out->family = CopulaFamily(family);
+  out->theta = theta;
+  out->scale = scale;
+  return Status();
+}
+
 }  // namespace
 
 Status decode_header_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
@@ -82,19 +98,9 @@ Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t f
   }
   for (int s = 0; s < slice_count; ++s) {
     for (int c = 0; c < kChannels; ++c) {
-      std::uint8_t family = 0;
-      double theta = 0.0, scale = 0.0;
-      CBRDF_RETURN_IF_ERROR(r.u8(&family, "copula family"));
-      CBRDF_RETURN_IF_ERROR(r.f64(&theta, "copula parameter"));
-      CBRDF_RETURN_IF_ERROR(r.f64(&scale, "scale K"));
-      const Status st = check_channel_params(family, theta, scale);
-      if (!st.ok()) {
-        return st.with_context("slice " + std::to_string(s) + " channel " + kChannelNames[c]);
-      }
       ChannelSlice& cs = (*slices)[std::size_t(s)].channel[std::size_t(c)];
-      cs.family = CopulaFamily(family);
-      cs.theta = theta;
-      cs.scale = scale;
+      CBRDF_RETURN_IF_ERROR(
+          read_component(&r, "slice " + std::to_string(s) + " channel " + kChannelNames[c], &cs));
     }
   }
   if (file_minor >= 1) {
@@ -116,19 +122,11 @@ Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t f
       for (int c = 0; c < kChannels; ++c) {
         auto& extra = (*slices)[std::size_t(s)].channel[std::size_t(c)].extra;
         for (std::size_t e = 0; e < extra.size(); ++e) {
-          std::uint8_t family = 0;
-          double theta = 0.0, scale = 0.0;
-          CBRDF_RETURN_IF_ERROR(r.u8(&family, "copula family"));
-          CBRDF_RETURN_IF_ERROR(r.f64(&theta, "copula parameter"));
-          CBRDF_RETURN_IF_ERROR(r.f64(&scale, "scale K"));
-          const Status st = check_channel_params(family, theta, scale);
-          if (!st.ok()) {
-            return st.with_context("slice " + std::to_string(s) + " channel " + kChannelNames[c] +
-                                   " component " + std::to_string(e + 1));
-          }
-          extra[e].family = CopulaFamily(family);
-          extra[e].theta = theta;
-          extra[e].scale = scale;
+          CBRDF_RETURN_IF_ERROR(read_component(&r,
+                                               "slice " + std::to_string(s) + " channel " +
+                                                   kChannelNames[c] + " component " +
+                                                   std::to_string(e + 1),
+                                               &extra[e]));
         }
       }
     }

@@ -32,16 +32,19 @@ std::uint8_t to_byte(float v) {
   return std::uint8_t(std::lround(double(v) * 255.0));
 }
 
+Status check_writable(const std::filesystem::path& path, const Image& image) {
+  if (valid_image(image)) return Status();
+  return error(ErrorCode::kInvalidArgument,
+               path.string() + ": cannot write an empty or inconsistent " +
+                   size_text(std::uint64_t(std::max(image.width, 0)),
+                             std::uint64_t(std::max(image.height, 0))) +
+                   " image");
+}
+
 }  // namespace
 
 Status write_exr(const std::filesystem::path& path, const Image& image) {
-  if (!valid_image(image)) {
-    return error(ErrorCode::kInvalidArgument,
-                 path.string() + ": cannot write an empty or inconsistent " +
-                     size_text(std::uint64_t(std::max(image.width, 0)),
-                               std::uint64_t(std::max(image.height, 0))) +
-                     " image");
-  }
+  CBRDF_RETURN_IF_ERROR(check_writable(path, image));
   return internal::write_exr_channels(path, image.width, image.height,
                                       {{"R", image.data.data(), 3},
                                        {"G", image.data.data() + 1, 3},
@@ -67,13 +70,7 @@ Expected<Image> read_exr(const std::filesystem::path& path) {
 }
 
 Status write_png(const std::filesystem::path& path, const Image& image) {
-  if (!valid_image(image)) {
-    return error(ErrorCode::kInvalidArgument,
-                 path.string() + ": cannot write an empty or inconsistent " +
-                     size_text(std::uint64_t(std::max(image.width, 0)),
-                               std::uint64_t(std::max(image.height, 0))) +
-                     " image");
-  }
+  CBRDF_RETURN_IF_ERROR(check_writable(path, image));
   std::vector<std::uint8_t> pixels(image.data.size());
   for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = to_byte(image.data[i]);
   png_image png{};

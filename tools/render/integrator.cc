@@ -13,6 +13,18 @@
 namespace cbrdf::render {
 namespace {
 
+// The ray parameters t0 <= t1 where the ray (unit direction) meets the sphere; false if it misses.
+bool sphere_roots(const Sphere& sp, const Ray& ray, double* t0, double* t1) {
+  const Vec3 oc = ray.origin - sp.center;
+  const double b = dot(oc, ray.dir), c = dot(oc, oc) - sp.radius * sp.radius;
+  const double disc = b * b - c;
+  if (disc < 0) return false;
+  const double sq = std::sqrt(disc);
+  *t0 = -b - sq;
+  *t1 = -b + sq;
+  return true;
+}
+
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kPi = std::numbers::pi;
 
@@ -72,13 +84,9 @@ class World {
   bool intersect(const Ray& ray, Hit* hit) const {
     hit->t = kInf;
     for (const Sphere& sp : s_.spheres) {
-      const Vec3 oc = ray.origin - sp.center;
-      const double b = dot(oc, ray.dir), c = dot(oc, oc) - sp.radius * sp.radius;
-      const double disc = b * b - c;
-      if (disc < 0) continue;
-      const double sq = std::sqrt(disc);
-      double t = -b - sq;
-      if (!(t > 0)) t = -b + sq;
+      double t0 = 0, t1 = 0;
+      if (!sphere_roots(sp, ray, &t0, &t1)) continue;
+      const double t = t0 > 0 ? t0 : t1;
       if (t > 0 && t < hit->t) {
         hit->t = t;
         hit->p = ray.origin + ray.dir * t;
@@ -124,12 +132,8 @@ class World {
 
   bool occluded(const Ray& ray, double t_max) const {
     for (const Sphere& sp : s_.spheres) {
-      const Vec3 oc = ray.origin - sp.center;
-      const double b = dot(oc, ray.dir), c = dot(oc, oc) - sp.radius * sp.radius;
-      const double disc = b * b - c;
-      if (disc < 0) continue;
-      const double sq = std::sqrt(disc);
-      const double t0 = -b - sq, t1 = -b + sq;
+      double t0 = 0, t1 = 0;
+      if (!sphere_roots(sp, ray, &t0, &t1)) continue;
       if ((t0 > 0 && t0 < t_max) || (t1 > 0 && t1 < t_max)) return true;
     }
     for (const Plane& pl : s_.planes) {

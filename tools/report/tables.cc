@@ -8,6 +8,7 @@
 
 #include "cbrdf/analytic_fit.h"
 #include "cbrdf/metrics.h"
+#include "report/svg.h"
 
 namespace cbrdf::report {
 namespace {
@@ -32,29 +33,6 @@ std::string secs(double v) {
 }
 std::string nanos(double v) {
   return fmt("%.0f", v);
-}
-
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 TextTable per_material_table(const std::vector<MaterialResult>& results,
@@ -152,6 +130,9 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
   std::vector<BudgetGain> gains;
   for (double f : kBudgetFactors) gains.push_back(budget_gain(points, f));
   const std::string paper = paper_setting().label();
+  // With only the paper's setting in the sweep every gain is 0 by construction: no target verdict.
+  const std::vector<CodecSetting> swept = st.sweep.settings();
+  const bool paper_only = swept.size() == 1 && swept.front().label() == paper;
 
   TextTable g;
   g.id = "gain";
@@ -163,14 +144,17 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
       std::to_string(paper_setting().bits) +
       " bits); its PSNR minus the paper setting's, then the mean, min and max over the "
       "materials that have such a setting. Targets (issue): +2 dB at 1x, +6 dB at 4x. "
-      "Ratios are per material, then averaged; encode time includes the fit.";
+      "Ratios are per material, then averaged; encode time includes the fit." +
+      std::string(paper_only ? " The sweep holds only the paper's setting, so there is nothing "
+                               "to compare: add e.g. --sweep components=1,2,4 bits=8,12."
+                             : "");
   g.header = {
       "budget",    "materials", "mean gain dB",  "min gain dB",         "max gain dB",
       "target dB", "met",       "bytes / paper", "encode time / paper", "most chosen setting"};
   for (const BudgetGain& b : gains) {
     const double target = target_gain_db(b.factor);
     std::string met = "-";
-    if (!std::isnan(target)) {
+    if (!std::isnan(target) && !paper_only) {
       met = b.qualifying == 0 ? "no (no setting)" : (b.mean_gain_db >= target ? "yes" : "no");
     }
     g.rows.push_back({fmt("%gx", b.factor),
@@ -462,15 +446,15 @@ std::string to_markdown(const TextTable& t) {
 
 std::string to_html(const TextTable& t) {
   std::ostringstream out;
-  out << "<h2 id=\"" << t.id << "\">" << html_escape(t.title) << "</h2>\n";
-  if (!t.note.empty()) out << "<p class=\"note\">" << html_escape(t.note) << "</p>\n";
+  out << "<h2 id=\"" << t.id << "\">" << xml_escape(t.title) << "</h2>\n";
+  if (!t.note.empty()) out << "<p class=\"note\">" << xml_escape(t.note) << "</p>\n";
   out << "<div class=\"scroll\"><table>\n<tr>";
-  for (const std::string& h : t.header) out << "<th>" << html_escape(h) << "</th>";
+  for (const std::string& h : t.header) out << "<th>" << xml_escape(h) << "</th>";
   out << "</tr>\n";
   for (const auto& row : t.rows) {
     out << "<tr>";
     for (std::size_t i = 0; i < row.size(); ++i) {
-      out << (i == 0 ? "<td class=\"l\">" : "<td>") << html_escape(row[i]) << "</td>";
+      out << (i == 0 ? "<td class=\"l\">" : "<td>") << xml_escape(row[i]) << "</td>";
     }
     out << "</tr>\n";
   }

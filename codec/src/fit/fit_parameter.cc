@@ -1,9 +1,9 @@
 #include "fit/fit_parameter.h"
 
-#include <ceres/ceres.h>
-
 #include <algorithm>
 #include <cmath>
+
+#include "fit/solver_options.h"
 
 namespace cbrdf::fit {
 namespace {
@@ -104,6 +104,23 @@ double mean_measured(const SliceData& s) {
   return s.mv.empty() ? 0 : sum / double(s.mv.size());
 }
 
+// Calls f(q, p) for every measured bin q of the slice with p = c * f1 * f2 * f3, the unscaled
+// model at the copula's prepared parameter; rows without a measured bin are skipped.
+template <typename F>
+void for_each_measured(const SliceData& s, const Marginals& m, GridCopula& copula, F f) {
+  std::vector<double> c(std::size_t(s.np));
+  for (int i = 0; i < s.nh; ++i) {
+    for (int j = 0; j < s.nd; ++j) {
+      const std::size_t row = std::size_t(i) * std::size_t(s.nd) + std::size_t(j);
+      const std::uint32_t begin = s.row_begin[row], end = s.row_begin[row + 1];
+      if (begin == end) continue;
+      copula.row(i, j, c.data(), nullptr);
+      const double f12 = m.f1[i] * m.f2[j];
+      for (std::uint32_t q = begin; q < end; ++q) f(q, c[s.mk[q]] * f12 * m.f3[s.mk[q]]);
+    }
+  }
+}
+
 }  // namespace
 
 ParameterFit evaluate_parameter(const SliceData& s, const Marginals& m, GridCopula& copula,
@@ -114,44 +131,23 @@ ParameterFit evaluate_parameter(const SliceData& s, const Marginals& m, GridCopu
   if (s.mv.empty() || vbar <= 0) return r;
   copula.prepare(theta, m.u1, m.u2, m.u3);
   double vp = 0, pp = 0, vv = 0;
-  std::vector<double> c(std::size_t(s.np));
-  for (int i = 0; i < s.nh; ++i) {
-    for (int j = 0; j < s.nd; ++j) {
-      const std::size_t row = std::size_t(i) * std::size_t(s.nd) + std::size_t(j);
-      const std::uint32_t begin = s.row_begin[row], end = s.row_begin[row + 1];
-      if (begin == end) continue;
-      copula.row(i, j, c.data(), nullptr);
-      const double f12 = m.f1[i] * m.f2[j];
-      for (std::uint32_t q = begin; q < end; ++q) {
-        const double p = c[s.mk[q]] * f12 * m.f3[s.mk[q]];
-        const double v = s.mv[q] / vbar;
-        const double w = loss == FitLoss::kCosine ? s.mw[q] : 1.0;
-        vp += w * v * p;
-        pp += w * p * p;
-        vv += w * v * v;
-      }
-    }
-  }
+  for_each_measured(s, m, copula, [&](std::uint32_t q, double p) {
+    const double v = s.mv[q] / vbar;
+    const double w = loss == FitLoss::kCosine ? s.mw[q] : 1.0;
+    vp += w * v * p;
+    pp += w * p * p;
+    vv += w * v * v;
+  });
   const double k = pp > 0 ? vp / pp : 0;
   r.scale = k * vbar;
   r.objective = std::max(0.0, vv - 2 * k * vp + k * k * pp) / double(s.measured_count());
   if (loss == FitLoss::kLog) {
     // A second pass: the log loss has no closed form in K.
     double sum = 0;
-    for (int i = 0; i < s.nh; ++i) {
-      for (int j = 0; j < s.nd; ++j) {
-        const std::size_t row = std::size_t(i) * std::size_t(s.nd) + std::size_t(j);
-        const std::uint32_t begin = s.row_begin[row], end = s.row_begin[row + 1];
-        if (begin == end) continue;
-        copula.row(i, j, c.data(), nullptr);
-        const double f12 = m.f1[i] * m.f2[j];
-        for (std::uint32_t q = begin; q < end; ++q) {
-          const double model = r.scale * c[s.mk[q]] * f12 * m.f3[s.mk[q]];
-          const double d = std::log1p(s.mv[q]) - std::log1p(model);
-          sum += d * d;
-        }
-      }
-    }
+    for_each_measured(s, m, copula, [&](std::uint32_t q, double p) {
+      const double d = std::log1p(s.mv[q]) - std::log1p(r.scale * p);
+      sum += d * d;
+    });
     r.objective = sum / double(s.measured_count());
   }
   return r;
@@ -182,15 +178,7 @@ ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& c
   problem.AddResidualBlock(new SliceCost(s, m, copula, vbar, loss), nullptr, &theta, &k);
   problem.SetParameterLowerBound(&theta, 0, lo);
   problem.SetParameterUpperBound(&theta, 0, hi);
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.logging_type = ceres::SILENT;
-  options.minimizer_progress_to_stdout = false;
-  options.max_num_iterations = 50;
-  options.function_tolerance = 1e-10;
-  options.gradient_tolerance = 1e-12;
-  options.parameter_tolerance = 1e-10;
-  options.num_threads = 1;
+  const ceres::Solver::Options options = small_problem_options();
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   // Ceres's cost is half the sum of squares of the (compressed) residuals: the objective at its

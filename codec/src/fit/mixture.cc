@@ -1,7 +1,5 @@
 #include "fit/mixture.h"
 
-#include <ceres/ceres.h>
-
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -10,6 +8,7 @@
 
 #include "fit/grid_copula.h"
 #include "fit/marginals.h"
+#include "fit/solver_options.h"
 
 namespace cbrdf::fit {
 namespace {
@@ -422,15 +421,7 @@ MixtureFit fit_mixture(const SliceData& s, const ChannelSlice& start, int compon
       problem.SetParameterLowerBound(x.data(), int(2 * r + 1), probe->fit_lo());
       problem.SetParameterUpperBound(x.data(), int(2 * r + 1), probe->fit_hi());
     }
-    ceres::Solver::Options options;
-    options.linear_solver_type = ceres::DENSE_QR;
-    options.logging_type = ceres::SILENT;
-    options.minimizer_progress_to_stdout = false;
-    options.max_num_iterations = 50;
-    options.function_tolerance = 1e-10;
-    options.gradient_tolerance = 1e-12;
-    options.parameter_tolerance = 1e-10;
-    options.num_threads = 1;
+    const ceres::Solver::Options options = small_problem_options();
     ceres::Solver::Summary summary;
     ceres::Solve(options, &problem, &summary);
     out.solver_iterations = int(summary.iterations.size());
