@@ -75,10 +75,16 @@ class ReportRun : public ::testing::Test {
     ASSERT_EQ(run_cli("sample plastic -o '" + input_.string() + "'").exit_code, 0);
     out_ = *dir_ / "report";
     run_ = new testing::CommandResult(
-        run_cli("report '" + input_.string() +
-                "' --jobs 1 --progress always --sweep slices=3 bits=6,16 components=1,2 "
-                "--baselines float16,separable -o '" +
-                out_.string() + "'"));
+        report_input("",
+                     "--jobs 1 --progress always --sweep slices=3 bits=6,16 components=1,2 "
+                     "--baselines float16,separable",
+                     out_));
+  }
+  // `cbrdf GLOBAL report INPUT OPTIONS -o OUT` on the fixture's material.
+  static testing::CommandResult report_input(const std::string& global, const std::string& options,
+                                             const fs::path& out) {
+    return run_cli(global + " report '" + input_.string() + "' " + options + " -o '" +
+                   out.string() + "'");
   }
   static void TearDownTestSuite() {
     delete run_;
@@ -111,9 +117,7 @@ TEST_F(ReportRun, NoProgressBarWhenStderrIsNotATerminalAndOnlyThePapersSetting) 
   TempDir other;
   // run_cli sends stderr to a file: the default (auto) draws no bar there. The sweep holds only
   // the paper's setting, so there is no gain table and no target verdict, but a hint.
-  const auto r =
-      run_cli("report '" + input_.string() + "' --sweep slices=6 bits=12 --baselines none -o '" +
-              (other / "r").string() + "'");
+  const auto r = report_input("", "--sweep slices=6 bits=12 --baselines none", other / "r");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");
   EXPECT_EQ(r.out.find("Frontier: gain"), std::string::npos) << r.out;
@@ -130,9 +134,7 @@ TEST_F(ReportRun, NoProgressBarWhenStderrIsNotATerminalAndOnlyThePapersSetting) 
 
 TEST_F(ReportRun, QuietPrintsNothing) {
   TempDir other;
-  const auto r =
-      run_cli("-q report '" + input_.string() + "' --sweep bits=6 slices=1 --baselines none -o '" +
-              (other / "r").string() + "'");
+  const auto r = report_input("-q", "--sweep bits=6 slices=1 --baselines none", other / "r");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
   EXPECT_TRUE(r.err.empty()) << r.err;

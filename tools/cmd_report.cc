@@ -71,9 +71,7 @@ int run_report(const ReportOptions& o, const Context& global) {
   }
   for (const std::string& f : o.inputs) add(std::filesystem::path(f).stem().string(), f, false);
 
-  const std::vector<report::CodecSetting> swept = st.sweep.settings();
-  const bool paper_only =
-      swept.size() == 1 && swept.front().label() == report::paper_setting().label();
+  const bool paper_only = st.sweep.only_paper_setting();
   const auto t0 = std::chrono::steady_clock::now();
   auto results = report::measure_all(materials, st);
   if (!results.ok()) return fail(results.status());
@@ -90,7 +88,8 @@ int run_report(const ReportOptions& o, const Context& global) {
     if (paper_only) {
       std::printf(
           "The sweep held only the paper's setting; for the rate-distortion frontier and the gain "
-          "over it add e.g. --sweep components=1,2,4 bits=8,12.\n");
+          "over it add e.g. %s.\n",
+          report::kFrontierSweepExample);
     }
   }
   if (!o.output_dir.empty()) {

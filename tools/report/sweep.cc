@@ -114,6 +114,11 @@ CodecSetting paper_setting() {
   return CodecSetting{"frank", 6, EncodeSettings{}.bits, 1};
 }
 
+bool Sweep::only_paper_setting() const {
+  const std::vector<CodecSetting> all = settings();
+  return all.size() == 1 && all.front() == paper_setting();
+}
+
 std::vector<CodecSetting> Sweep::settings() const {
   std::vector<CodecSetting> out;
   for (const std::string& f : families) {

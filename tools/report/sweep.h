@@ -50,7 +50,12 @@ struct Sweep {
   // The setting the per-material images and the baseline comparison use: the default setting
   // when the sweep holds it, otherwise the first one.
   CodecSetting primary() const;
+  // True when the paper's setting is the only one: every gain over it is 0 by construction.
+  bool only_paper_setting() const;
 };
+
+// A sweep to suggest when there is nothing to compare with the paper's setting.
+inline constexpr const char* kFrontierSweepExample = "--sweep components=1,2,4 bits=8,12";
 
 // Parses items "slices=1,2,3", "bits=6,8", "family=frank,auto", "components=1,2,auto" (keys in
 // any order, each at most once; an item may also hold several, separated by spaces). Errors
