@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -57,6 +58,7 @@ void operator delete[](void* p, std::size_t) noexcept {
 namespace cbrdf {
 namespace {
 namespace fs = std::filesystem;
+using testing::dir_entries;
 using testing::TempDir;
 
 std::vector<std::uint8_t> bytes_of(const std::string& s) {
@@ -73,13 +75,6 @@ std::vector<std::uint8_t> read_all(const fs::path& p) {
   auto r = read_file(p, std::uint64_t{1} << 32);
   EXPECT_TRUE(r.ok()) << r.status().message();
   return r.ok() ? std::move(r).value() : std::vector<std::uint8_t>{};
-}
-
-std::vector<std::string> dir_entries(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
 }
 
 bool contains(const std::string& haystack, const std::string& needle) {
@@ -472,19 +467,21 @@ TEST(Merl, BigEndianHeaderIsRecognised) {
   EXPECT_TRUE(contains(s.message(), "big-endian")) << s.message();
 }
 
-TEST(Merl, NonFiniteValuesReportCountAndFirstBin) {
+// One rule for every table cbrdf writes and reads: NaN and -Inf are "not measured" values (a
+// decoded container may hold them) and round-trip bit for bit; only +Inf is refused, by count and
+// first bin.
+TEST(Merl, PlusInfIsRefusedWithCountAndFirstBin) {
   BrdfTable t;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
-  t.set_stored(1, merl_index(7, 8, 9), nan);
-  t.set_stored(1, merl_index(80, 1, 2), -inf);
+  t.set_stored(1, merl_index(7, 8, 9), inf);
+  t.set_stored(1, merl_index(80, 1, 2), inf);
   t.set_stored(2, merl_index(0, 0, 0), inf);
   const Status s = read_error(serialize_merl(t));
   EXPECT_EQ(s.code(), ErrorCode::kNumeric);
   const std::size_t offset = 12 + (kBinsPerChannel + merl_index(7, 8, 9)) * 8;
   EXPECT_TRUE(contains(s.message(),
-                       ": 3 NaN or Inf values; the first is NaN at channel G, bin "
-                       "(theta_h 7, theta_d 8, phi_d 9), byte offset " +
+                       ": 3 +Inf values (a measurement must be finite); the first at channel G, "
+                       "bin (theta_h 7, theta_d 8, phi_d 9), byte offset " +
                            std::to_string(offset)))
       << s.message();
 
@@ -493,9 +490,29 @@ TEST(Merl, NonFiniteValuesReportCountAndFirstBin) {
   const Status s1 = read_error(serialize_merl(one));
   EXPECT_EQ(s1.code(), ErrorCode::kNumeric);
   EXPECT_TRUE(contains(s1.message(),
-                       ": 1 NaN or Inf value; the first is Inf at channel R, bin "
+                       ": 1 +Inf value (a measurement must be finite); the first at channel R, bin "
                        "(theta_h 89, theta_d 89, phi_d 179)"))
       << s1.message();
+}
+
+TEST(Merl, NanAndMinusInfAreNotMeasuredAndRoundTripExactly) {
+  BrdfTable t;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double payload_nan = std::bit_cast<double>(std::uint64_t{0xFFF8000000001234});
+  t.set_stored(1, merl_index(7, 8, 9), nan);
+  t.set_stored(0, merl_index(80, 1, 2), -std::numeric_limits<double>::infinity());
+  t.set_stored(2, merl_index(3, 4, 5), payload_nan);
+  const std::vector<std::uint8_t> bytes = serialize_merl(t);
+  auto back = parse_merl(bytes, "nan.binary");
+  ASSERT_TRUE(back.ok()) << back.status().message();
+  EXPECT_EQ(serialize_merl(*back), bytes);
+  EXPECT_FALSE(back->measured(1, merl_index(7, 8, 9)));
+  EXPECT_FALSE(back->measured(0, merl_index(80, 1, 2)));
+  EXPECT_FALSE(back->measured(2, merl_index(3, 4, 5)));
+  EXPECT_EQ(back->count_not_measured(), 3u);
+  const MerlStats st = merl_stats(*back);
+  EXPECT_EQ(st.channel[1].not_measured, 1u);
+  EXPECT_TRUE(std::isfinite(st.channel[1].max));
 }
 
 TEST(Merl, NegativeValuesAreKeptExactly) {
@@ -596,7 +613,7 @@ TEST(Merl, Phi360NonFiniteNamesTheFileBin) {
   const Status s = read_error(bytes);
   EXPECT_EQ(s.code(), ErrorCode::kNumeric);
   EXPECT_TRUE(contains(s.message(),
-                       "1 NaN or Inf value; the first is Inf at channel B, bin "
+                       "1 +Inf value (a measurement must be finite); the first at channel B, bin "
                        "(theta_h 5, theta_d 3, phi_d 200)"))
       << s.message();
 }

@@ -78,4 +78,11 @@ CommandResult run_cli(const std::string& args) {
   return r;
 }
 
+std::vector<std::string> dir_entries(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 }  // namespace cbrdf::testing

@@ -37,4 +37,7 @@ CommandResult run_cli(const std::string& args);
 
 std::string read_text(const std::filesystem::path& p);
 
+// The names in a directory, sorted.
+std::vector<std::string> dir_entries(const std::filesystem::path& dir);
+
 }  // namespace cbrdf::testing

@@ -6,6 +6,7 @@
 #include "cbrdf/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cli.h"
+#include "cli_io.h"
 
 namespace cbrdf::cli {
 namespace {
@@ -18,17 +19,20 @@ int run_decode(const DecodeOptions& o, const Context& ctx) {
   if (o.output.empty() && o.exr.empty()) {
     return usage_error("decode: give -o OUT.binary, --exr OUT.exr or both");
   }
-  auto bytes = read_file(o.input, kMaxContainerBytes);
+  const std::vector<PathArg> outputs = {{"-o", o.output}, {"--exr", o.exr}};
+  if (auto bad = check_paths("decode", {{"input", o.input}}, outputs)) return usage_error(*bad);
+  std::FILE* info = info_stream(outputs);
+  auto bytes = read_file(input_path(o.input), kMaxContainerBytes);
   if (!bytes.ok()) return fail(bytes.status());
   auto table = decode_table(*bytes);
-  if (!table.ok()) return fail(table.status().with_context(o.input));
+  if (!table.ok()) return fail(table.status().with_context(shown(o.input, false)));
   if (!o.output.empty()) {
-    if (Status s = write_merl(o.output, *table); !s.ok()) return fail(s);
-    if (!ctx.quiet) std::printf("wrote %s\n", o.output.c_str());
+    if (Status s = write_merl(output_path(o.output), *table); !s.ok()) return fail(s);
+    if (!ctx.quiet) std::fprintf(info, "wrote %s\n", shown(o.output, true).c_str());
   }
   if (!o.exr.empty()) {
-    if (Status s = write_exr_table(o.exr, *table); !s.ok()) return fail(s);
-    if (!ctx.quiet) std::printf("wrote %s\n", o.exr.c_str());
+    if (Status s = write_exr_table(output_path(o.exr), *table); !s.ok()) return fail(s);
+    if (!ctx.quiet) std::fprintf(info, "wrote %s\n", shown(o.exr, true).c_str());
   }
   return kExitOk;
 }
@@ -38,8 +42,10 @@ int run_decode(const DecodeOptions& o, const Context& ctx) {
 void add_decode_command(CLI::App& app, const Context& ctx, Action* action) {
   auto o = std::make_shared<DecodeOptions>();
   CLI::App* cmd = app.add_subcommand("decode", "Rebuild a MERL .binary from a .cbrdf file");
-  cmd->add_option("input", o->input, "Input .cbrdf file")->required()->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", o->output, "Output MERL .binary");
+  cmd->add_option("input", o->input, "Input .cbrdf file (- for standard input)")
+      ->required()
+      ->check(existing_file_or_stdin());
+  cmd->add_option("-o,--output", o->output, "Output MERL .binary (- for standard output)");
   cmd->add_option("--exr", o->exr,
                   "Also write the table as OpenEXR: theta_d slices tiled 10 x 9, each 180 phi_d "
                   "x 90 theta_h");

@@ -1,16 +1,20 @@
 // `cbrdf encode`: MERL .binary -> .cbrdf.
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <thread>
 
+#include "cbrdf/container.h"
 #include "cbrdf/encoder.h"
 #include "cbrdf/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/rate_control.h"
 #include "cli.h"
+#include "cli_io.h"
 
 namespace cbrdf::cli {
 namespace {
@@ -27,14 +31,40 @@ struct EncodeOptions {
   std::string loss = "linear";
   bool naive_marginals = false;
   bool no_metrics = false;
-  double target_bytes = 0, target_psnr = 0;
+  std::string target_bytes, target_psnr;  // parsed here: CLI11 lets nan through
 };
+
+// A positive finite number, or nullopt. `what` names the option in the message.
+std::optional<std::string> parse_target(const std::string& text, const char* what, double max,
+                                        const char* max_text, double* out) {
+  double v = 0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+  if (ec != std::errc() || ptr != end || !std::isfinite(v) || v <= 0 || v > max) {
+    return std::string("encode: ") + what + " must be a number above 0 and at most " + max_text +
+           ", not '" + text + "'";
+  }
+  *out = v;
+  return std::nullopt;
+}
 
 int run_encode(const EncodeOptions& o, const Context& ctx) {
   if (o.output.empty()) return usage_error("encode: give the output file with -o OUT.cbrdf");
-  std::error_code ec;
-  if (std::filesystem::equivalent(o.input, o.output, ec)) {
-    return usage_error("encode: the output would overwrite the input " + o.input);
+  const std::vector<PathArg> outputs = {{"-o", o.output}};
+  if (auto bad = check_paths("encode", {{"input", o.input}}, outputs)) return usage_error(*bad);
+  std::FILE* info = info_stream(outputs);
+  double target_bytes = 0, target_psnr = 0;
+  if (!o.target_bytes.empty()) {
+    // A container is at most 64 MiB.
+    if (auto bad = parse_target(o.target_bytes, "--target-bytes", double(kMaxContainerBytes),
+                                "67108864 (64 MiB)", &target_bytes)) {
+      return usage_error(*bad);
+    }
+  }
+  if (!o.target_psnr.empty()) {
+    if (auto bad = parse_target(o.target_psnr, "--target-psnr", 1000.0, "1000", &target_psnr)) {
+      return usage_error(*bad);
+    }
   }
   EncoderSettings st;
   if (o.slices == "auto") {
@@ -89,20 +119,22 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   }
   st.container.bits = o.bits;
   st.container.zstd_level = o.level;
-  st.container.source_name = std::filesystem::path(o.input).filename().string();
+  st.container.source_name =
+      o.input == kStdStream ? "" : std::filesystem::path(o.input).filename().string();
 
   const auto t0 = std::chrono::steady_clock::now();
-  auto table = read_merl(o.input);
+  auto table = read_merl(input_path(o.input));
   if (!table.ok()) return fail(table.status());
   Expected<EncodeResult> result = error(ErrorCode::kInternal, "not encoded");
-  if (o.target_bytes > 0 || o.target_psnr > 0) {
-    RateTarget target{o.target_bytes, o.target_psnr};
+  if (target_bytes > 0 || target_psnr > 0) {
+    RateTarget target{target_bytes, target_psnr};
     // An explicit --components caps the search; otherwise it searches up to 4.
     if (o.components != "1" && o.components != "auto") target.max_components = st.fit.components;
     auto rc = encode_to_target(*table, st, target);
-    if (!rc.ok()) return fail(rc.status().with_context(o.input));
+    if (!rc.ok()) return fail(rc.status().with_context(shown(o.input, false)));
     if (!ctx.quiet) {
-      std::printf(
+      std::fprintf(
+          info,
           "searched %zu settings: chose --slices %d --components %d --bits %d: %.0f bytes, "
           "%.2f dB tone-mapped%s\n",
           rc->tried.size(), rc->chosen.slices, rc->chosen.components, rc->chosen.bits,
@@ -113,16 +145,19 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   } else {
     result = encode_table(*table, st);
   }
-  if (!result.ok()) return fail(result.status().with_context(o.input));
-  if (Status s = write_file_atomic(o.output, result->bytes); !s.ok()) return fail(s);
+  if (!result.ok()) return fail(result.status().with_context(shown(o.input, false)));
+  if (Status s = write_file_atomic(output_path(o.output), result->bytes); !s.ok()) return fail(s);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (ctx.quiet) return kExitOk;
 
-  const double in_bytes = double(std::filesystem::file_size(o.input, ec));
+  std::error_code ec;
+  const double in_bytes = o.input == kStdStream ? double(kMerlFileBytes)
+                                                : double(std::filesystem::file_size(o.input, ec));
   const double out_bytes = double(result->bytes.size());
-  std::printf("%s -> %s: %.0f -> %.0f bytes (%.0f:1) in %.2f s\n", o.input.c_str(),
-              o.output.c_str(), in_bytes, out_bytes, in_bytes / out_bytes, seconds);
+  std::fprintf(info, "%s -> %s: %.0f -> %.0f bytes (%.0f:1) in %.2f s\n",
+               shown(o.input, false).c_str(), shown(o.output, true).c_str(), in_bytes, out_bytes,
+               in_bytes / out_bytes, seconds);
   // How much the copula adds over the separable model, in the fit's own objective.
   double obj = 0, obj_sep = 0;
   for (const auto& s : result->report.slices) {
@@ -131,26 +166,27 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
       obj_sep += c.objective_independence;
     }
   }
-  std::printf("fit: %zu slices x 3 channels, %s; objective %.4g vs separable %.4g (%+.2f%%)\n",
-              result->model.slices.size(), o.family.c_str(), obj, obj_sep,
-              obj_sep > 0 ? 100.0 * (obj - obj_sep) / obj_sep : 0.0);
+  std::fprintf(info,
+               "fit: %zu slices x 3 channels, %s; objective %.4g vs separable %.4g (%+.2f%%)\n",
+               result->model.slices.size(), o.family.c_str(), obj, obj_sep,
+               obj_sep > 0 ? 100.0 * (obj - obj_sep) / obj_sep : 0.0);
   if (ctx.verbose) {
-    std::printf("%-9s %-12s %-12s %-12s %s\n", "theta_d", "theta R", "theta G", "theta B",
-                "family");
+    std::fprintf(info, "%-9s %-12s %-12s %-12s %s\n", "theta_d", "theta R", "theta G", "theta B",
+                 "family");
     for (const Slice& s : result->model.slices) {
-      std::printf("%2d-%-2d deg ", s.theta_d_begin, s.theta_d_end - 1);
-      for (const auto& c : s.channel) std::printf(" %-12.5g", c.theta);
-      std::printf(" %s\n", std::string(family_name(s.channel[0].family)).c_str());
+      std::fprintf(info, "%2d-%-2d deg ", s.theta_d_begin, s.theta_d_end - 1);
+      for (const auto& c : s.channel) std::fprintf(info, " %-12.5g", c.theta);
+      std::fprintf(info, " %s\n", std::string(family_name(s.channel[0].family)).c_str());
     }
   }
   if (!o.no_metrics) {
     auto decoded = decode_table(result->bytes);
     if (!decoded.ok()) return fail(decoded.status());
     const ImageMetrics im = sphere_psnr(nearest_lookup_fn(*table), nearest_lookup_fn(*decoded));
-    std::printf(
-        "sphere PSNR of the decoded file against the input: %.2f dB linear, %.2f dB "
-        "tone-mapped\n",
-        im.psnr_linear, im.psnr_tonemapped);
+    std::fprintf(info,
+                 "sphere PSNR of the decoded file against the input: %.2f dB linear, %.2f dB "
+                 "tone-mapped\n",
+                 im.psnr_linear, im.psnr_tonemapped);
   }
   return kExitOk;
 }
@@ -160,8 +196,11 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
 void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
   auto o = std::make_shared<EncodeOptions>();
   CLI::App* cmd = app.add_subcommand("encode", "Compress a MERL .binary into a .cbrdf file");
-  cmd->add_option("input", o->input, "Input MERL .binary")->required()->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", o->output, "Output .cbrdf file")->required();
+  cmd->add_option("input", o->input, "Input MERL .binary (- for standard input)")
+      ->required()
+      ->check(existing_file_or_stdin());
+  cmd->add_option("-o,--output", o->output, "Output .cbrdf file (- for standard output)")
+      ->required();
   cmd->add_option("--slices", o->slices,
                   "Slices along theta_d: 1 to 90, or auto (count and boundaries from the data)")
       ->capture_default_str();
@@ -192,13 +231,11 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
   cmd->add_flag("--no-metrics", o->no_metrics, "Skip the PSNR check of the decoded file");
   auto* tb = cmd->add_option("--target-bytes", o->target_bytes,
                              "Search slices, components (up to --components, else 4) and bits for "
-                             "the best tone-mapped PSNR within N bytes")
-                 ->check(CLI::PositiveNumber);
+                             "the best tone-mapped PSNR within N bytes");
   auto* tp =
       cmd->add_option("--target-psnr", o->target_psnr,
                       "Search slices, components and bits for the fewest bytes reaching DB dB "
-                      "(tone-mapped sphere PSNR)")
-          ->check(CLI::PositiveNumber);
+                      "(tone-mapped sphere PSNR)");
   tb->excludes(tp);
   cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_encode(*o, ctx); }; });
 }

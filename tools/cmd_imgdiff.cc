@@ -7,6 +7,7 @@
 #include "cbrdf/image_io.h"
 #include "cbrdf/metrics.h"
 #include "cli.h"
+#include "cli_io.h"
 
 namespace cbrdf::cli {
 namespace {
@@ -23,6 +24,9 @@ Expected<Image> read_image(const std::string& path) {
 }
 
 int run_imgdiff(const ImgdiffOptions& o, const Context& ctx) {
+  if (auto bad = check_paths("imgdiff", {{"a", o.a}, {"b", o.b}}, {{"-o", o.output}}, false)) {
+    return usage_error(*bad);
+  }
   auto a = read_image(o.a);
   if (!a.ok()) return fail(a.status());
   auto b = read_image(o.b);

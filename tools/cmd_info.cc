@@ -8,6 +8,7 @@
 #include "cbrdf/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cli.h"
+#include "cli_io.h"
 
 namespace cbrdf::cli {
 namespace {
@@ -17,6 +18,12 @@ struct InfoOptions {
   bool json = false;
 };
 
+// Invalid UTF-8 (a file name, metadata written by an older encoder) is replaced by U+FFFD: JSON
+// output never fails on bytes.
+void print_json(const nlohmann::json& j) {
+  std::printf("%s\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+}
+
 bool is_container(const std::vector<std::uint8_t>& bytes) {
   return bytes.size() >= kContainerSignature.size() &&
          std::equal(kContainerSignature.begin(), kContainerSignature.end(), bytes.begin());
@@ -24,7 +31,7 @@ bool is_container(const std::vector<std::uint8_t>& bytes) {
 
 int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
   auto info = inspect_container(bytes);
-  if (!info.ok()) return fail(info.status().with_context(o.input));
+  if (!info.ok()) return fail(info.status().with_context(shown(o.input, false)));
   if (o.json) {
     nlohmann::json j;
     j["file"] = o.input;
@@ -55,10 +62,10 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
       j["slices"].push_back(js);
     }
     for (const auto& [k, v] : info->metadata) j["metadata"][k] = v;
-    std::printf("%s\n", j.dump(2).c_str());
+    print_json(j);
     return kExitOk;
   }
-  std::printf("%s: cbrdf container version %u.%u, %llu bytes\n", o.input.c_str(),
+  std::printf("%s: cbrdf container version %u.%u, %llu bytes\n", shown(o.input, false).c_str(),
               info->layout.major, info->layout.minor,
               static_cast<unsigned long long>(info->layout.file_bytes));
   std::printf("chunks:\n");
@@ -92,7 +99,7 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
 
 int info_merl(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
   MerlInfo mi;
-  auto table = parse_merl(bytes, o.input, {}, &mi);
+  auto table = parse_merl(bytes, shown(o.input, false), {}, &mi);
   if (!table.ok()) return fail(table.status());
   const MerlStats st = merl_stats(*table);
   const HorizonMaskCheck hm = check_horizon_mask(*table);
@@ -110,11 +117,11 @@ int info_merl(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
                                   {"zeros", s.zeros},       {"min", s.min},
                                   {"max", s.max},           {"mean", s.mean}};
     }
-    std::printf("%s\n", j.dump(2).c_str());
+    print_json(j);
     return kExitOk;
   }
-  std::printf("%s: MERL table %dx%dx%d%s\n", o.input.c_str(), mi.dims[0], mi.dims[1], mi.dims[2],
-              mi.folded_from_360 ? " (phi_d folded from 360 bins to 180)" : "");
+  std::printf("%s: MERL table %dx%dx%d%s\n", shown(o.input, false).c_str(), mi.dims[0], mi.dims[1],
+              mi.dims[2], mi.folded_from_360 ? " (phi_d folded from 360 bins to 180)" : "");
   std::printf("not-measured mask %s the below-horizon geometry",
               hm.matches() ? "equals" : "differs from");
   if (!hm.matches()) std::printf(" (%zu bins differ)", hm.mismatches);
@@ -129,7 +136,9 @@ int info_merl(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
 }
 
 int run_info(const InfoOptions& o) {
-  auto bytes = read_file(o.input, std::max<std::uint64_t>(kMaxContainerBytes, 2 * kMerlFileBytes));
+  if (auto bad = check_paths("info", {{"input", o.input}}, {})) return usage_error(*bad);
+  auto bytes = read_file(input_path(o.input),
+                         std::max<std::uint64_t>(kMaxContainerBytes, 2 * kMerlFileBytes));
   if (!bytes.ok()) return fail(bytes.status());
   return is_container(*bytes) ? info_container(o, *bytes) : info_merl(o, *bytes);
 }
@@ -139,9 +148,9 @@ int run_info(const InfoOptions& o) {
 void add_info_command(CLI::App& app, const Context&, Action* action) {
   auto o = std::make_shared<InfoOptions>();
   CLI::App* cmd = app.add_subcommand("info", "Describe a .cbrdf file or a MERL .binary");
-  cmd->add_option("input", o->input, "A .cbrdf or MERL .binary file")
+  cmd->add_option("input", o->input, "A .cbrdf or MERL .binary file (- for standard input)")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(existing_file_or_stdin());
   cmd->add_flag("--json", o->json, "Print JSON");
   cmd->callback([o, action] { *action = [o] { return run_info(*o); }; });
 }

@@ -10,6 +10,7 @@
 #include "cbrdf/image_io.h"
 #include "cbrdf/metrics.h"
 #include "cli.h"
+#include "cli_io.h"
 #include "render/builtin.h"
 #include "render/integrator.h"
 #include "render/material.h"
@@ -49,6 +50,11 @@ int run_render(const RenderOptions& o, const Context& ctx) {
   if (o.output.empty() && o.png.empty() && o.export_dir.empty()) {
     return usage_error("render: give the output with -o OUT.exr and/or --png OUT.png");
   }
+  const std::vector<PathArg> outputs = {{"-o", o.output}, {"--png", o.png}};
+  if (auto bad =
+          check_paths("render", {{"scene", o.scene}, {"--export", o.export_dir}}, outputs, false)) {
+    return usage_error(*bad);
+  }
   std::filesystem::path scene_path = o.scene;
   RemoveDir temporary;
   if (!o.builtin.empty()) {
@@ -66,6 +72,15 @@ int run_render(const RenderOptions& o, const Context& ctx) {
   }
   auto scene = render::load_scene(scene_path);
   if (!scene.ok()) return fail(scene.status());
+  // The files the scene reads must survive the render too.
+  std::vector<PathArg> assets = {{"scene", scene_path.string()}};
+  for (const render::MaterialDesc& d : scene->materials) {
+    if (!d.file.empty()) assets.push_back({"material '" + d.name + "'", d.file.string()});
+  }
+  if (!scene->environment.file.empty()) {
+    assets.push_back({"environment", scene->environment.file.string()});
+  }
+  if (auto bad = check_paths("render", assets, outputs, false)) return usage_error(*bad);
   std::vector<std::unique_ptr<render::Material>> materials;
   for (const render::MaterialDesc& d : scene->materials) {
     auto m = render::Material::create(d);

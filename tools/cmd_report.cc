@@ -11,6 +11,7 @@
 #include "cbrdf/fit.h"
 #include "cbrdf/samples.h"
 #include "cli.h"
+#include "cli_io.h"
 #include "report/measure.h"
 #include "report/sweep.h"
 #include "report/tables.h"
@@ -37,6 +38,28 @@ int run_report(const ReportOptions& o, const Context& global) {
   ctx.quiet = ctx.quiet || o.quiet;
   if (o.inputs.empty() && !o.builtin) {
     return usage_error("report: give MERL .binary files, --builtin, or both");
+  }
+  {
+    std::vector<PathArg> inputs;
+    for (const std::string& f : o.inputs) inputs.push_back({"input", f});
+    if (auto bad = check_paths("report", inputs, {{"-o", o.output_dir}}, false)) {
+      return usage_error(*bad);
+    }
+    // The report writes only these kinds of file into its directory: an input there with such a
+    // name would be overwritten.
+    std::error_code ec;
+    for (const std::string& f : o.inputs) {
+      const std::filesystem::path p(f);
+      const std::string ext = p.extension().string();
+      const bool report_kind = ext == ".html" || ext == ".md" || ext == ".csv" || ext == ".json" ||
+                               ext == ".svg" || ext == ".png";
+      const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
+      if (report_kind && !o.output_dir.empty() &&
+          std::filesystem::equivalent(dir, o.output_dir, ec)) {
+        return usage_error("report: the input " + f + " is in the output directory " +
+                           o.output_dir + ", where the report would overwrite it");
+      }
+    }
   }
   auto sweep = report::parse_sweep(o.sweep);
   if (!sweep.ok()) return usage_error("report: " + sweep.status().message());

@@ -4,6 +4,7 @@
 #include "cbrdf/merl_io.h"
 #include "cbrdf/samples.h"
 #include "cli.h"
+#include "cli_io.h"
 
 namespace cbrdf::cli {
 namespace {
@@ -23,10 +24,14 @@ int run_sample(const SampleOptions& o, const Context& ctx) {
   }
   if (o.name.empty()) return usage_error("sample: give a material NAME or --list");
   if (o.output.empty()) return usage_error("sample: give the output file with -o FILE.binary");
+  const std::vector<PathArg> outputs = {{"-o", o.output}};
+  if (auto bad = check_paths("sample", {}, outputs)) return usage_error(*bad);
   auto table = make_sample(o.name);
   if (!table.ok()) return fail(table.status());
-  if (Status s = write_merl(o.output, *table); !s.ok()) return fail(s);
-  if (!ctx.quiet) std::printf("wrote %s (%s)\n", o.output.c_str(), o.name.c_str());
+  if (Status s = write_merl(output_path(o.output), *table); !s.ok()) return fail(s);
+  if (!ctx.quiet)
+    std::fprintf(info_stream(outputs), "wrote %s (%s)\n", shown(o.output, true).c_str(),
+                 o.name.c_str());
   return kExitOk;
 }
 
@@ -34,10 +39,11 @@ int run_sample(const SampleOptions& o, const Context& ctx) {
 
 void add_sample_command(CLI::App& app, const Context& ctx, Action* action) {
   auto o = std::make_shared<SampleOptions>();
-  CLI::App* cmd = app.add_subcommand("sample", "Write a built-in analytic material as a MERL table");
+  CLI::App* cmd =
+      app.add_subcommand("sample", "Write a built-in analytic material as a MERL table");
   cmd->add_flag("--list", o->list, "List the built-in materials");
   cmd->add_option("name", o->name, "Material name (see --list)");
-  cmd->add_option("-o,--output", o->output, "Output MERL .binary file");
+  cmd->add_option("-o,--output", o->output, "Output MERL .binary file (- for standard output)");
   cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_sample(*o, ctx); }; });
 }
 

@@ -1,6 +1,11 @@
 // cbrdf: the command-line front end. One file per subcommand; this file only dispatches.
 #include <cstdio>
+#include <cstring>
+#include <exception>
+#include <new>
+#include <string>
 
+#include "cbrdf/file_io.h"
 #include "cli.h"
 
 namespace cbrdf::cli {
@@ -17,10 +22,32 @@ int usage_error(const std::string& message) {
 
 }  // namespace cbrdf::cli
 
-int main(int argc, char** argv) {
-  using namespace cbrdf::cli;
-  CLI::App app{
-      "cbrdf: a copula-based lossy codec for measured BRDFs (MERL .binary <-> .cbrdf)", "cbrdf"};
+namespace {
+
+using namespace cbrdf::cli;
+
+constexpr const char* kSubcommands[] = {"sample", "info",   "encode", "decode",
+                                        "report", "render", "imgdiff"};
+
+// CLI11 says "A subcommand is required" for a mistyped one; name it instead. Global options are
+// flags only, so the first argument that is not an option is the subcommand.
+int check_subcommand(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const char* a = argv[i];
+    if (a[0] == '-') continue;
+    for (const char* s : kSubcommands) {
+      if (std::strcmp(a, s) == 0) return kExitOk;
+    }
+    std::string list;
+    for (const char* s : kSubcommands) list += std::string(list.empty() ? "" : ", ") + s;
+    return usage_error(std::string("unknown subcommand '") + a + "' (" + list + ")");
+  }
+  return kExitOk;
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{"cbrdf: a copula-based lossy codec for measured BRDFs (MERL .binary <-> .cbrdf)",
+               "cbrdf"};
   app.set_version_flag("--version", CBRDF_VERSION_STRING);
   app.require_subcommand(1);
   app.fallthrough();  // -q and -v work after the subcommand too
@@ -47,4 +74,26 @@ int main(int argc, char** argv) {
     return usage_error(e.what());
   }
   return action ? action() : kExitUsage;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Interrupted writes leave no temporary files behind (file_io.h).
+  cbrdf::remove_temporaries_on_signals();
+  if (int code = check_subcommand(argc, argv); code != kExitOk) return code;
+  // The library reports errors as values; this is the last resort for what escapes anyway (a
+  // third-party library's exception, memory exhaustion), so that no input ends in an abort.
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "cbrdf: out of memory\n");
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    for (char& c : what) c = c == '\n' || c == '\r' ? ' ' : c;  // one line
+    std::fprintf(stderr, "cbrdf: internal error: %s\n", what.c_str());
+  } catch (...) {
+    std::fprintf(stderr, "cbrdf: internal error: unknown exception\n");
+  }
+  return kExitData;
 }

@@ -7,6 +7,7 @@
 #include "cbrdf/container.h"
 #include "decode_chunks.h"
 #include "encode_chunks.h"
+#include "utf8.h"
 
 #ifndef CBRDF_VERSION_STRING
 #define CBRDF_VERSION_STRING "unknown"
@@ -97,8 +98,10 @@ Status check_model(const Model& model) {
   return ok_status();
 }
 
+// Metadata is UTF-8 text without control characters (spec 4.5): a file name from any filesystem
+// is stored with invalid bytes as U+FFFD and control characters as '?'.
 std::string sanitized(const std::string& s) {
-  std::string out = s.substr(0, kMaxMetadataValueBytes);
+  std::string out = valid_utf8(s, kMaxMetadataValueBytes);
   for (char& ch : out) {
     if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7F) ch = '?';
   }

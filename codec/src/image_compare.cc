@@ -33,16 +33,22 @@ double psnr(const Image& reference, const Image& test, int channel, double peak,
   std::size_t n = 0;
   for (std::size_t i = 0; i < reference.pixel_count(); ++i) {
     if (!counted(mask, i)) continue;
-    const double e = double(test.data[i * 3 + std::size_t(channel)]) -
-                     double(reference.data[i * 3 + std::size_t(channel)]);
-    sum += e * e;
+    const double t = test.data[i * 3 + std::size_t(channel)];
+    const double r = reference.data[i * 3 + std::size_t(channel)];
+    // Equal values (infinities too) match; any other pair with an inf or NaN is an infinite
+    // error, never a NaN that would compare as a perfect match.
+    const double e = t == r ? 0.0 : t - r;
+    sum += std::isnan(e) ? std::numeric_limits<double>::infinity() : e * e;
     ++n;
   }
   if (n == 0) return std::numeric_limits<double>::quiet_NaN();
   const double mse = sum / double(n);
   if (mse == 0.0) return kPsnrCapDb;
-  if (peak <= 0.0) return -std::numeric_limits<double>::infinity();
-  return std::min(kPsnrCapDb, 10.0 * std::log10(peak * peak / mse));
+  if (peak <= 0.0 || mse == std::numeric_limits<double>::infinity()) {
+    return -std::numeric_limits<double>::infinity();
+  }
+  const double db = 10.0 * std::log10(peak * peak / mse);
+  return std::isnan(db) ? db : std::min(kPsnrCapDb, db);
 }
 
 double percentile(const Image& image, double p, const std::vector<std::uint8_t>* mask) {

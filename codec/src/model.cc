@@ -21,6 +21,12 @@ inline double saturate(double v) {
   return v < kMax ? v : (v == v ? kMax : 0.0);
 }
 
+// Parameters are evaluated clamped to [-1e300, 1e300]: beyond, 1/|theta| is subnormal and the
+// families' terms go through libm's slow subnormal paths (Frank at -DBL_MAX cost 8x the time per
+// bin of Frank at -1e300), while the densities on a grid of midpoint CDFs are already those of the
+// limit copula (0 off the diagonal). spec/container.md, "Resource bounds", states the rule.
+constexpr double kMaxEvaluatedParameter = 1e300;
+
 }  // namespace
 
 std::size_t NotMeasured::count() const {
@@ -76,15 +82,16 @@ struct Term {
   explicit Term(const Component& c) : cs(&c) {
     // FrankGrid is accurate only down to kFrankGridMinAlpha (the fitter's bound); a file may
     // hold any parameter of the domain, which the general grid evaluates in the log domain.
+    const double theta = std::clamp(c.theta, -kMaxEvaluatedParameter, kMaxEvaluatedParameter);
     const bool frank_beyond_grid =
-        c.family == CopulaFamily::kFrank && c.theta < fit::kFrankGridMinAlpha;
+        c.family == CopulaFamily::kFrank && theta < fit::kFrankGridMinAlpha;
     copula =
         frank_beyond_grid ? fit::make_archimedean_grid(c.family) : fit::make_grid_copula(c.family);
     std::vector<double> u1, u2, u3;
     fit::midpoint_cdf(c.pdf_h, &u1);
     fit::midpoint_cdf(c.pdf_d, &u2);
     fit::midpoint_cdf(c.pdf_p, &u3);
-    copula->prepare(c.theta, u1, u2, u3);
+    copula->prepare(theta, u1, u2, u3);
     frank = fit::frank_grid_of(*copula);
   }
 

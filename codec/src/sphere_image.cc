@@ -1,5 +1,6 @@
 // Sphere renders and their PSNR (metrics.h documents the scene exactly).
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -139,7 +140,61 @@ std::shared_ptr<const std::vector<LitPixel>> cached_bins(int size, double light_
   return bins;
 }
 
-using Renderer = std::function<Image(double light_angle_deg)>;
+// Renders one light with the BRDF's values times `scale` (a power of two) and, when peak is not
+// null, stores there the largest radiance it rendered, in double.
+using Renderer = std::function<Image(double light_angle_deg, double scale, double* peak)>;
+
+// Images are float: a BRDF beyond about 1e38 would render as inf (inf - inf is NaN, which read as
+// a perfect match) and one below about 1e-38 as 0 (a perfect match with anything as small).
+// Both renders are therefore scaled by the power of two that brings the reference's peak to
+// [1, 2) when the peak is outside [2^-60, 2^60]; PSNR does not depend on a common scale, and
+// ordinary materials (scale 1) render exactly as before.
+double render_scale(double peak) {
+  if (!(peak > 0) || !std::isfinite(peak) || (peak >= 0x1p-60 && peak <= 0x1p60)) return 1.0;
+  return std::ldexp(1.0, -std::ilogb(peak));
+}
+
+void atomic_max(std::atomic<double>* m, double v) {
+  double cur = m->load(std::memory_order_relaxed);
+  while (v > cur && !m->compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+  }
+}
+
+Renderer fn_renderer(const BrdfFn& f, const SphereSetup& setup) {
+  return [&f, &setup](double angle, double scale, double* peak) {
+    std::atomic<double> largest{0.0};
+    const BrdfFn scaled = [&](const Vec3& wi, const Vec3& wo, double rgb[3]) {
+      f(wi, wo, rgb);
+      for (int c = 0; c < 3; ++c) {
+        rgb[c] *= scale;
+        if (peak) atomic_max(&largest, rgb[c]);
+      }
+    };
+    Image img = render_sphere(scale == 1.0 && !peak ? f : scaled, angle, setup.size, setup.threads);
+    if (peak) *peak = largest.load();
+    return img;
+  };
+}
+
+Renderer table_renderer(const BrdfTable& table, const SphereSetup& setup) {
+  return [&table, &setup](double angle, double scale, double* peak) {
+    if (scale == 1.0 && !peak) return render_sphere(table, angle, setup.size, setup.threads);
+    if (setup.size <= 0 || setup.size > kMaxSphereSize) return Image{};
+    const std::shared_ptr<const std::vector<LitPixel>> bins =
+        cached_bins(setup.size, angle, setup.threads);
+    Image img(setup.size, setup.size);
+    double largest = 0;
+    for (const LitPixel& p : *bins) {
+      for (int c = 0; c < kChannels; ++c) {
+        const double v = table.measured(c, p.bin) ? table.physical(c, p.bin) * scale : 0.0;
+        largest = std::max(largest, v);
+        img.data[std::size_t(p.pixel) * 3 + std::size_t(c)] = float(v * p.cos_i);
+      }
+    }
+    if (peak) *peak = largest;
+    return img;
+  };
+}
 
 ImageMetrics compare(const Renderer& render_reference, const Renderer& render_test,
                      const SphereSetup& setup);
@@ -156,8 +211,11 @@ ImageMetrics compare(const Renderer& render_reference, const Renderer& render_te
   const std::vector<std::uint8_t> mask = sphere_mask(setup.size);
   std::vector<double> linear, tonemapped;
   for (double angle : setup.light_angles_deg) {
-    const Image ref = render_reference(angle);
-    const Image tst = render_test(angle);
+    double ref_peak = 0;
+    Image ref = render_reference(angle, 1.0, &ref_peak);
+    const double scale = render_scale(ref_peak);
+    if (scale != 1.0) ref = render_reference(angle, scale, nullptr);
+    const Image tst = render_test(angle, scale, nullptr);
     LightMetrics lm;
     lm.light_angle_deg = angle;
     lm.exposure = tonemap_exposure(ref, &mask);
@@ -224,22 +282,16 @@ Image render_sphere(const BrdfTable& table, double light_angle_deg, int size, in
 }
 
 ImageMetrics sphere_psnr(const BrdfFn& reference, const BrdfFn& test, const SphereSetup& setup) {
-  return compare([&](double a) { return render_sphere(reference, a, setup.size, setup.threads); },
-                 [&](double a) { return render_sphere(test, a, setup.size, setup.threads); },
-                 setup);
+  return compare(fn_renderer(reference, setup), fn_renderer(test, setup), setup);
 }
 
 ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfTable& test,
                          const SphereSetup& setup) {
-  return compare([&](double a) { return render_sphere(reference, a, setup.size, setup.threads); },
-                 [&](double a) { return render_sphere(test, a, setup.size, setup.threads); },
-                 setup);
+  return compare(table_renderer(reference, setup), table_renderer(test, setup), setup);
 }
 
 ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfFn& test, const SphereSetup& setup) {
-  return compare([&](double a) { return render_sphere(reference, a, setup.size, setup.threads); },
-                 [&](double a) { return render_sphere(test, a, setup.size, setup.threads); },
-                 setup);
+  return compare(table_renderer(reference, setup), fn_renderer(test, setup), setup);
 }
 
 }  // namespace cbrdf

@@ -4,7 +4,8 @@ namespace cbrdf {
 
 std::size_t BrdfTable::count_not_measured() const {
   std::size_t n = 0;
-  for (double v : stored_) n += v < 0.0 ? 1 : 0;
+  // NaN counts as not measured, as measured() says: only values >= 0 are measurements.
+  for (double v : stored_) n += v >= 0.0 ? 0 : 1;
   return n;
 }
 

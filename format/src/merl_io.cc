@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "cbrdf/coords.h"
@@ -100,19 +101,16 @@ Status check_dims(const std::array<std::int32_t, 3>& dims, std::uint64_t file_by
   return ok_status();
 }
 
-// Tracks NaN and Inf values in file order, so the error can name the first one.
+// Tracks +Inf values in file order, so the error can name the first one. NaN and negative values
+// (-Inf included) are "not measured" and kept as they are: every table cbrdf writes, it reads.
 struct NonFinite {
   std::size_t count = 0;
   std::size_t first = 0;  // index among the file's doubles
-  bool first_is_nan = false;
 
   void scan(const double* values, std::size_t n, std::size_t file_index) {
     for (std::size_t i = 0; i < n; ++i) {
-      if (std::isfinite(values[i])) continue;
-      if (count++ == 0) {
-        first = file_index + i;
-        first_is_nan = std::isnan(values[i]);
-      }
+      if (!(values[i] == std::numeric_limits<double>::infinity())) continue;
+      if (count++ == 0) first = file_index + i;
     }
   }
 
@@ -125,12 +123,11 @@ struct NonFinite {
     const std::size_t theta_d = (index / std::size_t(phi_bins)) % kThetaDBins;
     const std::size_t theta_h = index / (std::size_t(phi_bins) * kThetaDBins);
     return error(ErrorCode::kNumeric,
-                 name + ": " + std::to_string(count) + " NaN or Inf value" +
-                     (count == 1 ? "" : "s") + "; the first is " + (first_is_nan ? "NaN" : "Inf") +
-                     " at channel " + kChannelNames[channel] + ", bin (theta_h " +
-                     std::to_string(theta_h) + ", theta_d " + std::to_string(theta_d) + ", phi_d " +
-                     std::to_string(phi) + "), byte offset " +
-                     std::to_string(kMerlHeaderBytes + first * sizeof(double)));
+                 name + ": " + std::to_string(count) + " +Inf value" + (count == 1 ? "" : "s") +
+                     " (a measurement must be finite); the first at channel " +
+                     kChannelNames[channel] + ", bin (theta_h " + std::to_string(theta_h) +
+                     ", theta_d " + std::to_string(theta_d) + ", phi_d " + std::to_string(phi) +
+                     "), byte offset " + std::to_string(kMerlHeaderBytes + first * sizeof(double)));
   }
 };
 
@@ -206,7 +203,8 @@ Expected<BrdfTable> read_merl(const fs::path& path, const MerlReadOptions& optio
                               MerlInfo* info) {
   Expected<FileReader> reader = FileReader::open(path);
   if (!reader) return reader.status();
-  return read_merl_from(*reader, path.string(), options, info);
+  const std::string name = path == "/dev/stdin" ? "standard input" : path.string();
+  return read_merl_from(*reader, name, options, info);
 }
 
 Expected<BrdfTable> parse_merl(std::span<const std::uint8_t> bytes,

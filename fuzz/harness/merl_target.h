@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -194,7 +195,8 @@ inline Result run_merl_template(ByteSource in) {
     // Only the window can hold a non-finite value (the template's values are finite).
     for (std::size_t at = kMerlHeaderBytes; at + 8 <= size && finite; at += 8) {
       if (at + 8 <= window_at || at >= window_at + window_len) continue;
-      finite = std::isfinite(read_f64(buf.data() + at));
+      // NaN and -Inf are not-measured values; only +Inf is refused.
+      finite = read_f64(buf.data() + at) != std::numeric_limits<double>::infinity();
     }
   }
   if (!t.ok()) {
@@ -204,7 +206,8 @@ inline Result run_merl_template(ByteSource in) {
             "refused a valid file: " + t.status().message());
     if (supported && size < needed) r.check(r.code == ErrorCode::kTruncated, "short file: code");
     if (supported && size > needed) r.check(r.code == ErrorCode::kCorrupt, "long file: code");
-    if (supported && size == needed && !finite) r.check(r.code == ErrorCode::kNumeric, "NaN: code");
+    if (supported && size == needed && !finite)
+      r.check(r.code == ErrorCode::kNumeric, "+Inf: code");
   } else {
     r.accept();
     r.check(supported && size == needed && finite, "accepted an invalid file");

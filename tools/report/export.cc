@@ -162,7 +162,7 @@ std::string to_json(const std::vector<MaterialResult>& results, const Settings& 
                         {"polar", polar},
                         {"gains", gains},
                         {"frontier", frontier_json(results, st)}}
-             .dump(1) +
+             .dump(1, ' ', false, nlohmann::json::error_handler_t::replace) +
          "\n";
 }
 

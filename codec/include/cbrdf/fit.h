@@ -77,6 +77,9 @@ struct ChannelSliceFit {
   double objective_independence = 0;  // the same at the separable model (theta at independence)
   int solver_iterations = 0;
   int hals_sweeps = 0;  // mixtures: sweeps of the factorization
+  // Mixtures: factorizations that stopped at the cap of 400 sweeps per component before their
+  // objective settled (the fit is still used; it is the best found within the cap).
+  int hals_unconverged = 0;
   int impute_rounds = 0;
   int measured_bins = 0;
 };
@@ -85,7 +88,18 @@ struct FitReport {
   std::vector<std::array<ChannelSliceFit, kChannels>> slices;
 };
 
-// Fits the model. Errors: invalid settings (kInvalidArgument).
+// The values a table may hold where it is measured: in each channel the largest measured value is
+// 0 (the channel is all 0) or lies in [kMinPeakMeasuredValue, kMaxMeasuredValue]. Inside this
+// range the decoded table equals the one of the same table scaled to ordinary values, scaled back
+// (to about 1e-13 relative): the fit works on a power-of-two normalized copy and the stored K keeps
+// 1e50 of headroom before any product of the evaluation overflows or turns subnormal. Beyond it K
+// or the values rebuilt from it would overflow (1e300 times a material decoded 13,000 bins to the
+// largest double) or lose their precision in subnormals.
+inline constexpr double kMaxMeasuredValue = 1e250;
+inline constexpr double kMinPeakMeasuredValue = 1e-250;
+
+// Fits the model. Errors: invalid settings (kInvalidArgument); a channel whose largest measured
+// value is outside the supported range above (kNumeric, naming the channel and the value).
 Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings,
                           FitReport* report = nullptr);
 

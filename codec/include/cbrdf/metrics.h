@@ -21,6 +21,10 @@
 //                (its 99th percentile over sphere pixels and all channels maps to 1), peak 1.
 // The summary is the arithmetic mean of the dB values over lights and channels. Identical images
 // give kPsnrCapDb, never +inf, so means stay finite; any PSNR above the cap is reported as the cap.
+// Renders are float images: when the reference's largest rendered value is outside [2^-60, 2^60]
+// both BRDFs are scaled by the power of two that brings it to [1, 2) first (PSNR does not depend
+// on a common scale), so a table of values near 1e300 or 1e-300 is measured, not read as a match
+// of two overflowed or underflowed images.
 #pragma once
 
 #include <array>
@@ -118,7 +122,8 @@ ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfFn& test,
 // ---- Image comparison helpers (mask: nullptr or one byte per pixel, nonzero = counted) ----
 
 // PSNR of one channel, 10 log10(peak^2 / MSE), capped at kPsnrCapDb (so MSE = 0 gives the cap);
-// -inf when peak is 0 and the images differ. NaN when the sizes differ or nothing is counted.
+// -inf when peak is 0 and the images differ, or when a pixel differs by an infinite amount (an
+// inf or NaN against any other value). NaN when the sizes differ or nothing is counted.
 double psnr(const Image& reference, const Image& test, int channel, double peak,
             const std::vector<std::uint8_t>* mask = nullptr);
 // The p-th percentile (p in [0, 100]) of all channel values of the counted pixels, linearly

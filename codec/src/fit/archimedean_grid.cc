@@ -5,6 +5,13 @@
 // large parameters) the bin falls back to the general log_density. The derivative in the parameter
 // is a one-sided difference with a second prepared grid (the fitter only needs it to steer: Ceres's
 // cost, and so its acceptance of steps, is exact).
+//
+// Work per bin is bounded whatever the parameter (spec/container.md, "Resource bounds"): where the
+// sum s of the phi is not a normal double (phi underflows at large Gumbel or Joe parameters and at
+// very negative Frank ones), log s comes from the prepared log phi by a log-sum-exp, so that the
+// bin costs one log and a few exp more than the fast path, instead of the general log_density
+// (about 15 transcendental calls, many on subnormal or overflowing arguments, 10x the fast path).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -16,8 +23,23 @@ namespace cbrdf::fit {
 namespace {
 
 struct AxisTerms {
-  std::vector<double> psi, log_dpsi, u;
+  std::vector<double> psi, log_psi, log_dpsi, u;
 };
+
+// log(e^a + e^b + e^c), skipping the exp of terms that underflow anyway (an exp that underflows
+// goes through libm's slow error path).
+double log_sum_exp3(double a, double b, double c) {
+  const double m = std::max({a, b, c});
+  if (!(m > -std::numeric_limits<double>::infinity()) ||
+      m == std::numeric_limits<double>::infinity()) {
+    return m;
+  }
+  double sum = 0;
+  for (double x : {a, b, c}) {
+    if (x - m > -746.0) sum += std::exp(x - m);
+  }
+  return m + std::log(sum);
+}
 
 class PreparedGrid {
  public:
@@ -29,19 +51,30 @@ class PreparedGrid {
       AxisTerms& t = axes_[a];
       t.u = *u[a];
       t.psi.resize(t.u.size());
+      t.log_psi.resize(t.u.size());
       t.log_dpsi.resize(t.u.size());
       for (std::size_t i = 0; i < t.u.size(); ++i) {
-        const Copula::AxisTerm term = c.axis_term(t.u[i], theta);
-        t.psi[i] = term.psi;
-        t.log_dpsi[i] = term.log_abs_dpsi;
+        // axis_term(u).psi is exactly exp(log_generator(u)).
+        t.log_psi[i] = c.log_generator(t.u[i], theta);
+        t.psi[i] = std::exp(t.log_psi[i]);
+        t.log_dpsi[i] = c.log_abs_generator_derivative(t.u[i], theta);
       }
     }
   }
   double density(int i, int j, int k) const {
     const double s = axes_[0].psi[i] + axes_[1].psi[j] + axes_[2].psi[k];
     const double l = axes_[0].log_dpsi[i] + axes_[1].log_dpsi[j] + axes_[2].log_dpsi[k];
-    double log_c = copula_->log_abs_inverse_third_derivative(s, path_) + l;
+    double log_c;
+    if (std::isnormal(s) || s == std::numeric_limits<double>::infinity()) {
+      log_c = copula_->log_abs_inverse_third_derivative(s, path_) + l;
+    } else {
+      ++grid_work_counters().log_sum_paths;
+      const double log_s =
+          log_sum_exp3(axes_[0].log_psi[i], axes_[1].log_psi[j], axes_[2].log_psi[k]);
+      log_c = copula_->log_abs_inverse_derivative(3, log_s, theta_) + l;
+    }
     if (!std::isfinite(log_c) && !(log_c == -std::numeric_limits<double>::infinity())) {
+      ++grid_work_counters().general_paths;
       log_c = copula_->log_density(axes_[0].u[i], axes_[1].u[j], axes_[2].u[k], theta_);
     }
     const double c = std::exp(log_c);
@@ -96,6 +129,11 @@ class ArchimedeanGrid final : public GridCopula {
 };
 
 }  // namespace
+
+GridWorkCounters& grid_work_counters() {
+  thread_local GridWorkCounters counters;
+  return counters;
+}
 
 // Fit ranges: beyond these the dependence is so strong that the three marginals are nearly
 // comonotone, which no BRDF slice in the MERL data approaches (the fitted Frank parameters stay

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <thread>
 
@@ -76,6 +77,7 @@ void add_components(const fit::SliceData& s, const FitSettings& st, SliceFitResu
       r->report.objective = m.objective;
     }
     r->report.hals_sweeps += m.sweeps;
+    r->report.hals_unconverged += m.unconverged;
     r->report.solver_iterations += m.solver_iterations;
     return;
   }
@@ -84,6 +86,7 @@ void add_components(const fit::SliceData& s, const FitSettings& st, SliceFitResu
     if (r->report.objective < kAutoObjectiveFloor) break;
     fit::MixtureFit m = fit::fit_mixture(s, r->cs, k, family, st.loss);
     r->report.hals_sweeps += m.sweeps;
+    r->report.hals_unconverged += m.unconverged;
     r->report.solver_iterations += m.solver_iterations;
     if (m.cs.components() < k || !(m.objective < st.auto_component_gain * r->report.objective)) {
       break;
@@ -95,8 +98,8 @@ void add_components(const fit::SliceData& s, const FitSettings& st, SliceFitResu
 
 SliceFitResult fit_slice_channel(const BrdfTable& table, int channel, int begin, int end,
                                  const FitSettings& st) {
-  const fit::SliceData s =
-      fit::extract_slice(table, channel, begin, end, st.loss == FitLoss::kCosine);
+  fit::SliceData s = fit::extract_slice(table, channel, begin, end, st.loss == FitLoss::kCosine);
+  fit::normalize_slice(&s);  // the fit in units of s.unit; K back to physical units at the end
   double sum = 0;
   for (double v : s.mv) sum += v;
   if (!(sum > 0)) {
@@ -126,6 +129,8 @@ SliceFitResult fit_slice_channel(const BrdfTable& table, int channel, int begin,
     }
   }
   if (st.components > 1 && best.cs.scale > 0) add_components(s, st, &best);
+  best.cs.scale *= s.unit;  // a power of two: exact
+  for (Component& c : best.cs.extra) c.scale *= s.unit;
   return best;
 }
 
@@ -153,7 +158,33 @@ Expected<std::vector<int>> slice_bounds(const FitSettings& st) {
   return b;
 }
 
+namespace {
+
+// The supported value range (fit.h).
+Status check_value_range(const BrdfTable& table) {
+  for (int c = 0; c < kChannels; ++c) {
+    const double* data = table.channel_data(c);
+    double largest = 0;
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      if (data[i] >= 0.0) largest = std::max(largest, data[i]);  // inf is measured and largest
+    }
+    if (largest == 0.0 || (largest >= kMinPeakMeasuredValue && largest <= kMaxMeasuredValue)) {
+      continue;
+    }
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "channel %c: the largest measured value, %.3g, is outside the supported range "
+                  "(%.0e to %.0e, or a channel of zeros)",
+                  "RGB"[c], largest, kMinPeakMeasuredValue, kMaxMeasuredValue);
+    return error(ErrorCode::kNumeric, text);
+  }
+  return ok_status();
+}
+
+}  // namespace
+
 Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings, FitReport* report) {
+  if (Status s = check_value_range(table); !s.ok()) return s;
   FitSettings st = settings;
   if (st.slice_bounds.empty() && (st.adaptive_slices || st.auto_slices)) {
     if (st.auto_slices) {

@@ -17,11 +17,18 @@ namespace {
 // then one streaming pass over the slice, and Ceres never stores an n x 2 Jacobian.
 //
 // Losses: kLinear r = v / vbar - m, kCosine the same times sqrt(cos theta_i cos theta_o), kLog
-// r = log1p(v) - log1p(m vbar), with m = K' c f the model in units of vbar.
+// r = log1p(v) - log1p(m vbar), with m = K' c f the model in units of vbar (v and vbar physical:
+// the stored values times SliceData::unit).
 class SliceCost final : public ceres::SizedCostFunction<3, 1, 1> {
  public:
   SliceCost(const SliceData& s, const Marginals& m, GridCopula& copula, double vbar, FitLoss loss)
-      : s_(s), m_(m), copula_(copula), vbar_(vbar), inv_vbar_(1.0 / vbar), loss_(loss) {}
+      : s_(s),
+        m_(m),
+        copula_(copula),
+        vbar_(vbar),
+        inv_vbar_(1.0 / vbar),
+        physical_vbar_(vbar * s.unit),
+        loss_(loss) {}
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
@@ -44,8 +51,8 @@ class SliceCost final : public ceres::SizedCostFunction<3, 1, 1> {
           const double model = k * c[l] * f;
           double r, dr_dm;  // the residual and its derivative in the model value
           if (loss_ == FitLoss::kLog) {
-            r = std::log1p(s_.mv[q]) - std::log1p(model * vbar_);
-            dr_dm = -vbar_ / (1.0 + model * vbar_);
+            r = std::log1p(s_.mv[q] * s_.unit) - std::log1p(model * physical_vbar_);
+            dr_dm = -physical_vbar_ / (1.0 + model * physical_vbar_);
           } else {
             const double w = loss_ == FitLoss::kCosine ? std::sqrt(s_.mw[q]) : 1.0;
             r = w * (s_.mv[q] * inv_vbar_ - model);
@@ -94,7 +101,7 @@ class SliceCost final : public ceres::SizedCostFunction<3, 1, 1> {
   const SliceData& s_;
   const Marginals& m_;
   GridCopula& copula_;
-  double vbar_, inv_vbar_;
+  double vbar_, inv_vbar_, physical_vbar_;  // the log loss is in physical units
   FitLoss loss_;
 };
 
@@ -145,7 +152,7 @@ ParameterFit evaluate_parameter(const SliceData& s, const Marginals& m, GridCopu
     // A second pass: the log loss has no closed form in K.
     double sum = 0;
     for_each_measured(s, m, copula, [&](std::uint32_t q, double p) {
-      const double d = std::log1p(s.mv[q]) - std::log1p(r.scale * p);
+      const double d = std::log1p(s.mv[q] * s.unit) - std::log1p(r.scale * s.unit * p);
       sum += d * d;
     });
     r.objective = sum / double(s.measured_count());

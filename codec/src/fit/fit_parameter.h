@@ -10,7 +10,7 @@ namespace cbrdf::fit {
 
 struct ParameterFit {
   double theta = 0;
-  double scale = 0;      // K
+  double scale = 0;  // K, in units of the slice's SliceData::unit
   // Mean over measured bins of the loss: for kLinear ((v - K c f1 f2 f3) / mean v)^2, kCosine the
   // same weighted by cos(theta_i) cos(theta_o), kLog (log(1 + v) - log(1 + K c f1 f2 f3))^2.
   double objective = 0;

@@ -2,6 +2,7 @@
 // prepared once per parameter value, so a bin costs a few multiply-adds.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -30,6 +31,16 @@ std::unique_ptr<GridCopula> make_grid_copula(CopulaFamily family);
 // ModelEvaluator uses it for Frank parameters below kFrankGridMinAlpha, where FrankGrid's terms
 // underflow and its density turns NaN, since a file may hold any parameter of the domain.
 std::unique_ptr<GridCopula> make_archimedean_grid(CopulaFamily family);
+
+// Bins of the calling thread that the Archimedean grid evaluated off its fast path, for tests
+// that bound the decoder's work (spec/container.md, "Resource bounds"): log_sum_paths formed log s
+// by a log-sum-exp (a few exp and a log more than the fast path), general_paths fell back to the
+// general Copula::log_density (about ten times the fast path). Reset them by assignment.
+struct GridWorkCounters {
+  std::uint64_t log_sum_paths = 0;
+  std::uint64_t general_paths = 0;
+};
+GridWorkCounters& grid_work_counters();
 
 class FrankGrid;
 // The Frank grid inside a GridCopula made for kFrank (null for other families), so that hot loops

@@ -13,7 +13,6 @@
 namespace cbrdf::fit {
 namespace {
 
-constexpr int kMaxSweeps = 400;
 // Stop when a sweep lowers the measured objective by less than this fraction. On
 // blue-metallic-paint (2 components) 1e-5 took 400 sweeps on most slices for 0.06 dB more than
 // 1e-3 (3.4 s vs 2.1 s); 1e-2 lost 0.14 dB.
@@ -294,8 +293,10 @@ class MixtureCost final : public ceres::CostFunction {
           }
           double res, dr_dm;
           if (loss_ == FitLoss::kLog) {
-            res = std::log1p(s_.mv[q]) - std::log1p(model * vbar_);
-            dr_dm = -vbar_ / (1.0 + model * vbar_);
+            // Physical units: the stored values times the slice's unit.
+            const double pv = vbar_ * s_.unit;
+            res = std::log1p(s_.mv[q] * s_.unit) - std::log1p(model * pv);
+            dr_dm = -pv / (1.0 + model * pv);
           } else {
             const double wt = loss_ == FitLoss::kCosine ? std::sqrt(s_.mw[q]) : 1.0;
             res = wt * (s_.mv[q] * inv_vbar - model);
@@ -377,14 +378,15 @@ MixtureFit fit_mixture(const SliceData& s, const ChannelSlice& start, int compon
     const int before = f.rank();
     add_residual_component(s, y, &f);
     if (f.rank() == before) break;  // nothing positive left to explain
-    for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+    bool converged = false;
+    for (int sweep = 0; sweep < kMaxSweeps && !converged; ++sweep) {
       hals_sweep(s, y, &f);
       const double next = fill_and_measure(s, f, &y);
       ++out.sweeps;
-      const bool converged = sse - next <= kSweepTolerance * sse;
+      converged = sse - next <= kSweepTolerance * sse;
       sse = next;
-      if (converged) break;
     }
+    if (!converged) ++out.unconverged;
     drop_vanished(&f);
   }
   if (f.rank() == 0) return out;

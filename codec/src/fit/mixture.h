@@ -17,17 +17,23 @@
 
 namespace cbrdf::fit {
 
+inline constexpr int kMaxSweeps = 400;  // HALS sweeps per added component, at most
+
 struct MixtureFit {
   ChannelSlice cs;                     // the components, largest K first
   double objective = 0;                // as ParameterFit::objective (mean loss per measured bin)
   double objective_factorization = 0;  // the same after stage 1 (all copulas at independence)
   int sweeps = 0;                      // HALS sweeps
-  int solver_iterations = 0;           // Ceres iterations of stage 2
+  int unconverged = 0;  // factorizations stopped at the sweep cap (kMaxSweeps) before converging
+  int solver_iterations = 0;  // Ceres iterations of stage 2
 };
 
 // Fits `components` (>= 2) components starting from `start` (a fit of this slice with fewer
 // components, e.g. the paper's single component). Components that vanish during the
 // factorization are dropped, so the result may hold fewer. Deterministic.
+// Each added component costs at most kMaxSweeps HALS sweeps. Scales are in units of s.unit
+// (fit/slice_data.h): with the slice normalized, the result does not depend on the table's
+// overall scale.
 MixtureFit fit_mixture(const SliceData& s, const ChannelSlice& start, int components,
                        CopulaFamily family, FitLoss loss);
 

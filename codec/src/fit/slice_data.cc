@@ -1,6 +1,7 @@
 #include "fit/slice_data.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "cbrdf/coords.h"
 
@@ -62,6 +63,18 @@ SliceData extract_slice(const BrdfTable& table, int channel, int theta_d_begin, 
   }
   s.row_begin.push_back(std::uint32_t(s.mv.size()));
   return s;
+}
+
+void normalize_slice(SliceData* s) {
+  double largest = 0;
+  for (double v : s->mv) largest = std::max(largest, v);
+  if (!(largest > 0) || !std::isfinite(largest)) return;
+  const int e = std::ilogb(largest);
+  const int e3 = 3 * (e >= 0 ? e / 3 : -((2 - e) / 3));  // floor(e / 3) * 3
+  if (e3 == 0) return;
+  for (double& v : s->value) v = std::ldexp(v, -e3);
+  for (double& v : s->mv) v = std::ldexp(v, -e3);
+  s->unit = std::ldexp(s->unit, e3);
 }
 
 }  // namespace cbrdf::fit

@@ -12,7 +12,10 @@ namespace cbrdf::fit {
 struct SliceData {
   int nh = kThetaHBins, nd = 0, np = kPhiDBins;
   int theta_d_begin = 0;
-  std::vector<double> value;           // physical value; 0 where not measured
+  // The physical value of a stored value is value * unit. extract_slice gives unit 1; the fitter
+  // works on a copy normalized by a power of two (normalize_slice).
+  double unit = 1.0;
+  std::vector<double> value;           // value in units of `unit`; 0 where not measured
   std::vector<std::uint8_t> measured;  // 1 where measured
   // The measured bins as a compact list, for the least-squares passes.
   std::vector<std::uint8_t> mi, mj;
@@ -33,5 +36,12 @@ struct SliceData {
 // cosine_weights: fill mw with cos(theta_i) cos(theta_o) at each bin's grid directions (else 1).
 SliceData extract_slice(const BrdfTable& table, int channel, int theta_d_begin, int theta_d_end,
                         bool cosine_weights = false);
+
+// Divides the values by 2^e, e the multiple of 3 that brings the largest measured value into
+// [1, 8), and multiplies `unit` by 2^e: exact (no rounding) for finite values, so the fit, whose
+// every step (sums, products, square and cube roots) commutes with such a power of two, gives the
+// same result at any overall scale of the table, and never sees an intermediate square or sum
+// overflow or underflow (1e300 or 1e-100 times a material took 400 sweeps per component).
+void normalize_slice(SliceData* s);
 
 }  // namespace cbrdf::fit

@@ -5,9 +5,11 @@
 // little-endian, as the MERL database writes them; cbrdf targets little-endian hosts only (the
 // build refuses others) and reads and writes the values with plain copies.
 //
-// Values are kept as stored (physical / kMerlScale). Negative values mean "not measured" (below the
-// horizon) and are preserved bit for bit; so is -0.0 (which counts as a measured 0). Reading then
-// writing a file reproduces it byte for byte.
+// Values are kept as stored (physical / kMerlScale). A value is a measurement when it is >= 0 and
+// finite; negative values (-Inf included) and NaN mean "not measured" (below the horizon) and are
+// preserved bit for bit, NaN payloads included; so is -0.0 (which counts as a measured 0). +Inf is
+// refused. Reading then writing a file reproduces it byte for byte, and every table cbrdf writes
+// (a decoded container may hold NaN or -Inf not-measured values) it reads back.
 //
 // 90x90x360 files (phi_d over the full [0, 360) range) are folded to 180 bins by reciprocity:
 // phi_d bins k and k+180 are the same configuration with the two directions swapped, so for k in
@@ -58,7 +60,8 @@ struct MerlInfo {
 // is read straight into the table (or, for a 360-bin file, folded into it slab by slab). Errors
 // name the file: kNotFound, kIo, kTruncated (shorter than the header or its dims need), kCorrupt
 // (implausible dims, longer than its dims need), kUnsupported (dims other than 90x90x180 or
-// 90x90x360), kNumeric (NaN or Inf: the count and the first one's channel and bin).
+// 90x90x360), kNumeric (+Inf: the count and the first one's channel and bin). A path naming a
+// descriptor (/dev/stdin) is read from it (file_io.h).
 Expected<BrdfTable> read_merl(const std::filesystem::path& path,
                               const MerlReadOptions& options = {}, MerlInfo* info = nullptr);
 // The same from bytes in memory; name_for_errors prefixes every message.
