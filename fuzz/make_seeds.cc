@@ -49,7 +49,7 @@ Bytes read_file(const fs::path& p) {
 }
 
 Bytes encode(const Model& m, int bits, bool metadata = true, int zstd_level = 19) {
-  cbrdf::EncodeSettings s;
+  cbrdf::ContainerSettings s;
   s.bits = bits;
   s.zstd_level = zstd_level;
   s.source_name = "seed.binary";

@@ -23,7 +23,7 @@
 #include "cbrdf/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/samples.h"
-#include "encode_chunks.h"
+#include "chunks.h"
 #include "test_support.h"
 
 namespace cbrdf {

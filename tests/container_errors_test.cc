@@ -21,7 +21,7 @@ namespace {
 using Bytes = std::vector<std::uint8_t>;
 
 Bytes encode(const Model& m, int bits = 6) {
-  EncodeSettings s;
+  ContainerSettings s;
   s.bits = bits;
   s.zstd_level = 3;
   s.source_name = "errors";
@@ -516,7 +516,7 @@ TEST(ContainerErrors, MalformedMetadata) {
 
 TEST(ContainerErrors, EncoderRefusesBitsOutOfRange) {
   for (int bits : {5, 17}) {
-    EncodeSettings s;
+    ContainerSettings s;
     s.bits = bits;
     Expected<Bytes> b = encode_model(testing::make_model({0, 90}), s);
     ASSERT_FALSE(b.ok());
@@ -590,7 +590,7 @@ TEST(ContainerErrors, EncoderRefusesTooManyComponents) {
   Model m = testing::make_mixture_model({0, 90}, 3, 5);
   ChannelSlice& cs = m.slices[0].channel[0];
   while (cs.components() < 9) cs.extra.push_back(m.slices[0].channel[2].extra[0]);
-  EncodeSettings s;
+  ContainerSettings s;
   Expected<Bytes> b = encode_model(m, s);
   ASSERT_FALSE(b.ok());
   EXPECT_EQ(b.status().code(), ErrorCode::kInvalidArgument);

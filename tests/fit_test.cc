@@ -10,7 +10,7 @@
 #include "cbrdf/coords.h"
 #include "cbrdf/copula.h"
 #include "cbrdf/model.h"
-#include "fit/frank_grid.h"
+#include "density/frank_grid.h"
 #include "fit/marginals.h"
 #include "table_builder.h"
 

@@ -1,4 +1,4 @@
-#include "fit/frank_grid.h"
+#include "density/frank_grid.h"
 
 #include <gtest/gtest.h>
 #include <quadmath.h>
@@ -10,8 +10,8 @@ namespace cbrdf::fit {
 namespace {
 
 // The paper's Eq. 13 in __float128 (113-bit mantissa), with 1 + g_{u+v+w} written as
-// e^{alpha (u+v+w)} (that sum cancels to 1e-26 at alpha = -20). At |alpha| <= 20 the cancellation in
-// g1^2 + g_u g_v g_w loses at most ~30 of the 113 bits, leaving far more than double precision.
+// e^{alpha (u+v+w)} (that sum cancels to 1e-26 at alpha = -20). At |alpha| <= 20 the cancellation
+// in g1^2 + g_u g_v g_w loses at most ~30 of the 113 bits, leaving far more than double precision.
 double paper_density(double alpha, double u, double v, double w) {
   const __float128 a = alpha;
   auto g = [a](__float128 x) { return expm1q(a * x); };

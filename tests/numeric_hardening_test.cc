@@ -15,7 +15,7 @@
 #include "cbrdf/encoder.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/samples.h"
-#include "fit/grid_copula.h"
+#include "density/grid_copula.h"
 #include "fit/mixture.h"
 #include "synthetic_model.h"
 
@@ -40,7 +40,7 @@ Model uniform_model(CopulaFamily family, double theta, int components = 1) {
 }
 
 Model through_file(const Model& m) {
-  Expected<std::vector<std::uint8_t>> bytes = encode_model(m, EncodeSettings{});
+  Expected<std::vector<std::uint8_t>> bytes = encode_model(m, ContainerSettings{});
   EXPECT_TRUE(bytes.ok()) << bytes.status().message();
   Expected<Model> back = decode_model(*bytes);
   EXPECT_TRUE(back.ok()) << back.status().message();

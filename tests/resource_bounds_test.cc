@@ -81,7 +81,7 @@ struct Meter {
 // A valid HEAD, then the chunk under test: the parser reaches it with the file otherwise sound.
 Bytes head_then(std::string_view tag, std::uint32_t flags, const Bytes& stored,
                 std::uint32_t payload_bytes) {
-  Expected<Bytes> base = encode_model(testing::make_model({0, 90}), EncodeSettings{});
+  Expected<Bytes> base = encode_model(testing::make_model({0, 90}), ContainerSettings{});
   EXPECT_TRUE(base.ok());
   Expected<ParsedContainer> pc = parse_container(*base);
   EXPECT_TRUE(pc.ok());
@@ -200,7 +200,7 @@ TEST(ResourceBounds, MaximalMaskBombStaysWithinTheDecodeBound) {
   Expected<Bytes> frame = zstd_compress(Bytes(max_chunk_payload_bytes(kTagMask), 0), 3);
   ASSERT_TRUE(frame.ok());
   ASSERT_LT(frame->size(), 64 * 1024u);
-  Expected<Bytes> good = encode_model(testing::make_model({0, 90}), EncodeSettings{});
+  Expected<Bytes> good = encode_model(testing::make_model({0, 90}), ContainerSettings{});
   ASSERT_TRUE(good.ok());
   Expected<ParsedContainer> pc = parse_container(*good);
   ASSERT_TRUE(pc.ok());
@@ -235,7 +235,7 @@ TEST(ResourceBounds, LargestLegitimateFileDecodesWithinTheDocumentedBounds) {
   model.not_measured.bits.back() >>= 64 - bins % 64;
   model.not_measured.values.resize(bins);
   for (std::size_t i = 0; i < bins; ++i) model.not_measured.values[i] = -1.0 - double(i % 1000);
-  EncodeSettings settings;
+  ContainerSettings settings;
   settings.zstd_level = 1;
   Expected<Bytes> file = encode_model(model, settings);
   ASSERT_TRUE(file.ok()) << file.status().message();

@@ -25,8 +25,8 @@ struct EncodeOptions {
   std::string placement = "uniform";
   std::string components = "1";
   std::string family = "frank";
-  int bits = EncodeSettings{}.bits;
-  int level = EncodeSettings{}.zstd_level;
+  int bits = ContainerSettings{}.bits;
+  int level = ContainerSettings{}.zstd_level;
   int threads = 0;
   std::string loss = "linear";
   bool naive_marginals = false;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cbrdf/file_io.h"
+#include "cbrdf/version.h"
 #include "cli.h"
 
 namespace cbrdf::cli {

@@ -5,9 +5,8 @@
 #include <cstring>
 #include <limits>
 
-#include "fit/frank_grid.h"
-#include "fit/grid_copula.h"
-#include "fit/marginals.h"
+#include "density/frank_grid.h"
+#include "density/grid_copula.h"
 
 namespace cbrdf {
 namespace {
@@ -67,7 +66,8 @@ int Model::slice_of(int theta_d_bin) const {
 }
 
 BrdfTable Model::table() const {
-  return ModelEvaluator(*this).table();
+  // A non-owning pointer: the evaluator lives only inside this call, so no copy is needed.
+  return ModelEvaluator(std::shared_ptr<const Model>(std::shared_ptr<const Model>(), this)).table();
 }
 
 namespace {
@@ -117,7 +117,11 @@ struct ModelEvaluator::Part {
   }
 };
 
-ModelEvaluator::ModelEvaluator(const Model& model) : model_(&model) {
+ModelEvaluator::ModelEvaluator(Model model)
+    : ModelEvaluator(std::make_shared<const Model>(std::move(model))) {}
+
+ModelEvaluator::ModelEvaluator(std::shared_ptr<const Model> shared) : model_(std::move(shared)) {
+  const Model& model = *model_;
   slice_of_bin_.resize(kThetaDBins);
   for (int j = 0; j < kThetaDBins; ++j) slice_of_bin_[j] = model.slice_of(j);
   parts_.resize(model.slices.size());

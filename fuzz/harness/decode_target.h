@@ -137,7 +137,7 @@ inline void check_table(const Model& m, const ModelEvaluator& ev, Result* r) {
 // Whatever the decoder accepts, the encoder must be able to write again, unchanged except for
 // the marginals' quantization.
 inline void check_reencode(const Model& m, int bits, Result* r) {
-  EncodeSettings settings;
+  ContainerSettings settings;
   settings.bits = bits;
   settings.zstd_level = 1;
   settings.write_metadata = false;

@@ -214,7 +214,7 @@ inline Model build_model(ByteSource& in) {
 }
 
 // Breaks one rule that encode_model documents; returns false when the model stays valid.
-inline bool break_model(Model* m, EncodeSettings* s, std::uint8_t how) {
+inline bool break_model(Model* m, ContainerSettings* s, std::uint8_t how) {
   ChannelSlice& cs = m->slices.front().channel[0];
   NotMeasured& nm = m->not_measured;
   switch (how % 8) {
@@ -328,7 +328,7 @@ inline void check_roundtrip(const Model& a, const Model& b, int bits, Result* r)
 inline Result run_roundtrip(Bytes bytes) {
   Result r;
   ByteSource in(bytes);
-  EncodeSettings settings;
+  ContainerSettings settings;
   settings.bits = 6 + in.u8() % 11;
   settings.zstd_level = 1 + in.u8() % 3;
   settings.write_metadata = in.u8() % 2 == 0;

@@ -213,7 +213,7 @@ class MaterialRun {
       r.in_sweep = in_sweep;
       r.primary = s == primary;
       r.paper = s == paper_setting();
-      EncodeSettings es;
+      ContainerSettings es;
       es.bits = s.bits;
       // As `cbrdf encode` records it, so that the sizes match what it writes.
       es.source_name = m_.builtin ? m_.name : std::filesystem::path(m_.path).filename().string();

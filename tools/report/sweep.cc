@@ -105,13 +105,13 @@ CodecSetting default_setting() {
   CodecSetting s;
   s.family = fit.auto_family ? "auto" : std::string(family_name(fit.family));
   s.slices = fit.slices;
-  s.bits = EncodeSettings{}.bits;
+  s.bits = ContainerSettings{}.bits;
   s.components = fit.auto_components ? kAutoComponents : fit.components;
   return s;
 }
 
 CodecSetting paper_setting() {
-  return CodecSetting{"frank", 6, EncodeSettings{}.bits, 1};
+  return CodecSetting{"frank", 6, ContainerSettings{}.bits, 1};
 }
 
 bool Sweep::only_paper_setting() const {

@@ -32,7 +32,7 @@ struct CodecSetting {
   std::string model_name() const;  // "frank", ..., "separable", "auto"
 };
 
-// The default setting of `cbrdf encode` (FitSettings and EncodeSettings defaults).
+// The default setting of `cbrdf encode` (FitSettings and ContainerSettings defaults).
 CodecSetting default_setting();
 
 // The paper's setting, the reference every report measures: Frank, 6 uniform slices, one

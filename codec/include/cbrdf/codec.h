@@ -13,12 +13,13 @@
 #include <vector>
 
 #include "cbrdf/container.h"
+#include "cbrdf/export.h"
 #include "cbrdf/model.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf {
 
-struct EncodeSettings {
+struct ContainerSettings {
   // Bits per marginal code, 6..16: the quality knob. 12 keeps the tone-mapped sphere PSNR within
   // 0.02 dB of the unquantized model on the 20 real materials, at 4.4 to 6.7 KB per file.
   int bits = 12;
@@ -31,11 +32,14 @@ struct EncodeSettings {
 // (unknown family, parameter outside its family's domain, K < 0 or not finite, slices not
 // contiguous over [0, 90), marginal tables of the wrong size or with negative or non-finite
 // masses, mask values that are not negative, or a values list of the wrong length).
-Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
-                                                 const EncodeSettings& settings);
+CBRDF_EXPORT Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
+                                                              const ContainerSettings& settings);
 
 // Full validation; errors name the chunk tag and its byte offset.
-Expected<Model> decode_model(std::span<const std::uint8_t> bytes);
+CBRDF_EXPORT Expected<Model> decode_model(std::span<const std::uint8_t> bytes);
+
+// decode_model, then the full MERL-resolution table (Model::table()).
+CBRDF_EXPORT Expected<BrdfTable> decode_table(std::span<const std::uint8_t> bytes);
 
 // The parameters of one slice as the file stores them.
 struct SliceParams {
@@ -60,9 +64,9 @@ struct ContainerInfo {
 };
 
 // Validates exactly as decode_model does (every chunk is decoded) and describes the file.
-Expected<ContainerInfo> inspect_container(std::span<const std::uint8_t> bytes);
+CBRDF_EXPORT Expected<ContainerInfo> inspect_container(std::span<const std::uint8_t> bytes);
 
 // Valid parameter domain of each family as this codec checks it (documented in the spec).
-bool copula_parameter_valid(CopulaFamily family, double theta);
+CBRDF_EXPORT bool copula_parameter_valid(CopulaFamily family, double theta);
 
 }  // namespace cbrdf

@@ -14,6 +14,7 @@
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/coords.h"
 #include "cbrdf/copula_family.h"
+#include "cbrdf/export.h"
 
 namespace cbrdf {
 
@@ -47,7 +48,7 @@ struct Slice {
 };
 
 // Which bins the source did not measure, and the exact stored values it had there.
-struct NotMeasured {
+struct CBRDF_EXPORT NotMeasured {
   // Bit (c * kBinsPerChannel + i) set when channel c's bin i was not measured.
   std::vector<std::uint64_t> bits =
       std::vector<std::uint64_t>((kChannels * kBinsPerChannel + 63) / 64, 0);
@@ -68,7 +69,7 @@ struct NotMeasured {
 };
 
 // Pure data: what a .cbrdf file holds. Evaluate it through a ModelEvaluator.
-struct Model {
+struct CBRDF_EXPORT Model {
   std::vector<Slice> slices;  // contiguous, covering theta_d bins [0, 90)
   NotMeasured not_measured;
 
@@ -83,10 +84,15 @@ class GridCopula;
 }
 
 // A model prepared for evaluation: per slice and channel, CDFs and the copula's per-axis terms.
-// Building one costs microseconds; keep it for as long as the model is evaluated.
-class ModelEvaluator {
+// Building one costs microseconds; keep it for as long as the model is evaluated. The evaluator
+// owns (or shares) the model it reads, so it stays valid whatever happens to the caller's copy;
+// moving an evaluator keeps everything it prepared valid.
+class CBRDF_EXPORT ModelEvaluator {
  public:
-  explicit ModelEvaluator(const Model& model);
+  // Takes the model (move it in to avoid a copy).
+  explicit ModelEvaluator(Model model);
+  // Shares a model with the caller; it lives as long as either holds it.
+  explicit ModelEvaluator(std::shared_ptr<const Model> model);
   ~ModelEvaluator();
   ModelEvaluator(ModelEvaluator&&) noexcept;
   ModelEvaluator& operator=(ModelEvaluator&&) noexcept;
@@ -100,10 +106,13 @@ class ModelEvaluator {
   void eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const;
   // The full table (see Model::table()).
   BrdfTable table() const;
+  // The model evaluated.
+  const Model& model() const { return *model_; }
+  const std::shared_ptr<const Model>& shared_model() const { return model_; }
 
  private:
   struct Part;
-  const Model* model_;
+  std::shared_ptr<const Model> model_;
   std::vector<int> slice_of_bin_;  // theta_d bin -> slice
   std::vector<std::array<std::unique_ptr<Part>, kChannels>> parts_;
 };

@@ -31,8 +31,9 @@
 #include <memory>
 #include <vector>
 
+#include "cbrdf/brdf_fn.h"
 #include "cbrdf/coords.h"
-#include "cbrdf/metrics.h"
+#include "cbrdf/export.h"
 #include "cbrdf/model.h"
 
 namespace cbrdf {
@@ -51,7 +52,7 @@ struct BrdfSample {
   bool valid = false;  // false: rejected (wo below the horizon or wi reflected below it)
 };
 
-class BrdfSampler {
+class CBRDF_EXPORT BrdfSampler {
  public:
   // f is called from several threads (it must not mutate shared state) and must outlive the
   // sampler. Settings are clamped to sensible ranges (at least 1 bin/cell, c in [0, 1]).
@@ -79,13 +80,13 @@ class BrdfSampler {
 };
 
 // The model's eval() as a BrdfFn. The evaluator is referenced: it must outlive the function.
-BrdfFn model_brdf_fn(const ModelEvaluator& evaluator);
+CBRDF_EXPORT BrdfFn model_brdf_fn(const ModelEvaluator& evaluator);
 
 // A sampler for the copula model (its eval() through model_brdf_fn).
-BrdfSampler make_model_sampler(const ModelEvaluator& evaluator,
-                               const SamplerSettings& settings = {});
+CBRDF_EXPORT BrdfSampler make_model_sampler(const ModelEvaluator& evaluator,
+                                            const SamplerSettings& settings = {});
 
 // Cosine-weighted hemisphere sampling, the usual baseline: wi with pdf cos(theta_i) / pi.
-Vec3 sample_cosine_hemisphere(double u1, double u2);
+CBRDF_EXPORT Vec3 sample_cosine_hemisphere(double u1, double u2);
 
 }  // namespace cbrdf

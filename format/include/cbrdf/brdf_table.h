@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "cbrdf/export.h"
+
 namespace cbrdf {
 
 inline constexpr int kThetaHBins = 90;
@@ -24,7 +26,9 @@ inline constexpr std::array<double, 3> kMerlScale = {1.0 / 1500.0, 1.15 / 1500.0
 
 // Index within one channel block: phi_d + 180 * (theta_d + 90 * theta_h).
 constexpr std::size_t merl_index(int theta_h, int theta_d, int phi_d) {
-  return std::size_t(phi_d) + std::size_t{kPhiDBins} * (std::size_t(theta_d) + std::size_t{kThetaDBins} * std::size_t(theta_h));
+  return std::size_t(phi_d) +
+         std::size_t{kPhiDBins} *
+             (std::size_t(theta_d) + std::size_t{kThetaDBins} * std::size_t(theta_h));
 }
 
 struct BinIndex {
@@ -38,7 +42,7 @@ constexpr BinIndex merl_bin(std::size_t index) {
                   int((index / kPhiDBins) % kThetaDBins), int(index % kPhiDBins)};
 }
 
-class BrdfTable {
+class CBRDF_EXPORT BrdfTable {
  public:
   // All bins 0 (measured, black).
   BrdfTable() : stored_(kChannels * kBinsPerChannel, 0.0) {}

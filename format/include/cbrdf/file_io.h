@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "cbrdf/export.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf {
@@ -38,12 +39,12 @@ namespace cbrdf {
 // Reads a whole regular file. Errors: kNotFound ("FILE: no such file"), kIo (a directory, a FIFO,
 // a device, permission, a failed read), kLimit when the file is larger than max_bytes (both sizes
 // in the message).
-Expected<std::vector<std::uint8_t>> read_file(const std::filesystem::path& path,
-                                              std::uint64_t max_bytes);
+CBRDF_EXPORT Expected<std::vector<std::uint8_t>> read_file(const std::filesystem::path& path,
+                                                           std::uint64_t max_bytes);
 
 // A regular file opened for sequential reading, for parsers that read a small header first and then
 // stream the body straight into its final buffer. Move-only; closes on destruction.
-class FileReader {
+class CBRDF_EXPORT FileReader {
  public:
   // Same errors as read_file for a missing file, a directory or a refused open. A path naming a
   // descriptor (a pipe on standard input) is read into memory up to max_stream_bytes (kLimit past
@@ -82,19 +83,21 @@ using ChunkSink = std::function<Status(std::span<const std::uint8_t>)>;
 using ChunkProducer = std::function<Status(const ChunkSink&)>;
 
 // Writes bytes to path atomically (see the file comment). Errors name the path and the OS reason.
-Status write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
+CBRDF_EXPORT Status write_file_atomic(const std::filesystem::path& path,
+                                      std::span<const std::uint8_t> bytes);
 // Streaming variant: the content comes from produce, so a large table is never copied into a
 // second buffer. An error from produce is returned as is, after the temporary is removed.
-Status write_file_atomic(const std::filesystem::path& path, const ChunkProducer& produce);
+CBRDF_EXPORT Status write_file_atomic(const std::filesystem::path& path,
+                                      const ChunkProducer& produce);
 
 // The descriptor a path names (/dev/stdin 0, /dev/stdout 1, /dev/stderr 2, /dev/fd/N,
 // /proc/self/fd/N), or -1 for any other path. Such paths are read and written through the
 // descriptor (see the file comment).
-int descriptor_of_path(const std::filesystem::path& path);
+CBRDF_EXPORT int descriptor_of_path(const std::filesystem::path& path);
 
 // Installs handlers for SIGINT, SIGTERM and SIGHUP (those not ignored) that remove the named
 // temporaries of writes in progress, then let the signal end the process as it would have. For
 // programs (the `cbrdf` command calls it first thing); a library never installs handlers itself.
-void remove_temporaries_on_signals();
+CBRDF_EXPORT void remove_temporaries_on_signals();
 
 }  // namespace cbrdf

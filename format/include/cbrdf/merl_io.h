@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "cbrdf/brdf_table.h"
+#include "cbrdf/export.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf {
@@ -62,17 +63,19 @@ struct MerlInfo {
 // (implausible dims, longer than its dims need), kUnsupported (dims other than 90x90x180 or
 // 90x90x360), kNumeric (+Inf: the count and the first one's channel and bin). A path naming a
 // descriptor (/dev/stdin) is read from it (file_io.h).
-Expected<BrdfTable> read_merl(const std::filesystem::path& path,
-                              const MerlReadOptions& options = {}, MerlInfo* info = nullptr);
+CBRDF_EXPORT Expected<BrdfTable> read_merl(const std::filesystem::path& path,
+                                           const MerlReadOptions& options = {},
+                                           MerlInfo* info = nullptr);
 // The same from bytes in memory; name_for_errors prefixes every message.
-Expected<BrdfTable> parse_merl(std::span<const std::uint8_t> bytes,
-                               std::string_view name_for_errors,
-                               const MerlReadOptions& options = {}, MerlInfo* info = nullptr);
+CBRDF_EXPORT Expected<BrdfTable> parse_merl(std::span<const std::uint8_t> bytes,
+                                            std::string_view name_for_errors,
+                                            const MerlReadOptions& options = {},
+                                            MerlInfo* info = nullptr);
 
 // Writes a 90x90x180 .binary atomically (write_file_atomic), straight from the table's memory.
-Status write_merl(const std::filesystem::path& path, const BrdfTable& table);
+CBRDF_EXPORT Status write_merl(const std::filesystem::path& path, const BrdfTable& table);
 // The file's bytes (kMerlFileBytes of them).
-std::vector<std::uint8_t> serialize_merl(const BrdfTable& table);
+CBRDF_EXPORT std::vector<std::uint8_t> serialize_merl(const BrdfTable& table);
 
 struct MerlChannelStats {
   std::size_t measured = 0;
@@ -84,7 +87,7 @@ struct MerlChannelStats {
 struct MerlStats {
   std::array<MerlChannelStats, kChannels> channel;  // R, G, B
 };
-MerlStats merl_stats(const BrdfTable& table);
+CBRDF_EXPORT MerlStats merl_stats(const BrdfTable& table);
 
 // How a table's not-measured mask compares with the geometric below-horizon bins (coords.h
 // bin_below_horizon): a mismatch is a (channel, bin) measured below the horizon or not measured
@@ -95,6 +98,6 @@ struct HorizonMaskCheck {
   std::size_t first_index = 0;  // MERL index within the channel
   bool matches() const { return mismatches == 0; }
 };
-HorizonMaskCheck check_horizon_mask(const BrdfTable& table);
+CBRDF_EXPORT HorizonMaskCheck check_horizon_mask(const BrdfTable& table);
 
 }  // namespace cbrdf

@@ -7,6 +7,8 @@
 #include <utility>
 #include <variant>
 
+#include "cbrdf/export.h"
+
 namespace cbrdf {
 
 // Stable numeric codes: never renumber, only append.
@@ -25,9 +27,9 @@ enum class ErrorCode : int {
   kInternal = 11,        // a bug in cbrdf
 };
 
-const char* error_code_name(ErrorCode code);
+CBRDF_EXPORT const char* error_code_name(ErrorCode code);
 
-class [[nodiscard]] Status {
+class [[nodiscard]] CBRDF_EXPORT Status {
  public:
   Status() = default;
   Status(ErrorCode code, std::string message) : code_(code), message_(std::move(message)) {}
@@ -47,14 +49,18 @@ class [[nodiscard]] Status {
   std::string message_;
 };
 
-inline Status ok_status() { return Status(); }
-inline Status error(ErrorCode code, std::string message) { return Status(code, std::move(message)); }
+inline Status ok_status() {
+  return Status();
+}
+inline Status error(ErrorCode code, std::string message) {
+  return Status(code, std::move(message));
+}
 
 // A value or the Status that explains why there is none.
 template <typename T>
 class [[nodiscard]] Expected {
  public:
-  Expected(T value) : v_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+  Expected(T value) : v_(std::move(value)) {}        // NOLINT(google-explicit-constructor)
   Expected(Status status) : v_(std::move(status)) {  // NOLINT(google-explicit-constructor)
     assert(!std::get<Status>(v_).ok() && "Expected built from an ok Status");
   }
@@ -80,8 +86,8 @@ class [[nodiscard]] Expected {
 }  // namespace cbrdf
 
 // Propagates a non-ok Status from an expression returning Status.
-#define CBRDF_RETURN_IF_ERROR(expr)        \
-  do {                                     \
-    ::cbrdf::Status cbrdf_status_ = (expr); \
+#define CBRDF_RETURN_IF_ERROR(expr)                \
+  do {                                             \
+    ::cbrdf::Status cbrdf_status_ = (expr);        \
     if (!cbrdf_status_.ok()) return cbrdf_status_; \
   } while (0)

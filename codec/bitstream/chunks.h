@@ -1,0 +1,104 @@
+// The payloads of the version-1 chunks (spec/container.md section 4): one file per chunk with its
+// reader and writer side by side (head.cc, modl.cc, marg.cc, mask.cc, meta.cc), the constants and
+// rules they share (params.cc), and the model-level reader and writer (read_model.cc,
+// write_model.cc). Readers' messages carry no location: read_model.cc prefixes the chunk tag and
+// offset. Writers assume a model that encode_model has validated.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "byte_reader.h"
+#include "cbrdf/codec.h"
+#include "cbrdf/model.h"
+#include "cbrdf/status.h"
+#include "quantize.h"
+
+namespace cbrdf {
+
+inline constexpr std::uint8_t kThetaHMappingMerlSqrt = 0;
+inline constexpr const char* kChannelNames[kChannels] = {"R", "G", "B"};
+inline constexpr std::size_t kMaskBits = std::size_t{kChannels} * kBinsPerChannel;
+inline constexpr std::size_t kMaskBytes = kMaskBits / 8;  // 4,374,000 bits: no padding
+static_assert(kMaskBits % 8 == 0);
+
+// Metadata limits keep the key=value parser bounded.
+inline constexpr std::size_t kMaxMetadataEntries = 64;
+inline constexpr std::size_t kMaxMetadataKeyBytes = 32;
+inline constexpr std::size_t kMaxMetadataValueBytes = 1024;
+
+struct HeaderFields {
+  std::array<double, kChannels> colour_scale{};
+  int slice_count = 0;
+};
+
+enum class MaskReference : std::uint8_t { kNone = 0, kBelowHorizon = 1 };
+enum class MaskForm : std::uint8_t { kBitmap = 0, kRuns = 1 };
+enum class MaskValues : std::uint8_t { kSingle = 0, kPerBin = 1 };
+
+struct MaskFields {
+  MaskReference reference = MaskReference::kNone;
+  MaskForm form = MaskForm::kBitmap;
+  MaskValues values = MaskValues::kSingle;
+};
+
+// MARG's second byte: reserved (0) in version 1.0; in 1.1 the table layout, 1 when the model has
+// further components (their tables follow each slice channel's first component's).
+inline constexpr std::uint8_t kMarginalLayoutSingle = 0;
+inline constexpr std::uint8_t kMarginalLayoutComponents = 1;
+// At most this many further components per slice and channel (kMaxComponents - 1 in fit.h).
+inline constexpr int kMaxExtraComponents = 7;
+
+// Whether any slice channel has further components (a version 1.1 file).
+bool has_mixtures(const Model& model);
+
+// Bit b of a mask held as 64-bit words, least significant bit first.
+inline bool mask_bit(const std::vector<std::uint64_t>& bits, std::size_t b) {
+  return (bits[b >> 6] >> (b & 63)) & 1u;
+}
+
+// Payload offsets are named as such in messages.
+inline ByteReader payload_reader(std::span<const std::uint8_t> payload) {
+  return ByteReader(payload, 0, "payload offset");
+}
+
+// Trailing bytes after the known fields are allowed only in a file of a newer minor version
+// (which may append fields); otherwise they are corruption.
+Status check_trailing(std::size_t trailing, std::uint16_t file_minor);
+
+// %.17g: every double in a message round-trips.
+std::string number_text(double v);
+
+// The parameter rules shared by encoder and decoder; the message names the problem.
+Status check_channel_params(std::uint8_t family, double theta, double scale);
+
+Status decode_header_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                           HeaderFields* out);
+// Fills slices' bounds, families, parameters and scales.
+Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                          int slice_count, std::vector<Slice>* slices);
+// Fills the marginal tables of slices whose bounds are already known.
+Status decode_marginals_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                              std::vector<Slice>* slices, int* bits);
+Status decode_mask_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                         NotMeasured* out, MaskFields* fields);
+Status decode_metadata_chunk(std::span<const std::uint8_t> payload,
+                             std::vector<std::pair<std::string, std::string>>* out);
+
+std::vector<std::uint8_t> encode_header_chunk(const Model& model);
+std::vector<std::uint8_t> encode_model_chunk(const Model& model);
+std::vector<std::uint8_t> encode_marginals_chunk(const Model& model, int bits);
+std::vector<std::uint8_t> encode_mask_chunk(const NotMeasured& mask);
+std::vector<std::uint8_t> encode_metadata_chunk(
+    const std::vector<std::pair<std::string, std::string>>& entries);
+
+// The below-horizon mask of one channel (bit i = bin_below_horizon(merl_bin(i))), computed once.
+const std::vector<std::uint64_t>& below_horizon_bits();
+// XXH64 of the mask's 4,374,000 bits as LSB-first bytes (the words' little-endian bytes).
+std::uint64_t mask_hash(const std::vector<std::uint64_t>& bits);
+
+}  // namespace cbrdf

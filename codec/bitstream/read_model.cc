@@ -1,0 +1,96 @@
+// decode_model and inspect_container: the container parser, then each chunk's payload parser,
+// with every error prefixed by the chunk's tag and file offset.
+#include <bit>
+#include <string>
+
+#include "cbrdf/codec.h"
+#include "cbrdf/container.h"
+#include "chunks.h"
+
+namespace cbrdf {
+namespace {
+
+struct Decoded {
+  Model model;
+  ContainerInfo info;
+};
+
+std::string where(const ParsedContainer& pc, int index) {
+  const ChunkInfo& c = pc.layout.chunks[std::size_t(index)];
+  return "chunk '" + c.tag + "' at offset " + std::to_string(c.offset);
+}
+
+Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
+  Expected<ParsedContainer> parsed = parse_container(bytes);
+  if (!parsed.ok()) return parsed.status();
+  const ParsedContainer& pc = *parsed;
+  const std::uint16_t minor = pc.layout.minor;
+  Decoded d;
+  d.info.layout = pc.layout;
+
+  // parse_container guarantees each critical chunk exactly once.
+  const int head = pc.find(kTagHeader), modl = pc.find(kTagModel);
+  const int marg = pc.find(kTagMarginals), mask = pc.find(kTagMask), meta = pc.find(kTagMetadata);
+  auto payload = [&](int i) { return std::span<const std::uint8_t>(pc.payloads[std::size_t(i)]); };
+
+  HeaderFields header;
+  Status st = decode_header_chunk(payload(head), minor, &header);
+  if (!st.ok()) return st.with_context(where(pc, head));
+  d.info.colour_scale = header.colour_scale;
+
+  st = decode_model_chunk(payload(modl), minor, header.slice_count, &d.model.slices);
+  if (!st.ok()) return st.with_context(where(pc, modl));
+
+  st = decode_marginals_chunk(payload(marg), minor, &d.model.slices, &d.info.bits);
+  if (!st.ok()) return st.with_context(where(pc, marg));
+
+  MaskFields mask_fields;
+  st = decode_mask_chunk(payload(mask), minor, &d.model.not_measured, &mask_fields);
+  if (!st.ok()) return st.with_context(where(pc, mask));
+
+  if (meta >= 0) {
+    st = decode_metadata_chunk(payload(meta), &d.info.metadata);
+    if (!st.ok()) return st.with_context(where(pc, meta));
+  }
+
+  for (const Slice& s : d.model.slices) {
+    SliceParams p;
+    p.theta_d_begin = s.theta_d_begin;
+    p.theta_d_end = s.theta_d_end;
+    for (std::size_t c = 0; c < kChannels; ++c) {
+      p.family[c] = s.channel[c].family;
+      p.theta[c] = s.channel[c].theta;
+      p.scale[c] = s.channel[c].scale;
+      p.components[c] = s.channel[c].components();
+    }
+    d.info.slices.push_back(p);
+  }
+  for (std::uint64_t w : d.model.not_measured.bits) {
+    d.info.not_measured_bins += std::size_t(std::popcount(w));
+  }
+  d.info.mask_relative_to_horizon = mask_fields.reference == MaskReference::kBelowHorizon;
+  d.info.per_bin_values = mask_fields.values == MaskValues::kPerBin;
+  return d;
+}
+
+}  // namespace
+
+Expected<Model> decode_model(std::span<const std::uint8_t> bytes) {
+  Expected<Decoded> d = decode_all(bytes);
+  if (!d.ok()) return d.status();
+  return std::move(d->model);
+}
+
+Expected<ContainerInfo> inspect_container(std::span<const std::uint8_t> bytes) {
+  Expected<Decoded> d = decode_all(bytes);
+  if (!d.ok()) return d.status();
+  return std::move(d->info);
+}
+
+Expected<BrdfTable> decode_table(std::span<const std::uint8_t> bytes) {
+  auto model = decode_model(bytes);
+  if (!model.ok()) return model.status();
+  return model->table();
+}
+
+}  // namespace cbrdf

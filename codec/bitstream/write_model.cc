@@ -1,0 +1,142 @@
+// encode_model: validates the model against what a file can hold, then writes the chunks.
+#include <bit>
+#include <cmath>
+#include <string>
+
+#include "cbrdf/codec.h"
+#include "cbrdf/container.h"
+#include "cbrdf/version.h"
+#include "chunks.h"
+#include "utf8.h"
+
+namespace cbrdf {
+namespace {
+
+Status invalid(std::string message) {
+  return error(ErrorCode::kInvalidArgument, "cannot encode: " + std::move(message));
+}
+
+Status check_table(const std::vector<double>& t, std::size_t size, const std::string& what) {
+  if (t.size() != size) {
+    return invalid(what + " has " + std::to_string(t.size()) + " values, expected " +
+                   std::to_string(size));
+  }
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (!std::isfinite(t[i]) || t[i] < 0.0) {
+      return invalid(what + " value " + std::to_string(i) + " is " + number_text(t[i]) +
+                     " (masses must be finite and >= 0)");
+    }
+  }
+  return ok_status();
+}
+
+Status check_model(const Model& model) {
+  if (model.slices.empty() || model.slices.size() > std::size_t{kThetaDBins}) {
+    return invalid("the model has " + std::to_string(model.slices.size()) +
+                   " slices, expected 1..90");
+  }
+  int begin = 0;
+  for (std::size_t s = 0; s < model.slices.size(); ++s) {
+    const Slice& slice = model.slices[s];
+    const std::string name = "slice " + std::to_string(s);
+    if (slice.theta_d_begin != begin || slice.theta_d_end <= begin ||
+        slice.theta_d_end > kThetaDBins) {
+      return invalid(name + " covers theta_d bins [" + std::to_string(slice.theta_d_begin) + ", " +
+                     std::to_string(slice.theta_d_end) +
+                     "); slices must be non-empty and "
+                     "contiguous from 0");
+    }
+    begin = slice.theta_d_end;
+    for (std::size_t c = 0; c < kChannels; ++c) {
+      const ChannelSlice& channel = slice.channel[c];
+      if (channel.extra.size() > std::size_t{kMaxExtraComponents}) {
+        return invalid(name + " channel " + "RGB"[c] + " has " +
+                       std::to_string(channel.components()) + " components; at most " +
+                       std::to_string(kMaxExtraComponents + 1) + " fit in a file");
+      }
+      for (int r = 0; r < channel.components(); ++r) {
+        const Component& cs = channel.component(r);
+        const std::string cname = name + " channel " + "RGB"[c] +
+                                  (r > 0 ? " component " + std::to_string(r) : std::string());
+        const Status st = check_channel_params(std::uint8_t(cs.family), cs.theta, cs.scale);
+        if (!st.ok()) return invalid(cname + ": " + st.message());
+        CBRDF_RETURN_IF_ERROR(check_table(cs.pdf_h, kThetaHBins, cname + " theta_h table"));
+        CBRDF_RETURN_IF_ERROR(
+            check_table(cs.pdf_d, std::size_t(slice.width()), cname + " theta_d table"));
+        CBRDF_RETURN_IF_ERROR(check_table(cs.pdf_p, kPhiDBins, cname + " phi_d table"));
+      }
+    }
+  }
+  if (begin != kThetaDBins) {
+    return invalid("slices end at theta_d bin " + std::to_string(begin) + ", not 90");
+  }
+  const NotMeasured& nm = model.not_measured;
+  if (nm.bits.size() != (kMaskBits + 63) / 64) {
+    return invalid("the not-measured mask has " + std::to_string(nm.bits.size()) +
+                   " words, expected " + std::to_string((kMaskBits + 63) / 64));
+  }
+  if ((nm.bits.back() >> (kMaskBits % 64)) != 0) {
+    return invalid("the not-measured mask has bits set past its last bin");
+  }
+  std::size_t count = 0;
+  for (std::uint64_t w : nm.bits) count += std::size_t(std::popcount(w));
+  if (nm.values.size() != 1 && nm.values.size() != count) {
+    return invalid("the not-measured values list has " + std::to_string(nm.values.size()) +
+                   " entries; expected 1 or one per not-measured bin (" + std::to_string(count) +
+                   ")");
+  }
+  for (double v : nm.values) {
+    if (v >= 0.0) {
+      return invalid("not-measured value " + number_text(v) +
+                     " is not negative (it would read as measured)");
+    }
+  }
+  return ok_status();
+}
+
+// Metadata is UTF-8 text without control characters (spec 4.5): a file name from any filesystem
+// is stored with invalid bytes as U+FFFD and control characters as '?'.
+std::string sanitized(const std::string& s) {
+  std::string out = valid_utf8(s, kMaxMetadataValueBytes);
+  for (char& ch : out) {
+    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7F) ch = '?';
+  }
+  return out;
+}
+
+}  // namespace
+
+Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
+                                                 const ContainerSettings& settings) {
+  if (settings.bits < kMinMarginalBits || settings.bits > kMaxMarginalBits) {
+    return invalid("bits per code " + std::to_string(settings.bits) + " is outside " +
+                   std::to_string(kMinMarginalBits) + ".." + std::to_string(kMaxMarginalBits));
+  }
+  if (settings.zstd_level < 1 || settings.zstd_level > 22) {
+    return invalid("zstd level " + std::to_string(settings.zstd_level) + " is outside 1..22");
+  }
+  CBRDF_RETURN_IF_ERROR(check_model(model));
+
+  std::vector<ChunkToWrite> chunks;
+  // HEAD and MODL are small and mostly doubles: zstd rarely pays, and the writer keeps it only
+  // when it does.
+  chunks.push_back({std::string(kTagHeader), encode_header_chunk(model), false});
+  chunks.push_back({std::string(kTagModel), encode_model_chunk(model), true});
+  chunks.push_back(
+      {std::string(kTagMarginals), encode_marginals_chunk(model, settings.bits), true});
+  // One stored value per not-measured bin makes MASK up to 35 MB; zstd's top levels take minutes
+  // on that for a few percent, so the level is capped for this chunk (a uniform value is tiny).
+  chunks.push_back({std::string(kTagMask), encode_mask_chunk(model.not_measured), true, 9});
+  if (settings.write_metadata) {
+    std::vector<std::pair<std::string, std::string>> meta;
+    if (!settings.source_name.empty()) meta.emplace_back("source", sanitized(settings.source_name));
+    meta.emplace_back("encoder", std::string("cbrdf ") + CBRDF_VERSION_STRING);
+    meta.emplace_back("bits", std::to_string(settings.bits));
+    meta.emplace_back("zstd_level", std::to_string(settings.zstd_level));
+    chunks.push_back({std::string(kTagMetadata), encode_metadata_chunk(meta), true});
+  }
+  // The lowest version that holds the model: files without mixtures stay readable by 1.0 readers.
+  return write_container(chunks, settings.zstd_level, has_mixtures(model) ? 1 : 0);
+}
+
+}  // namespace cbrdf

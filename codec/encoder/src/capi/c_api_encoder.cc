@@ -1,0 +1,170 @@
+// The C API's encoding part (cbrdf/cbrdf_c.h): settings, and table or file -> .cbrdf. Kept apart
+// from c_api_decoder.cc so that a decoder-only library need not link the fitter.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <new>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "capi/c_api_internal.h"
+#include "cbrdf/brdf_table.h"
+#include "cbrdf/cbrdf_c.h"
+#include "cbrdf/encoder.h"
+#include "cbrdf/file_io.h"
+#include "cbrdf/fit.h"
+#include "cbrdf/merl_io.h"
+#include "cbrdf/status.h"
+
+namespace cbrdf::capi {
+namespace {
+
+// The first version of the struct ends with `threads`.
+constexpr std::size_t kFirstSettingsSize = offsetof(cbrdf_encode_settings, threads) + sizeof(int);
+
+cbrdf_encode_settings default_settings() {
+  const EncoderSettings d;
+  cbrdf_encode_settings s{};
+  s.struct_size = sizeof s;
+  s.bits = d.container.bits;
+  s.zstd_level = d.container.zstd_level;
+  s.slices = d.fit.slices;
+  s.components = d.fit.components;
+  s.family = int(d.fit.family);
+  s.threads = d.fit.threads;
+  return s;
+}
+
+Status check_range(const char* field, int value, int lo, int hi) {
+  if (value >= lo && value <= hi) return ok_status();
+  return invalid_argument(std::string("cbrdf_encode_settings.") + field + " must be " +
+                          std::to_string(lo) + " to " + std::to_string(hi) + ", not " +
+                          std::to_string(value));
+}
+
+// The C settings (NULL: the defaults) as the C++ encoder's.
+Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
+  cbrdf_encode_settings s = default_settings();
+  if (in != nullptr) {
+    if (in->struct_size < kFirstSettingsSize) {
+      return invalid_argument("cbrdf_encode_settings.struct_size is " +
+                              std::to_string(in->struct_size) + ", less than " +
+                              std::to_string(kFirstSettingsSize) +
+                              " (fill the struct with cbrdf_encode_settings_init)");
+    }
+    // A newer caller's struct may be longer: read what this version knows.
+    std::memcpy(&s, in, std::min<std::size_t>(in->struct_size, sizeof s));
+  }
+  CBRDF_RETURN_IF_ERROR(check_range("bits", s.bits, 6, 16));
+  CBRDF_RETURN_IF_ERROR(check_range("zstd_level", s.zstd_level, 1, 22));
+  CBRDF_RETURN_IF_ERROR(check_range("slices", s.slices, 1, kThetaDBins));
+  CBRDF_RETURN_IF_ERROR(check_range("components", s.components, 1, kMaxComponents));
+  CBRDF_RETURN_IF_ERROR(
+      check_range("family", s.family, CBRDF_FAMILY_AUTO, int(CopulaFamily::kJoe)));
+  CBRDF_RETURN_IF_ERROR(check_range("threads", s.threads, 0, 256));
+
+  EncoderSettings out;
+  out.container.bits = s.bits;
+  out.container.zstd_level = s.zstd_level;
+  out.fit.slices = s.slices;
+  out.fit.components = s.components;
+  if (s.family == CBRDF_FAMILY_AUTO) {
+    out.fit.auto_family = true;
+  } else {
+    out.fit.family = CopulaFamily(s.family);
+  }
+  // 0: one thread per core, as `cbrdf encode --threads 0`.
+  out.fit.threads =
+      s.threads > 0 ? s.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  return out;
+}
+
+// read_merl refuses +Inf; a table from memory is held to the same rule.
+Status check_no_positive_infinity(const BrdfTable& table) {
+  for (int c = 0; c < kChannels; ++c) {
+    const double* data = table.channel_data(c);
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      if (data[i] == std::numeric_limits<double>::infinity()) {
+        return Status(ErrorCode::kNumeric,
+                      "stored_values[" + std::to_string(std::size_t(c) * kBinsPerChannel + i) +
+                          "] (channel " + std::to_string(c) + ", bin " + std::to_string(i) +
+                          ") is +Inf, which is neither a measurement nor the "
+                          "not-measured mark (a negative value or NaN)");
+      }
+    }
+  }
+  return ok_status();
+}
+
+}  // namespace
+}  // namespace cbrdf::capi
+
+extern "C" {
+
+void cbrdf_encode_settings_init(cbrdf_encode_settings* settings) {
+  if (settings == nullptr) {
+    cbrdf::capi::set_last_error(CBRDF_ERROR_INVALID_ARGUMENT,
+                                "cbrdf_encode_settings_init: settings is NULL");
+    return;
+  }
+  *settings = cbrdf::capi::default_settings();
+  cbrdf::capi::clear_last_error();
+}
+
+cbrdf_status cbrdf_encode_table(const double* stored_values, size_t count,
+                                const cbrdf_encode_settings* settings, void** out_bytes,
+                                size_t* out_size) {
+  if (out_bytes != nullptr) *out_bytes = nullptr;
+  if (out_size != nullptr) *out_size = 0;
+  return cbrdf::capi::guarded([&]() -> cbrdf::Status {
+    using cbrdf::capi::invalid_argument;
+    if (stored_values == nullptr || out_bytes == nullptr || out_size == nullptr) {
+      return invalid_argument("cbrdf_encode_table: stored_values, out_bytes or out_size is NULL");
+    }
+    if (count != cbrdf_merl_table_size()) {
+      return invalid_argument(
+          "cbrdf_encode_table: count is " + std::to_string(count) +
+          ", not cbrdf_merl_table_size() = " + std::to_string(cbrdf_merl_table_size()));
+    }
+    auto st = cbrdf::capi::to_encoder_settings(settings);
+    if (!st.ok()) return st.status();
+    cbrdf::BrdfTable table;
+    std::memcpy(table.stored_values().data(), stored_values, count * sizeof(double));
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_no_positive_infinity(table));
+    auto encoded = cbrdf::encode_table(table, *st);
+    if (!encoded.ok()) return encoded.status();
+    const std::vector<std::uint8_t>& bytes = encoded->bytes;
+    void* buffer = std::malloc(bytes.size());
+    if (buffer == nullptr) throw std::bad_alloc();
+    std::memcpy(buffer, bytes.data(), bytes.size());
+    *out_bytes = buffer;
+    *out_size = bytes.size();
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_encode_merl_file(const char* in_path, const char* out_path,
+                                    const cbrdf_encode_settings* settings) {
+  return cbrdf::capi::guarded([&]() -> cbrdf::Status {
+    if (in_path == nullptr || out_path == nullptr) {
+      return cbrdf::capi::invalid_argument("cbrdf_encode_merl_file: in_path or out_path is NULL");
+    }
+    auto st = cbrdf::capi::to_encoder_settings(settings);
+    if (!st.ok()) return st.status();
+    st->container.source_name = std::filesystem::path(in_path).filename().string();
+    auto table = cbrdf::read_merl(in_path);
+    if (!table.ok()) return table.status();
+    auto encoded = cbrdf::encode_table(*table, *st);
+    if (!encoded.ok()) return encoded.status().with_context(in_path);
+    return cbrdf::write_file_atomic(out_path, encoded->bytes);
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,520 @@
+// The C API (cbrdf/cbrdf_c.h) except encoding: errors, model handles, description, evaluation,
+// sampling and tables. Everything here is a thin boundary over the C++ API: arguments are checked,
+// results copied out, and every exception is caught and reported as the thread's last error.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <span>
+#include <string>
+#include <utility>
+
+#include "capi/c_api_internal.h"
+#include "cbrdf/brdf_table.h"
+#include "cbrdf/cbrdf_c.h"
+#include "cbrdf/codec.h"
+#include "cbrdf/container.h"
+#include "cbrdf/copula_family.h"
+#include "cbrdf/file_io.h"
+#include "cbrdf/merl_io.h"
+#include "cbrdf/model.h"
+#include "cbrdf/sampling.h"
+#include "cbrdf/status.h"
+#include "cbrdf/version.h"
+
+// The C enums are the C++ ones, value for value.
+#define CBRDF_SAME_CODE(c, cpp) \
+  static_assert(int(c) == int(cbrdf::ErrorCode::cpp), #c " differs from ErrorCode::" #cpp)
+CBRDF_SAME_CODE(CBRDF_OK, kOk);
+CBRDF_SAME_CODE(CBRDF_ERROR_IO, kIo);
+CBRDF_SAME_CODE(CBRDF_ERROR_NOT_FOUND, kNotFound);
+CBRDF_SAME_CODE(CBRDF_ERROR_TRUNCATED, kTruncated);
+CBRDF_SAME_CODE(CBRDF_ERROR_BAD_SIGNATURE, kBadSignature);
+CBRDF_SAME_CODE(CBRDF_ERROR_UNSUPPORTED, kUnsupported);
+CBRDF_SAME_CODE(CBRDF_ERROR_CORRUPT, kCorrupt);
+CBRDF_SAME_CODE(CBRDF_ERROR_CHECKSUM, kChecksum);
+CBRDF_SAME_CODE(CBRDF_ERROR_LIMIT, kLimit);
+CBRDF_SAME_CODE(CBRDF_ERROR_INVALID_ARGUMENT, kInvalidArgument);
+CBRDF_SAME_CODE(CBRDF_ERROR_NUMERIC, kNumeric);
+CBRDF_SAME_CODE(CBRDF_ERROR_INTERNAL, kInternal);
+#undef CBRDF_SAME_CODE
+static_assert(int(CBRDF_FAMILY_INDEPENDENCE) == int(cbrdf::CopulaFamily::kIndependence));
+static_assert(int(CBRDF_FAMILY_FRANK) == int(cbrdf::CopulaFamily::kFrank));
+static_assert(int(CBRDF_FAMILY_CLAYTON) == int(cbrdf::CopulaFamily::kClayton));
+static_assert(int(CBRDF_FAMILY_GUMBEL) == int(cbrdf::CopulaFamily::kGumbel));
+static_assert(int(CBRDF_FAMILY_JOE) == int(cbrdf::CopulaFamily::kJoe));
+static_assert(sizeof(double) == 8);
+
+// The handle. It is created once, on the heap, and never copied or moved: the evaluator keeps a
+// pointer to `model` (and its Term objects pointers into model's components), and the sampler a
+// pointer to the evaluator. Members are destroyed in reverse order, so the sampler goes first.
+struct cbrdf_model {
+  cbrdf::ContainerInfo info;
+  cbrdf::Model model;
+  std::unique_ptr<const cbrdf::ModelEvaluator> evaluator;  // built from `model` where it lives
+  mutable std::once_flag sampler_once;
+  mutable std::unique_ptr<const cbrdf::BrdfSampler> sampler;
+
+  cbrdf_model() = default;
+  cbrdf_model(const cbrdf_model&) = delete;
+  cbrdf_model& operator=(const cbrdf_model&) = delete;
+};
+
+namespace cbrdf::capi {
+namespace {
+
+struct LastError {
+  cbrdf_status code = CBRDF_OK;
+  std::string message;
+};
+
+LastError& last_error() noexcept {
+  thread_local LastError e;
+  return e;
+}
+
+// Largest element count for which n triples of doubles can exist in memory.
+constexpr std::size_t kMaxTriples = SIZE_MAX / (3 * sizeof(double));
+// How far a direction's squared length may be from 1 (float directions are well inside).
+constexpr double kUnitTolerance = 1e-3;
+
+std::string format_vector(const double* w) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.9g, %.9g, %.9g)", w[0], w[1], w[2]);
+  return buf;
+}
+
+// A finite unit vector (within kUnitTolerance). Checked per element of a batch, so it allocates
+// nothing unless it fails.
+bool is_direction(const double* w) {
+  const bool finite = std::isfinite(w[0]) && std::isfinite(w[1]) && std::isfinite(w[2]);
+  return finite && std::fabs(w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - 1.0) <= kUnitTolerance;
+}
+
+// `name`, or `name[index]` for an element of a batch.
+Status direction_error(const double* w, const char* name, std::size_t index = SIZE_MAX) {
+  std::string what = name;
+  if (index != SIZE_MAX) what += "[" + std::to_string(index) + "]";
+  return invalid_argument(what + " must be a finite unit vector, not " + format_vector(w));
+}
+
+Status check_direction(const double* w, const char* name, std::size_t index = SIZE_MAX) {
+  return is_direction(w) ? ok_status() : direction_error(w, name, index);
+}
+
+Vec3 to_vec3(const double* w) {
+  return Vec3{w[0], w[1], w[2]};
+}
+
+// Arguments of the per-slice getters.
+Status check_slice(const cbrdf_model* model, int slice) {
+  if (model == nullptr) return invalid_argument("model is NULL");
+  const int n = int(model->model.slices.size());
+  if (slice < 0 || slice >= n) {
+    return invalid_argument("slice " + std::to_string(slice) + " is out of range (the model has " +
+                            std::to_string(n) + ", 0 to " + std::to_string(n - 1) + ")");
+  }
+  return ok_status();
+}
+
+Status check_slice_channel(const cbrdf_model* model, int slice, int channel) {
+  CBRDF_RETURN_IF_ERROR(check_slice(model, slice));
+  if (channel < 0 || channel >= kChannels) {
+    return invalid_argument("channel " + std::to_string(channel) + " is out of range (0 to 2)");
+  }
+  return ok_status();
+}
+
+// Builds the handle from a file's bytes. Both calls validate the whole file; inspect_container is
+// what keeps the chunk layout, header fields and metadata that Model does not hold.
+Expected<std::unique_ptr<cbrdf_model>> build_model(std::span<const std::uint8_t> bytes) {
+  auto info = inspect_container(bytes);
+  if (!info.ok()) return info.status();
+  auto decoded = decode_model(bytes);
+  if (!decoded.ok()) return decoded.status();
+  auto handle = std::make_unique<cbrdf_model>();
+  handle->info = std::move(info.value());
+  handle->model = std::move(decoded.value());
+  // The handle owns the model and never moves, so the evaluator shares it without owning it.
+  handle->evaluator = std::make_unique<const ModelEvaluator>(
+      std::shared_ptr<const Model>(std::shared_ptr<const Model>(), &handle->model));
+  return handle;
+}
+
+template <typename Open>
+cbrdf_model* open_reported(Open&& open) noexcept {
+  try {
+    Expected<std::unique_ptr<cbrdf_model>> handle = open();
+    if (!handle.ok()) {
+      report(handle.status());
+      return nullptr;
+    }
+    clear_last_error();
+    return handle.value().release();
+  } catch (...) {
+    report_current_exception();
+    return nullptr;
+  }
+}
+
+const BrdfSampler& sampler_of(const cbrdf_model* model) {
+  // A throw inside leaves the flag unset, so the next call tries again.
+  std::call_once(model->sampler_once, [model] {
+    model->sampler = std::make_unique<const BrdfSampler>(make_model_sampler(*model->evaluator));
+  });
+  return *model->sampler;
+}
+
+}  // namespace
+
+cbrdf_status to_c_status(ErrorCode code) noexcept {
+  return cbrdf_status(int(code));
+}
+
+void set_last_error(cbrdf_status code, std::string_view message) noexcept {
+  LastError& e = last_error();
+  e.code = code == CBRDF_OK ? CBRDF_ERROR_INTERNAL : code;
+  try {
+    e.message.assign(message);
+  } catch (...) {
+    // Keep what fits in the capacity already there rather than nothing.
+    e.message.clear();
+    try {
+      e.message.assign(message.substr(0, e.message.capacity()));
+    } catch (...) {
+    }
+  }
+}
+
+void clear_last_error() noexcept {
+  LastError& e = last_error();
+  e.code = CBRDF_OK;
+  e.message.clear();
+}
+
+cbrdf_status report(const Status& status) noexcept {
+  if (status.ok()) {
+    clear_last_error();
+    return CBRDF_OK;
+  }
+  set_last_error(to_c_status(status.code()), status.message());
+  return last_error().code;
+}
+
+cbrdf_status report_current_exception() noexcept {
+  try {
+    throw;
+  } catch (const std::bad_alloc&) {
+    set_last_error(CBRDF_ERROR_INTERNAL, "out of memory");
+  } catch (const std::exception& ex) {
+    try {
+      set_last_error(CBRDF_ERROR_INTERNAL, std::string("internal error: ") + ex.what());
+    } catch (...) {
+      set_last_error(CBRDF_ERROR_INTERNAL, "internal error");
+    }
+  } catch (...) {
+    set_last_error(CBRDF_ERROR_INTERNAL, "internal error: unknown exception");
+  }
+  return CBRDF_ERROR_INTERNAL;
+}
+
+}  // namespace cbrdf::capi
+
+using cbrdf::capi::guarded;
+using cbrdf::capi::invalid_argument;
+
+extern "C" {
+
+const char* cbrdf_version_string(void) {
+  return CBRDF_VERSION_STRING;
+}
+
+int cbrdf_version_number(void) {
+  static constexpr int kVersion = CBRDF_VERSION;
+  return kVersion;
+}
+
+cbrdf_status cbrdf_last_error_code(void) {
+  return cbrdf::capi::last_error().code;
+}
+
+const char* cbrdf_last_error_message(void) {
+  return cbrdf::capi::last_error().message.c_str();
+}
+
+const char* cbrdf_status_name(cbrdf_status status) {
+  const int code = int(status);
+  if (code < CBRDF_OK || code > CBRDF_ERROR_INTERNAL) return "unknown";
+  return cbrdf::error_code_name(cbrdf::ErrorCode(code));
+}
+
+cbrdf_model* cbrdf_model_open_memory(const void* data, size_t size) {
+  return cbrdf::capi::open_reported([&]() -> cbrdf::Expected<std::unique_ptr<cbrdf_model>> {
+    if (data == nullptr) return invalid_argument("cbrdf_model_open_memory: data is NULL");
+    return cbrdf::capi::build_model(
+        std::span<const std::uint8_t>(static_cast<const std::uint8_t*>(data), size));
+  });
+}
+
+cbrdf_model* cbrdf_model_open_file(const char* path) {
+  return cbrdf::capi::open_reported([&]() -> cbrdf::Expected<std::unique_ptr<cbrdf_model>> {
+    if (path == nullptr) return invalid_argument("cbrdf_model_open_file: path is NULL");
+    auto bytes = cbrdf::read_file(path, cbrdf::kMaxContainerBytes);
+    if (!bytes.ok()) return bytes.status();
+    auto handle = cbrdf::capi::build_model(*bytes);
+    if (!handle.ok()) return handle.status().with_context(path);
+    return handle;
+  });
+}
+
+void cbrdf_model_free(cbrdf_model* model) {
+  delete model;
+}
+
+cbrdf_status cbrdf_model_get_info(const cbrdf_model* model, cbrdf_model_info* info) {
+  return guarded([&] {
+    // The first version of the struct ends with not_measured_bins.
+    constexpr std::size_t kFirstSize =
+        offsetof(cbrdf_model_info, not_measured_bins) + sizeof(uint64_t);
+    if (model == nullptr || info == nullptr) {
+      return invalid_argument("cbrdf_model_get_info: model or info is NULL");
+    }
+    if (info->struct_size < kFirstSize) {
+      return invalid_argument("cbrdf_model_get_info: info->struct_size is " +
+                              std::to_string(info->struct_size) + ", less than " +
+                              std::to_string(kFirstSize) + " (set it to sizeof(cbrdf_model_info))");
+    }
+    cbrdf_model_info out{};
+    out.struct_size = uint32_t(std::min<std::size_t>(info->struct_size, sizeof out));
+    out.version_major = model->info.layout.major;
+    out.version_minor = model->info.layout.minor;
+    out.slices = int(model->model.slices.size());
+    out.max_components = 0;
+    for (const cbrdf::Slice& s : model->model.slices) {
+      for (const cbrdf::ChannelSlice& c : s.channel) {
+        out.max_components = std::max(out.max_components, c.components());
+      }
+    }
+    out.bits = model->info.bits;
+    out.file_bytes = model->info.layout.file_bytes;
+    out.not_measured_bins = model->info.not_measured_bins;
+    std::memcpy(info, &out, out.struct_size);
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_get_slice(const cbrdf_model* model, int slice, int* theta_d_begin,
+                                   int* theta_d_end) {
+  return guarded([&] {
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_slice(model, slice));
+    if (theta_d_begin == nullptr || theta_d_end == nullptr) {
+      return invalid_argument("cbrdf_model_get_slice: an output pointer is NULL");
+    }
+    const cbrdf::Slice& s = model->model.slices[std::size_t(slice)];
+    *theta_d_begin = s.theta_d_begin;
+    *theta_d_end = s.theta_d_end;
+    return cbrdf::ok_status();
+  });
+}
+
+const char* cbrdf_family_name(int family) {
+  if (family == CBRDF_FAMILY_AUTO) return "auto";
+  if (family < 0 || family > 255 || !cbrdf::family_valid(std::uint8_t(family))) return "unknown";
+  // family_name returns views of string literals, so data() is NUL-terminated.
+  return cbrdf::family_name(cbrdf::CopulaFamily(family)).data();
+}
+
+cbrdf_status cbrdf_model_get_component_count(const cbrdf_model* model, int slice, int channel,
+                                             int* count) {
+  return guarded([&] {
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_slice_channel(model, slice, channel));
+    if (count == nullptr) return invalid_argument("cbrdf_model_get_component_count: count is NULL");
+    *count = model->model.slices[std::size_t(slice)].channel[std::size_t(channel)].components();
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_get_component(const cbrdf_model* model, int slice, int channel,
+                                       int component, int* family, double* theta, double* scale) {
+  return guarded([&] {
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_slice_channel(model, slice, channel));
+    const cbrdf::ChannelSlice& cs =
+        model->model.slices[std::size_t(slice)].channel[std::size_t(channel)];
+    if (component < 0 || component >= cs.components()) {
+      return invalid_argument("component " + std::to_string(component) +
+                              " is out of range (slice " + std::to_string(slice) + " channel " +
+                              std::to_string(channel) + " has " + std::to_string(cs.components()) +
+                              ")");
+    }
+    if (family == nullptr || theta == nullptr || scale == nullptr) {
+      return invalid_argument("cbrdf_model_get_component: an output pointer is NULL");
+    }
+    const cbrdf::Component& c = cs.component(component);
+    *family = int(c.family);
+    *theta = c.theta;
+    *scale = c.scale;
+    return cbrdf::ok_status();
+  });
+}
+
+size_t cbrdf_model_metadata_count(const cbrdf_model* model) {
+  if (model == nullptr) {
+    cbrdf::capi::set_last_error(CBRDF_ERROR_INVALID_ARGUMENT,
+                                "cbrdf_model_metadata_count: model is NULL");
+    return 0;
+  }
+  cbrdf::capi::clear_last_error();
+  return model->info.metadata.size();
+}
+
+cbrdf_status cbrdf_model_metadata_at(const cbrdf_model* model, size_t i, const char** key,
+                                     const char** value) {
+  return guarded([&] {
+    if (model == nullptr || key == nullptr || value == nullptr) {
+      return invalid_argument("cbrdf_model_metadata_at: model, key or value is NULL");
+    }
+    const auto& meta = model->info.metadata;
+    if (i >= meta.size()) {
+      return invalid_argument("metadata index " + std::to_string(i) +
+                              " is out of range (the model has " + std::to_string(meta.size()) +
+                              " entries)");
+    }
+    *key = meta[i].first.c_str();
+    *value = meta[i].second.c_str();
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_eval(const cbrdf_model* model, const double wi[3], const double wo[3],
+                              double rgb[3]) {
+  return guarded([&] {
+    if (model == nullptr || wi == nullptr || wo == nullptr || rgb == nullptr) {
+      return invalid_argument("cbrdf_model_eval: model, wi, wo or rgb is NULL");
+    }
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wi, "wi"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo, "wo"));
+    model->evaluator->eval(cbrdf::capi::to_vec3(wi), cbrdf::capi::to_vec3(wo), rgb);
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_eval_batch(const cbrdf_model* model, size_t n, const double* wi,
+                                    const double* wo, double* rgb) {
+  return guarded([&] {
+    if (model == nullptr) return invalid_argument("cbrdf_model_eval_batch: model is NULL");
+    if (n == 0) return cbrdf::ok_status();
+    if (wi == nullptr || wo == nullptr || rgb == nullptr) {
+      return invalid_argument("cbrdf_model_eval_batch: wi, wo or rgb is NULL");
+    }
+    if (n > cbrdf::capi::kMaxTriples) {
+      return invalid_argument("cbrdf_model_eval_batch: n = " + std::to_string(n) + " is too large");
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wi + 3 * k, "wi", k));
+      CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo + 3 * k, "wo", k));
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      model->evaluator->eval(cbrdf::capi::to_vec3(wi + 3 * k), cbrdf::capi::to_vec3(wo + 3 * k),
+                             rgb + 3 * k);
+    }
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_sample_batch(const cbrdf_model* model, size_t n, const double* wo,
+                                      const double* u, double* wi, double* pdf, double* weight) {
+  return guarded([&] {
+    if (model == nullptr) return invalid_argument("cbrdf_model_sample_batch: model is NULL");
+    if (n == 0) return cbrdf::ok_status();
+    if (wo == nullptr || u == nullptr || wi == nullptr || pdf == nullptr || weight == nullptr) {
+      return invalid_argument("cbrdf_model_sample_batch: wo, u, wi, pdf or weight is NULL");
+    }
+    if (n > cbrdf::capi::kMaxTriples) {
+      return invalid_argument("cbrdf_model_sample_batch: n = " + std::to_string(n) +
+                              " is too large");
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo + 3 * k, "wo", k));
+      if (!std::isfinite(u[2 * k]) || !std::isfinite(u[2 * k + 1])) {
+        return invalid_argument("u pair " + std::to_string(k) + " (u[" + std::to_string(2 * k) +
+                                "], u[" + std::to_string(2 * k + 1) +
+                                "]) must be finite numbers in [0, 1)");
+      }
+    }
+    const cbrdf::BrdfSampler& sampler = cbrdf::capi::sampler_of(model);
+    for (std::size_t k = 0; k < n; ++k) {
+      const cbrdf::Vec3 o = cbrdf::capi::to_vec3(wo + 3 * k);
+      const cbrdf::BrdfSample s = sampler.sample(o, u[2 * k], u[2 * k + 1]);
+      double* w = weight + 3 * k;
+      double* i = wi + 3 * k;
+      double f[3] = {0, 0, 0};
+      if (s.valid) model->evaluator->eval(s.wi, o, f);
+      if (!s.valid || !(s.pdf > 0)) {
+        i[0] = i[1] = i[2] = 0.0;
+        pdf[k] = 0.0;
+        w[0] = w[1] = w[2] = 0.0;
+        continue;
+      }
+      i[0] = s.wi.x;
+      i[1] = s.wi.y;
+      i[2] = s.wi.z;
+      pdf[k] = s.pdf;
+      for (int c = 0; c < 3; ++c) w[c] = f[c] * s.wi.z / s.pdf;
+    }
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_pdf(const cbrdf_model* model, const double wo[3], const double wi[3],
+                             double* pdf) {
+  return guarded([&] {
+    if (model == nullptr || wo == nullptr || wi == nullptr || pdf == nullptr) {
+      return invalid_argument("cbrdf_model_pdf: model, wo, wi or pdf is NULL");
+    }
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo, "wo"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wi, "wi"));
+    *pdf = cbrdf::capi::sampler_of(model).pdf(cbrdf::capi::to_vec3(wo), cbrdf::capi::to_vec3(wi));
+    return cbrdf::ok_status();
+  });
+}
+
+size_t cbrdf_merl_table_size(void) {
+  return cbrdf::kChannels * cbrdf::kBinsPerChannel;
+}
+
+cbrdf_status cbrdf_model_table(const cbrdf_model* model, double* stored_values, size_t count) {
+  return guarded([&] {
+    if (model == nullptr || stored_values == nullptr) {
+      return invalid_argument("cbrdf_model_table: model or stored_values is NULL");
+    }
+    if (count != cbrdf_merl_table_size()) {
+      return invalid_argument(
+          "cbrdf_model_table: count is " + std::to_string(count) +
+          ", not cbrdf_merl_table_size() = " + std::to_string(cbrdf_merl_table_size()));
+    }
+    const cbrdf::BrdfTable table = model->evaluator->table();
+    std::memcpy(stored_values, table.stored_values().data(), count * sizeof(double));
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_write_merl(const cbrdf_model* model, const char* path) {
+  return guarded([&] {
+    if (model == nullptr || path == nullptr) {
+      return invalid_argument("cbrdf_model_write_merl: model or path is NULL");
+    }
+    return cbrdf::write_merl(path, model->evaluator->table());
+  });
+}
+
+void cbrdf_free(void* p) {
+  std::free(p);
+}
+
+}  // extern "C"

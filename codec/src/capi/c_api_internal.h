@@ -1,0 +1,51 @@
+// What the C API's encoder part (c_api_encoder.cc) uses from its decoder part (c_api_decoder.cc):
+// the thread's last error and the boundary that turns Status values and exceptions into it. Not
+// installed; the encoder library will link the decoder library for these.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "cbrdf/cbrdf_c.h"
+#include "cbrdf/status.h"
+
+// These are called across the future decoder/encoder library boundary, so they stay visible
+// under -fvisibility=hidden: when the two parts become shared libraries, the encoder's calls bind
+// to the decoder's one thread-local last error. (Not part of the public API: not installed.)
+#if defined(__GNUC__) || defined(__clang__)
+#define CBRDF_CAPI_INTERNAL __attribute__((visibility("default")))
+#else
+#define CBRDF_CAPI_INTERNAL
+#endif
+
+namespace cbrdf::capi {
+
+CBRDF_CAPI_INTERNAL cbrdf_status to_c_status(ErrorCode code) noexcept;
+
+// Records a failure as the calling thread's last error (when memory runs out, the message may be
+// cut short or empty; the code is always kept).
+CBRDF_CAPI_INTERNAL void set_last_error(cbrdf_status code, std::string_view message) noexcept;
+CBRDF_CAPI_INTERNAL void clear_last_error() noexcept;
+// Records a non-ok status, clears the last error for an ok one; returns the status's code.
+CBRDF_CAPI_INTERNAL cbrdf_status report(const Status& status) noexcept;
+// Call only inside a catch block: records the exception in flight (std::bad_alloc as "out of
+// memory", anything else as an internal error) and returns the code recorded.
+CBRDF_CAPI_INTERNAL cbrdf_status report_current_exception() noexcept;
+
+// The boundary of every status-returning function: runs body (returning Status) and reports its
+// result; no exception leaves it.
+template <typename Body>
+cbrdf_status guarded(Body&& body) noexcept {
+  try {
+    return report(body());
+  } catch (...) {
+    return report_current_exception();
+  }
+}
+
+inline Status invalid_argument(std::string message) {
+  return Status(ErrorCode::kInvalidArgument, std::move(message));
+}
+
+}  // namespace cbrdf::capi

@@ -1,0 +1,13 @@
+#include "cbrdf/version.h"
+
+namespace cbrdf {
+
+const char* version_string() {
+  return CBRDF_VERSION_STRING;
+}
+
+int version() {
+  return CBRDF_VERSION;
+}
+
+}  // namespace cbrdf
