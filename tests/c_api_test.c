@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "cbrdf/cbrdf_c.h"
+#include "cbrdf/version.h"
 
 #ifndef CBRDF_TEST_DATA_DIR
 #error "CBRDF_TEST_DATA_DIR must name tests/data"
@@ -115,9 +116,14 @@ static const double kMerlScale[3] = {1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0}
 
 static void test_version_and_names(void) {
   int major = -1, minor = -1, patch = -1;
-#ifdef CBRDF_VERSION_STRING /* the library's public compile definition, when it has one */
+  /* The run-time library agrees with the headers it was built with (cbrdf/version.h). */
   CHECK(strcmp(cbrdf_version_string(), CBRDF_VERSION_STRING) == 0);
-#endif
+  CHECK(cbrdf_version_number() == CBRDF_VERSION);
+  /* The global thread limit: a cap, then one per core again. */
+  cbrdf_set_thread_limit(1);
+  CHECK(cbrdf_thread_limit() == 1);
+  cbrdf_set_thread_limit(0);
+  CHECK(cbrdf_thread_limit() >= 1);
   CHECK(sscanf(cbrdf_version_string(), "%d.%d.%d", &major, &minor, &patch) == 3);
   CHECK(cbrdf_version_number() == major * 10000 + minor * 100 + patch);
 

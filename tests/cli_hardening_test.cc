@@ -256,6 +256,11 @@ TEST_F(CliHardening, BadTargetsAreShortUsageErrors) {
     }
   }
   EXPECT_FALSE(fs::exists(tmp / "x.cbrdf"));
+  // A data-chosen slice count and rate control's search both choose it: refused, not ignored.
+  const auto r = run_cli("encode " + q(bin()) + " -o " + q(tmp / "x.cbrdf") +
+                         " --slices auto --target-bytes 5000");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(contains(r.err, "--slices auto and a target")) << r.err;
 }
 
 // Item 11: the longest name the filesystem takes works (the temporary's name used to be longer).

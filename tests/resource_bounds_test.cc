@@ -13,48 +13,9 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
+#include "heap_meter.h"
 #include "synthetic_model.h"
 #include "zstd_util.h"
-
-namespace {
-
-std::atomic<std::size_t> g_live{0};     // bytes held through operator new
-std::atomic<std::size_t> g_peak{0};     // the most g_live has been since the meter started
-std::atomic<std::size_t> g_largest{0};  // the largest single request since the meter started
-
-}  // namespace
-
-// The deletes are replaced too, so that new and delete pair as malloc and free even under ASan.
-// GCC cannot see that this operator new is malloc and warns about the pairing.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t n) {
-  void* p = std::malloc(n == 0 ? 1 : n);
-  if (!p) throw std::bad_alloc();
-  const std::size_t live = g_live.fetch_add(malloc_usable_size(p)) + malloc_usable_size(p);
-  std::size_t peak = g_peak.load();
-  while (live > peak && !g_peak.compare_exchange_weak(peak, live)) {
-  }
-  std::size_t largest = g_largest.load();
-  while (n > largest && !g_largest.compare_exchange_weak(largest, n)) {
-  }
-  return p;
-}
-void* operator new[](std::size_t n) {
-  return operator new(n);
-}
-void operator delete(void* p) noexcept {
-  if (p) g_live.fetch_sub(malloc_usable_size(p));
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  operator delete(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  operator delete(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  operator delete(p);
-}
 
 namespace cbrdf {
 namespace {
@@ -66,17 +27,7 @@ constexpr std::size_t kMiB = std::size_t{1} << 20;
 constexpr std::size_t kDecodeHeapBound = 80 * kMiB;  // decode_model / inspect_container
 constexpr std::size_t kTableHeapBound = 40 * kMiB;   // table() on top of the Model
 
-// Heap use of the code between start() and the read-outs, relative to what was live at start().
-struct Meter {
-  std::size_t baseline = 0;
-  void start() {
-    baseline = g_live.load();
-    g_peak = baseline;
-    g_largest = 0;
-  }
-  std::size_t peak() const { return g_peak.load() - baseline; }
-  std::size_t largest() const { return g_largest.load(); }
-};
+using Meter = testing::heap::Meter;
 
 // A valid HEAD, then the chunk under test: the parser reaches it with the file otherwise sound.
 Bytes head_then(std::string_view tag, std::uint32_t flags, const Bytes& stored,
@@ -100,7 +51,7 @@ TEST(ResourceBounds, FileAboveTheContainerLimitIsRefusedWithoutAllocating) {
   Expected<Model> model = decode_model(file);
   ASSERT_FALSE(model.ok());
   EXPECT_EQ(model.status().code(), ErrorCode::kLimit) << model.status().message();
-  EXPECT_LT(m.largest(), 64 * 1024u) << "refused before reading the file's contents";
+  EXPECT_LT(m.largest_bytes(), 64 * 1024u) << "refused before reading the file's contents";
 }
 
 TEST(ResourceBounds, DeclaredLengthBeyondTheFileIsRefusedBeforeAllocation) {
@@ -115,7 +66,7 @@ TEST(ResourceBounds, DeclaredLengthBeyondTheFileIsRefusedBeforeAllocation) {
   ASSERT_FALSE(pc.ok());
   EXPECT_EQ(pc.status().code(), ErrorCode::kTruncated) << pc.status().message();
   EXPECT_NE(pc.status().message().find("4294967280"), std::string::npos) << pc.status().message();
-  EXPECT_LT(m.largest(), 64 * 1024u);
+  EXPECT_LT(m.largest_bytes(), 64 * 1024u);
 }
 
 TEST(ResourceBounds, PayloadAboveItsChunkLimitIsRefusedBeforeDecompression) {
@@ -131,7 +82,7 @@ TEST(ResourceBounds, PayloadAboveItsChunkLimitIsRefusedBeforeDecompression) {
   ASSERT_FALSE(model.ok());
   EXPECT_EQ(model.status().code(), ErrorCode::kLimit) << model.status().message();
   EXPECT_NE(model.status().message().find("chunk 'MASK'"), std::string::npos);
-  EXPECT_LT(m.largest(), 64 * 1024u) << "nothing of the declared size was allocated";
+  EXPECT_LT(m.largest_bytes(), 64 * 1024u) << "nothing of the declared size was allocated";
 }
 
 TEST(ResourceBounds, UncompressedPayloadAboveItsLimitIsNotCopied) {
@@ -143,7 +94,7 @@ TEST(ResourceBounds, UncompressedPayloadAboveItsLimitIsNotCopied) {
   Expected<ParsedContainer> pc = parse_container(file);
   ASSERT_FALSE(pc.ok());
   EXPECT_EQ(pc.status().code(), ErrorCode::kLimit) << pc.status().message();
-  EXPECT_LT(m.largest(), 64 * 1024u);
+  EXPECT_LT(m.largest_bytes(), 64 * 1024u);
 }
 
 // Offset of the Frame_Content_Size field of a zstd frame (RFC 8878, 3.1.1.1) and its size.
@@ -177,7 +128,7 @@ TEST(ResourceBounds, DecompressionBombIsRefused) {
   ASSERT_FALSE(model.ok());
   EXPECT_EQ(model.status().code(), ErrorCode::kCorrupt) << model.status().message();
   EXPECT_NE(model.status().message().find("chunk 'MARG'"), std::string::npos);
-  EXPECT_LT(m.peak(), 1 * kMiB) << "the bomb did not expand";
+  EXPECT_LT(m.peak_bytes(), 1 * kMiB) << "the bomb did not expand";
 }
 
 TEST(ResourceBounds, FrameDeclaringMoreThanTheChunkIsRefusedBeforeAllocation) {
@@ -191,7 +142,7 @@ TEST(ResourceBounds, FrameDeclaringMoreThanTheChunkIsRefusedBeforeAllocation) {
   EXPECT_EQ(model.status().code(), ErrorCode::kCorrupt) << model.status().message();
   EXPECT_NE(model.status().message().find("16777216"), std::string::npos)
       << model.status().message();
-  EXPECT_LT(m.largest(), 64 * 1024u);
+  EXPECT_LT(m.largest_bytes(), 64 * 1024u);
 }
 
 TEST(ResourceBounds, MaximalMaskBombStaysWithinTheDecodeBound) {
@@ -222,8 +173,8 @@ TEST(ResourceBounds, MaximalMaskBombStaysWithinTheDecodeBound) {
   ASSERT_FALSE(model.ok());
   // An all-clear bitmap with count 0 passes the count check and fails the mask hash.
   EXPECT_EQ(model.status().code(), ErrorCode::kChecksum) << model.status().message();
-  EXPECT_LE(m.peak(), kDecodeHeapBound);
-  EXPECT_GE(m.peak(), std::size_t{36} * kMiB) << "the meter saw the payload";
+  EXPECT_LE(m.peak_bytes(), kDecodeHeapBound);
+  EXPECT_GE(m.peak_bytes(), std::size_t{36} * kMiB) << "the meter saw the payload";
 }
 
 TEST(ResourceBounds, LargestLegitimateFileDecodesWithinTheDocumentedBounds) {
@@ -246,7 +197,7 @@ TEST(ResourceBounds, LargestLegitimateFileDecodesWithinTheDocumentedBounds) {
   m.start();
   Expected<Model> decoded = decode_model(*file);
   ASSERT_TRUE(decoded.ok()) << decoded.status().message();
-  const std::size_t decode_peak = m.peak();
+  const std::size_t decode_peak = m.peak_bytes();
   EXPECT_LE(decode_peak, kDecodeHeapBound);
   EXPECT_GE(decode_peak, bins * sizeof(double)) << "the meter saw the values";
   std::printf("decode_model of the largest legitimate file (%zu bytes): peak heap %.1f MiB\n",
@@ -254,8 +205,9 @@ TEST(ResourceBounds, LargestLegitimateFileDecodesWithinTheDocumentedBounds) {
 
   m.start();
   const BrdfTable table = decoded->table();
-  EXPECT_LE(m.peak(), kTableHeapBound);
-  std::printf("table(): peak heap %.1f MiB on top of the Model\n", double(m.peak()) / double(kMiB));
+  EXPECT_LE(m.peak_bytes(), kTableHeapBound);
+  std::printf("table(): peak heap %.1f MiB on top of the Model\n",
+              double(m.peak_bytes()) / double(kMiB));
   EXPECT_EQ(table.count_not_measured(), kBinsPerChannel * kChannels);
   EXPECT_EQ(table.stored(2, kBinsPerChannel - 1), decoded->not_measured.values.back());
 }

@@ -356,5 +356,38 @@ TEST(Sampling, ImportanceSamplingBeatsCosineSamplingForAGlossyMaterial) {
   EXPECT_GT(ratio, 10.0);
 }
 
+// The evaluator owns its model and a sampler made from a shared evaluator keeps it alive: both
+// outlive everything they were built from (the evaluator used to keep a raw pointer to the model).
+TEST(Ownership, EvaluatorAndSamplerOutliveTheirSources) {
+  std::shared_ptr<const ModelEvaluator> shared;
+  double expected[3];
+  const Vec3 wi = direction(30, 0.4), wo = direction(40, 2.0);
+  {
+    Model m = testing::make_model(testing::six_slices(), /*peaked=*/true);
+    const ModelEvaluator reference(m);  // a copy of m
+    reference.eval(wi, wo, expected);
+    shared = std::make_shared<const ModelEvaluator>(std::move(m));
+    m = Model{};  // the caller's model is gone
+  }
+  double rgb[3];
+  shared->eval(wi, wo, rgb);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(rgb[c], expected[c]);
+  BrdfSampler sampler = make_model_sampler(shared);
+  ModelEvaluator moved = ModelEvaluator(shared->shared_model());
+  shared.reset();  // the sampler holds the last reference
+  int valid = 0;
+  for (int k = 0; k < 64; ++k) {
+    const BrdfSample s = sampler.sample(wo, (k + 0.5) / 64.0, std::fmod(k * 0.618, 1.0));
+    if (!s.valid) continue;
+    ++valid;
+    EXPECT_GT(s.pdf, 0.0);
+    EXPECT_NEAR(sampler.pdf(wo, s.wi), s.pdf, 1e-12 * s.pdf);
+  }
+  EXPECT_GT(valid, 32);
+  const ModelEvaluator after_move = std::move(moved);
+  after_move.eval(wi, wo, rgb);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(rgb[c], expected[c]);
+}
+
 }  // namespace
 }  // namespace cbrdf

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
-#include <thread>
 
 #include "cbrdf/container.h"
 #include "cbrdf/encoder.h"
@@ -21,15 +20,7 @@ namespace {
 
 struct EncodeOptions {
   std::string input, output;
-  std::string slices = "6";
-  std::string placement = "uniform";
-  std::string components = "1";
-  std::string family = "frank";
-  int bits = ContainerSettings{}.bits;
-  int level = ContainerSettings{}.zstd_level;
-  int threads = 0;
-  std::string loss = "linear";
-  bool naive_marginals = false;
+  EncoderOptions encoder;  // --slices ... --naive-marginals: encoder_settings() checks them
   bool no_metrics = false;
   std::string target_bytes, target_psnr;  // parsed here: CLI11 lets nan through
 };
@@ -48,119 +39,62 @@ std::optional<std::string> parse_target(const std::string& text, const char* wha
   return std::nullopt;
 }
 
-int run_encode(const EncodeOptions& o, const Context& ctx) {
-  if (o.output.empty()) return usage_error("encode: give the output file with -o OUT.cbrdf");
-  const std::vector<PathArg> outputs = {{"-o", o.output}};
-  if (auto bad = check_paths("encode", {{"input", o.input}}, outputs)) return usage_error(*bad);
-  std::FILE* info = info_stream(outputs);
-  double target_bytes = 0, target_psnr = 0;
+// --target-bytes / --target-psnr as a RateTarget (both 0: no target).
+std::optional<std::string> parse_rate_target(const EncodeOptions& o, RateTarget* target) {
   if (!o.target_bytes.empty()) {
     // A container is at most 64 MiB.
     if (auto bad = parse_target(o.target_bytes, "--target-bytes", double(kMaxContainerBytes),
-                                "67108864 (64 MiB)", &target_bytes)) {
-      return usage_error(*bad);
+                                "67108864 (64 MiB)", &target->max_bytes)) {
+      return bad;
     }
   }
   if (!o.target_psnr.empty()) {
-    if (auto bad = parse_target(o.target_psnr, "--target-psnr", 1000.0, "1000", &target_psnr)) {
-      return usage_error(*bad);
+    if (auto bad =
+            parse_target(o.target_psnr, "--target-psnr", 1000.0, "1000", &target->min_psnr)) {
+      return bad;
     }
   }
-  EncoderSettings st;
-  if (o.slices == "auto") {
-    st.fit.auto_slices = true;
-  } else {
-    int n = 0;
-    const auto [end, ec1] = std::from_chars(o.slices.data(), o.slices.data() + o.slices.size(), n);
-    if (ec1 != std::errc() || end != o.slices.data() + o.slices.size() || n < 1 || n > 90) {
-      return usage_error("encode: --slices must be 1 to 90 or auto, not '" + o.slices + "'");
-    }
-    st.fit.slices = n;
+  // Rate control chooses the slice count itself.
+  if ((target->max_bytes > 0 || target->min_psnr > 0) && o.encoder.slices == "auto") {
+    return std::string(
+        "encode: --slices auto and a target (--target-bytes, --target-psnr) both "
+        "choose the slice count; give one of them");
   }
-  if (o.placement == "adaptive") {
-    st.fit.adaptive_slices = true;
-  } else if (o.placement != "uniform") {
-    return usage_error("encode: unknown --slice-placement '" + o.placement +
-                       "' (uniform or adaptive)");
-  }
-  st.fit.impute_missing = !o.naive_marginals;
-  st.fit.threads =
-      o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-  if (o.family == "auto") {
-    st.fit.auto_family = true;
-  } else if (auto f = family_from_name(o.family)) {
-    st.fit.family = *f;
-  } else {
-    return usage_error("encode: unknown --family '" + o.family +
-                       "' (frank, clayton, gumbel, joe, independence or auto)");
-  }
-  if (o.components == "auto") {
-    st.fit.components = kAutoMaxComponents;
-    st.fit.auto_components = true;
-  } else {
-    int k = 0;
-    const auto [end, ec2] =
-        std::from_chars(o.components.data(), o.components.data() + o.components.size(), k);
-    if (ec2 != std::errc() || end != o.components.data() + o.components.size() || k < 1 ||
-        k > kMaxComponents) {
-      return usage_error("encode: --components must be 1 to " + std::to_string(kMaxComponents) +
-                         " or auto, not '" + o.components + "'");
-    }
-    st.fit.components = k;
-  }
-  if (o.loss == "linear") {
-    st.fit.loss = FitLoss::kLinear;
-  } else if (o.loss == "cosine") {
-    st.fit.loss = FitLoss::kCosine;
-  } else if (o.loss == "log") {
-    st.fit.loss = FitLoss::kLog;
-  } else {
-    return usage_error("encode: unknown --loss '" + o.loss + "' (linear, cosine or log)");
-  }
-  st.container.bits = o.bits;
-  st.container.zstd_level = o.level;
-  st.container.source_name =
-      o.input == kStdStream ? "" : std::filesystem::path(o.input).filename().string();
+  return std::nullopt;
+}
 
-  const auto t0 = std::chrono::steady_clock::now();
-  auto table = read_merl(input_path(o.input));
-  if (!table.ok()) return fail(table.status());
-  Expected<EncodeResult> result = error(ErrorCode::kInternal, "not encoded");
-  if (target_bytes > 0 || target_psnr > 0) {
-    RateTarget target{target_bytes, target_psnr};
-    // An explicit --components caps the search; otherwise it searches up to 4.
-    if (o.components != "1" && o.components != "auto") target.max_components = st.fit.components;
-    auto rc = encode_to_target(*table, st, target);
-    if (!rc.ok()) return fail(rc.status().with_context(shown(o.input, false)));
-    if (!ctx.quiet) {
-      std::fprintf(
-          info,
-          "searched %zu settings: chose --slices %d --components %d --bits %d: %.0f bytes, "
-          "%.2f dB tone-mapped%s\n",
-          rc->tried.size(), rc->chosen.slices, rc->chosen.components, rc->chosen.bits,
-          rc->chosen.bytes, rc->chosen.psnr_tonemapped,
-          rc->met ? "" : " (the target could not be met: this is the closest)");
-    }
-    result = std::move(rc->encoded);
-  } else {
-    result = encode_table(*table, st);
+// Encodes at the settings, or searches for the target when there is one.
+Expected<EncodeResult> encode(const BrdfTable& table, const EncoderSettings& st, RateTarget target,
+                              const Context& ctx, std::FILE* info) {
+  if (target.max_bytes <= 0 && target.min_psnr <= 0) return encode_table(table, st);
+  // An explicit --components K > 1 caps the search; otherwise it searches up to 4.
+  if (!st.fit.auto_components && st.fit.components > 1) target.max_components = st.fit.components;
+  auto rc = encode_to_target(table, st, target);
+  if (!rc.ok()) return rc.status();
+  if (!ctx.quiet) {
+    std::fprintf(info,
+                 "searched %zu settings: chose --slices %d --components %d --bits %d: %.0f bytes, "
+                 "%.2f dB tone-mapped%s\n",
+                 rc->tried.size(), rc->chosen.slices, rc->chosen.components, rc->chosen.bits,
+                 rc->chosen.bytes, rc->chosen.psnr_tonemapped,
+                 rc->met ? "" : " (the target could not be met: this is the closest)");
   }
-  if (!result.ok()) return fail(result.status().with_context(shown(o.input, false)));
-  if (Status s = write_file_atomic(output_path(o.output), result->bytes); !s.ok()) return fail(s);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (ctx.quiet) return kExitOk;
+  return std::move(rc->encoded);
+}
 
+// The sizes, the fit's objective against the separable model and, with -v, the parameters.
+void print_summary(const EncodeOptions& o, const Context& ctx, const EncodeResult& result,
+                   double seconds, std::FILE* info) {
   std::error_code ec;
   const double in_bytes = o.input == kStdStream ? double(kMerlFileBytes)
                                                 : double(std::filesystem::file_size(o.input, ec));
-  const double out_bytes = double(result->bytes.size());
+  const double out_bytes = double(result.bytes.size());
   std::fprintf(info, "%s -> %s: %.0f -> %.0f bytes (%.0f:1) in %.2f s\n",
                shown(o.input, false).c_str(), shown(o.output, true).c_str(), in_bytes, out_bytes,
                in_bytes / out_bytes, seconds);
   // How much the copula adds over the separable model, in the fit's own objective.
   double obj = 0, obj_sep = 0;
-  for (const auto& s : result->report.slices) {
+  for (const auto& s : result.report.slices) {
     for (const auto& c : s) {
       obj += c.objective;
       obj_sep += c.objective_independence;
@@ -168,17 +102,40 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   }
   std::fprintf(info,
                "fit: %zu slices x 3 channels, %s; objective %.4g vs separable %.4g (%+.2f%%)\n",
-               result->model.slices.size(), o.family.c_str(), obj, obj_sep,
+               result.model.slices.size(), o.encoder.family.c_str(), obj, obj_sep,
                obj_sep > 0 ? 100.0 * (obj - obj_sep) / obj_sep : 0.0);
-  if (ctx.verbose) {
-    std::fprintf(info, "%-9s %-12s %-12s %-12s %s\n", "theta_d", "theta R", "theta G", "theta B",
-                 "family");
-    for (const Slice& s : result->model.slices) {
-      std::fprintf(info, "%2d-%-2d deg ", s.theta_d_begin, s.theta_d_end - 1);
-      for (const auto& c : s.channel) std::fprintf(info, " %-12.5g", c.theta);
-      std::fprintf(info, " %s\n", std::string(family_name(s.channel[0].family)).c_str());
-    }
+  if (!ctx.verbose) return;
+  std::fprintf(info, "%-9s %-12s %-12s %-12s %s\n", "theta_d", "theta R", "theta G", "theta B",
+               "family");
+  for (const Slice& s : result.model.slices) {
+    std::fprintf(info, "%2d-%-2d deg ", s.theta_d_begin, s.theta_d_end - 1);
+    for (const auto& c : s.channel) std::fprintf(info, " %-12.5g", c.theta);
+    std::fprintf(info, " %s\n", std::string(family_name(s.channel[0].family)).c_str());
   }
+}
+
+int run_encode(const EncodeOptions& o, const Context& ctx) {
+  if (o.output.empty()) return usage_error("encode: give the output file with -o OUT.cbrdf");
+  const std::vector<PathArg> outputs = {{"-o", o.output}};
+  if (auto bad = check_paths("encode", {{"input", o.input}}, outputs)) return usage_error(*bad);
+  std::FILE* info = info_stream(outputs);
+  RateTarget target;
+  if (auto bad = parse_rate_target(o, &target)) return usage_error(*bad);
+  EncoderOptions eo = o.encoder;
+  eo.source_name = o.input == kStdStream ? "" : std::filesystem::path(o.input).filename().string();
+  auto st = encoder_settings(eo);
+  if (!st.ok()) return usage_error("encode: " + st.status().message());
+
+  const auto t0 = std::chrono::steady_clock::now();
+  auto table = read_merl(input_path(o.input));
+  if (!table.ok()) return fail(table.status());
+  auto result = encode(*table, *st, target, ctx, info);
+  if (!result.ok()) return fail(result.status().with_context(shown(o.input, false)));
+  if (Status s = write_file_atomic(output_path(o.output), result->bytes); !s.ok()) return fail(s);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (ctx.quiet) return kExitOk;
+  print_summary(o, ctx, *result, seconds, info);
   if (!o.no_metrics) {
     auto decoded = decode_table(result->bytes);
     if (!decoded.ok()) return fail(decoded.status());
@@ -201,32 +158,32 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
       ->check(existing_file_or_stdin());
   cmd->add_option("-o,--output", o->output, "Output .cbrdf file (- for standard output)")
       ->required();
-  cmd->add_option("--slices", o->slices,
+  cmd->add_option("--slices", o->encoder.slices,
                   "Slices along theta_d: 1 to 90, or auto (count and boundaries from the data)")
       ->capture_default_str();
-  cmd->add_option("--slice-placement", o->placement,
+  cmd->add_option("--slice-placement", o->encoder.placement,
                   "Where slice boundaries go: uniform (the paper's) or adaptive (from the data)")
       ->capture_default_str();
-  cmd->add_option("--components", o->components,
+  cmd->add_option("--components", o->encoder.components,
                   "Copula components per slice and channel: 1 (the paper's model) to 8, or auto "
                   "(up to 4, added while each halves the fit's error)")
       ->capture_default_str();
-  cmd->add_option("--family", o->family,
+  cmd->add_option("--family", o->encoder.family,
                   "Copula family: frank, clayton, gumbel, joe, independence, auto")
       ->capture_default_str();
-  cmd->add_option("--bits", o->bits, "Bits per quantized marginal value (6 to 16): quality")
+  cmd->add_option("--bits", o->encoder.bits, "Bits per quantized marginal value (6 to 16): quality")
       ->capture_default_str()
       ->check(CLI::Range(6, 16));
-  cmd->add_option("--level", o->level, "zstd level (1 to 22): effort")
+  cmd->add_option("--level", o->encoder.level, "zstd level (1 to 22): effort")
       ->capture_default_str()
       ->check(CLI::Range(1, 22));
-  cmd->add_option("--threads", o->threads, "Fitting threads (0: one per core)")
+  cmd->add_option("--threads", o->encoder.threads, "Fitting threads (0: one per core)")
       ->check(CLI::Range(0, 256));
-  cmd->add_option("--loss", o->loss,
+  cmd->add_option("--loss", o->encoder.loss,
                   "What the fit minimizes: linear (the paper's), cosine (weighted by cos theta_i "
                   "cos theta_o) or log")
       ->capture_default_str();
-  cmd->add_flag("--naive-marginals", o->naive_marginals,
+  cmd->add_flag("--naive-marginals", o->encoder.naive_marginals,
                 "Estimate marginals as the paper does (missing bins as 0)");
   cmd->add_flag("--no-metrics", o->no_metrics, "Skip the PSNR check of the decoded file");
   auto* tb = cmd->add_option("--target-bytes", o->target_bytes,

@@ -2,13 +2,14 @@
 // integrator that is exact for what the scene contains (render/integrator.h).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <thread>
 
 #include "cbrdf/image_io.h"
 #include "cbrdf/metrics.h"
+#include "cbrdf/parallel.h"
 #include "cli.h"
 #include "cli_io.h"
 #include "render/builtin.h"
@@ -89,8 +90,7 @@ int run_render(const RenderOptions& o, const Context& ctx) {
     materials.push_back(std::move(*m));
   }
   const render::RenderPlan plan = render::plan_render(*scene, o.spp);
-  const int threads =
-      o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = o.threads > 0 ? std::min(o.threads, thread_limit()) : thread_limit();
   if (!ctx.quiet) {
     std::printf("scene %s: %dx%d, %zu material(s)\n", scene_path.c_str(), scene->width,
                 scene->height, materials.size());

@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <set>
-#include <thread>
 
 #include "cbrdf/fit.h"
+#include "cbrdf/parallel.h"
 #include "cbrdf/samples.h"
 #include "cli.h"
 #include "cli_io.h"
@@ -74,7 +74,7 @@ int run_report(const ReportOptions& o, const Context& global) {
     return usage_error("report: --analytic-loss must be cos or log, not '" + o.analytic_loss + "'");
   }
   st.analytic_bins = o.analytic_bins;
-  st.jobs = o.jobs > 0 ? o.jobs : int(std::max(1u, std::thread::hardware_concurrency()));
+  st.jobs = o.jobs > 0 ? o.jobs : thread_limit();
   // The bar redraws one line with carriage returns: by default only for a terminal, so that logs
   // stay readable.
   st.progress = !ctx.quiet &&

@@ -11,6 +11,54 @@ namespace {
 
 const char* const kAxisNames[3] = {"theta_h", "theta_d", "phi_d"};
 
+// The layout byte and the table count against the components MODL declared; returns the count.
+Expected<std::size_t> expected_table_count(const std::vector<Slice>& slices,
+                                           std::uint16_t file_minor, std::uint8_t layout,
+                                           std::uint16_t table_count) {
+  std::size_t components = 0;
+  for (const Slice& slice : slices) {
+    for (const ChannelSlice& cs : slice.channel) components += std::size_t(cs.components());
+  }
+  const bool mixtures = components > slices.size() * kChannels;
+  if (file_minor == 0 && layout != 0) {
+    return error(ErrorCode::kCorrupt, "reserved byte at payload offset 1 is not 0");
+  }
+  if (layout != (mixtures ? kMarginalLayoutComponents : kMarginalLayoutSingle)) {
+    return error(ErrorCode::kCorrupt, "table layout byte at payload offset 1 is " +
+                                          std::to_string(layout) + "; it must be " +
+                                          (mixtures ? "1: MODL declares further components"
+                                                    : "0: MODL declares no further components"));
+  }
+  const std::size_t expected_tables = components * 3;
+  if (table_count != expected_tables) {
+    return error(ErrorCode::kCorrupt,
+                 "table count " + std::to_string(table_count) + " does not match " +
+                     (mixtures ? std::to_string(components) + " components x 3 axes"
+                               : std::to_string(slices.size()) + " slices x 3 channels x 3 axes"));
+  }
+  return expected_tables;
+}
+
+// One table's codes, stored as zigzag varint differences from the code before.
+Status read_codes(ByteReader& r, const std::string& where, std::int64_t top,
+                  std::vector<std::uint32_t>* codes) {
+  std::int64_t prev = 0;
+  for (std::uint32_t& q : *codes) {
+    std::uint32_t z = 0;
+    const std::uint64_t at = r.offset();
+    CBRDF_RETURN_IF_ERROR(r.varint32(&z, "code residual"));
+    const std::int64_t code = prev + unzigzag(z);
+    if (code < 0 || code > top) {
+      return error(ErrorCode::kCorrupt,
+                   where + ": residual at payload offset " + std::to_string(at) + " gives code " +
+                       std::to_string(code) + " outside 0.." + std::to_string(top));
+    }
+    q = std::uint32_t(code);
+    prev = code;
+  }
+  return ok_status();
+}
+
 }  // namespace
 
 Status decode_marginals_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
@@ -26,28 +74,10 @@ Status decode_marginals_chunk(std::span<const std::uint8_t> payload, std::uint16
                                           std::to_string(kMinMarginalBits) + ".." +
                                           std::to_string(kMaxMarginalBits));
   }
-  std::size_t components = 0;
-  for (const Slice& slice : *slices) {
-    for (const ChannelSlice& cs : slice.channel) components += std::size_t(cs.components());
-  }
-  const bool mixtures = components > slices->size() * kChannels;
-  if (file_minor == 0 && reserved != 0) {
-    return error(ErrorCode::kCorrupt, "reserved byte at payload offset 1 is not 0");
-  }
-  if (reserved != (mixtures ? kMarginalLayoutComponents : kMarginalLayoutSingle)) {
-    return error(ErrorCode::kCorrupt, "table layout byte at payload offset 1 is " +
-                                          std::to_string(reserved) + "; it must be " +
-                                          (mixtures ? "1: MODL declares further components"
-                                                    : "0: MODL declares no further components"));
-  }
-  const std::size_t expected_tables = components * 3;
-  if (table_count != expected_tables) {
-    return error(ErrorCode::kCorrupt,
-                 "table count " + std::to_string(table_count) + " does not match " +
-                     (mixtures ? std::to_string(components) + " components x 3 axes"
-                               : std::to_string(slices->size()) + " slices x 3 channels x 3 axes"));
-  }
-  std::vector<QuantizedTable> tables(expected_tables);
+  Expected<std::size_t> expected_tables =
+      expected_table_count(*slices, file_minor, reserved, table_count);
+  if (!expected_tables.ok()) return expected_tables.status();
+  std::vector<QuantizedTable> tables(*expected_tables);
   for (QuantizedTable& t : tables) {
     CBRDF_RETURN_IF_ERROR(r.f32(&t.lo, "table range lo"));
     CBRDF_RETURN_IF_ERROR(r.f32(&t.hi, "table range hi"));
@@ -69,21 +99,7 @@ Status decode_marginals_chunk(std::span<const std::uint8_t> payload, std::uint16
               (comp > 0 ? " component " + std::to_string(comp) : std::string()) + " " +
               kAxisNames[a] + " table";
           t.codes.resize(std::size_t(sizes[a]));
-          std::int64_t prev = 0;
-          for (std::uint32_t& q : t.codes) {
-            std::uint32_t z = 0;
-            const std::uint64_t at = r.offset();
-            CBRDF_RETURN_IF_ERROR(r.varint32(&z, "code residual"));
-            const std::int64_t code = prev + unzigzag(z);
-            if (code < 0 || code > top) {
-              return error(ErrorCode::kCorrupt, where + ": residual at payload offset " +
-                                                    std::to_string(at) + " gives code " +
-                                                    std::to_string(code) + " outside 0.." +
-                                                    std::to_string(top));
-            }
-            q = std::uint32_t(code);
-            prev = code;
-          }
+          CBRDF_RETURN_IF_ERROR(read_codes(r, where, top, &t.codes));
           Expected<std::vector<double>> m = dequantize_masses(t, bits);
           if (!m.ok()) return m.status().with_context(where);
           *axes[a] = std::move(m.value());

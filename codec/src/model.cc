@@ -7,6 +7,7 @@
 
 #include "density/frank_grid.h"
 #include "density/grid_copula.h"
+#include "eval/interp_tables.h"
 
 namespace cbrdf {
 namespace {
@@ -135,6 +136,7 @@ ModelEvaluator::ModelEvaluator(std::shared_ptr<const Model> shared) : model_(std
       parts_[s][c] = std::move(part);
     }
   }
+  interp_ = std::make_unique<eval::InterpTables>(model);
 }
 
 ModelEvaluator::~ModelEvaluator() = default;
@@ -146,32 +148,31 @@ double ModelEvaluator::bin_value(int channel, int theta_h, int theta_d, int phi_
 }
 
 void ModelEvaluator::eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const {
-  rgb[0] = rgb[1] = rgb[2] = 0.0;
-  if (wi.z <= 0.0 || wo.z <= 0.0) return;
-  const GridPosition g = grid_position(wi, wo);
-  const double ph = std::clamp(g.theta_h, 0.0, double(kThetaHBins - 1));
-  const double pd = std::clamp(g.theta_d, 0.0, double(kThetaDBins - 1));
-  const double pp = std::clamp(g.phi_d, 0.0, double(kPhiDBins));
-  const int h0 = std::min(int(ph), kThetaHBins - 1), d0 = std::min(int(pd), kThetaDBins - 1);
-  const int p0 = std::min(int(pp), kPhiDBins - 1);
-  const double fh = ph - h0, fd = pd - d0, fp = pp - p0;
-  for (int a = 0; a < 2; ++a) {
-    const double wa = a ? fh : 1 - fh;
-    if (wa == 0.0) continue;
-    for (int b = 0; b < 2; ++b) {
-      const double wb = wa * (b ? fd : 1 - fd);
-      if (wb == 0.0) continue;
-      const int i = h0 + a, j = d0 + b;
-      const auto& parts = parts_[slice_of_bin_[j]];
-      for (int e = 0; e < 2; ++e) {
-        const double w = wb * (e ? fp : 1 - fp);
-        if (w == 0.0) continue;
-        const int k = (p0 + e) % kPhiDBins;
-        for (int c = 0; c < kChannels; ++c) rgb[c] += w * parts[c]->value(i, j, k);
+  interp_->eval(wi, wo, rgb);
+}
+
+void ModelEvaluator::eval_f32(const float wi[3], const float wo[3], float rgb[3]) const {
+  interp_->eval(wi, wo, rgb);
+}
+
+std::size_t ModelEvaluator::footprint_bytes() const {
+  std::size_t n = sizeof(*this) + slice_of_bin_.capacity() * sizeof(int) +
+                  parts_.capacity() * sizeof(parts_[0]) + interp_->footprint_bytes();
+  for (const auto& channels : parts_) {
+    for (const auto& part : channels) {
+      n += sizeof(Part) + part->terms.capacity() * sizeof(Term);
+      for (const Term& t : part->terms) {
+        // The grid's prepared per-axis arrays (density/): FrankGrid holds e, w, y, q and u per
+        // axis, the Archimedean grid two prepared grids of psi, log psi, log |psi'| and u.
+        const std::size_t bins = t.cs->pdf_h.size() + t.cs->pdf_d.size() + t.cs->pdf_p.size();
+        const std::size_t arrays = t.frank                                       ? 5
+                                   : t.cs->family == CopulaFamily::kIndependence ? 0
+                                                                                 : 8;
+        n += arrays * bins * sizeof(double) + 128;  // 128: the grid object itself, roughly
       }
     }
   }
-  for (int c = 0; c < kChannels; ++c) rgb[c] = saturate(rgb[c]);
+  return n;
 }
 
 BrdfTable ModelEvaluator::table() const {

@@ -199,8 +199,19 @@ BrdfFn model_brdf_fn(const ModelEvaluator& evaluator) {
   return [e](const Vec3& wi, const Vec3& wo, double rgb[3]) { e->eval(wi, wo, rgb); };
 }
 
+BrdfFn model_brdf_fn(std::shared_ptr<const ModelEvaluator> evaluator) {
+  return [e = std::move(evaluator)](const Vec3& wi, const Vec3& wo, double rgb[3]) {
+    e->eval(wi, wo, rgb);
+  };
+}
+
 BrdfSampler make_model_sampler(const ModelEvaluator& evaluator, const SamplerSettings& settings) {
   return BrdfSampler(model_brdf_fn(evaluator), settings);
+}
+
+BrdfSampler make_model_sampler(std::shared_ptr<const ModelEvaluator> evaluator,
+                               const SamplerSettings& settings) {
+  return BrdfSampler(model_brdf_fn(std::move(evaluator)), settings);
 }
 
 }  // namespace cbrdf

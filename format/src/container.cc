@@ -82,6 +82,166 @@ Status diagnose_signature(std::span<const std::uint8_t> bytes) {
                    printable_tag(bytes.first(n)) + ")");
 }
 
+// The size limit, the signature and the version: everything before the first chunk.
+Status read_preamble(std::span<const std::uint8_t> bytes, ByteReader& r, ContainerLayout* layout) {
+  if (bytes.size() > kMaxContainerBytes) {
+    return error(ErrorCode::kLimit, "file is " + std::to_string(bytes.size()) +
+                                        " bytes, above the .cbrdf limit of " +
+                                        std::to_string(kMaxContainerBytes) + " bytes");
+  }
+  if (bytes.size() < kContainerSignature.size() ||
+      !std::equal(kContainerSignature.begin(), kContainerSignature.end(), bytes.begin())) {
+    return diagnose_signature(bytes);
+  }
+  layout->file_bytes = bytes.size();
+  CBRDF_RETURN_IF_ERROR(r.skip(kContainerSignature.size(), "signature"));
+  CBRDF_RETURN_IF_ERROR(r.u16(&layout->major, "major version"));
+  CBRDF_RETURN_IF_ERROR(r.u16(&layout->minor, "minor version"));
+  if (layout->major > kContainerMajorVersion) {
+    return error(ErrorCode::kUnsupported,
+                 "file format version " + std::to_string(layout->major) + "." +
+                     std::to_string(layout->minor) + " is newer than this reader (major " +
+                     std::to_string(kContainerMajorVersion) + "); use a newer cbrdf");
+  }
+  if (layout->major == 0) {
+    return error(ErrorCode::kCorrupt, "file declares major version 0, which does not exist");
+  }
+  return ok_status();
+}
+
+// One chunk's framing: header, stored bytes (into `stored`) and checksum, each checked against
+// what is left of the file. `chunks_so_far` enforces the chunk count limit.
+Status read_chunk_frame(std::span<const std::uint8_t> bytes, ByteReader& r,
+                        std::size_t chunks_so_far, ChunkInfo* info,
+                        std::span<const std::uint8_t>* stored) {
+  const std::uint64_t offset = r.offset();
+  if (r.at_end()) {
+    return error(ErrorCode::kTruncated, "file ends at offset " + std::to_string(offset) +
+                                            " without the end chunk 'CEND' (truncated?)");
+  }
+  if (chunks_so_far == kMaxChunks) {
+    return error(ErrorCode::kLimit, "chunk at offset " + std::to_string(offset) +
+                                        " would be chunk number " + std::to_string(kMaxChunks + 1) +
+                                        ", above the limit of " + std::to_string(kMaxChunks) +
+                                        " chunks per file");
+  }
+  if (r.remaining() < kChunkHeaderBytes) {
+    return error(ErrorCode::kTruncated, "chunk header at offset " + std::to_string(offset) +
+                                            " needs " + std::to_string(kChunkHeaderBytes) +
+                                            " bytes but only " + std::to_string(r.remaining()) +
+                                            " are left (truncated?)");
+  }
+  std::span<const std::uint8_t> raw_tag;
+  CBRDF_RETURN_IF_ERROR(r.bytes(4, &raw_tag, "chunk tag"));
+  const std::string tag(raw_tag.begin(), raw_tag.end());
+  if (!chunk_tag_valid(tag)) {
+    return error(ErrorCode::kCorrupt, "chunk at offset " + std::to_string(offset) +
+                                          " has an invalid tag '" + printable_tag(raw_tag) +
+                                          "' (expected four ASCII letters or digits)");
+  }
+  info->tag = tag;
+  info->offset = offset;
+  info->critical = chunk_tag_critical(tag);
+  info->known = chunk_tag_known(tag);
+  CBRDF_RETURN_IF_ERROR(r.u32(&info->stored_bytes, "chunk length"));
+  CBRDF_RETURN_IF_ERROR(r.u32(&info->flags, "chunk flags"));
+  CBRDF_RETURN_IF_ERROR(r.u32(&info->payload_bytes, "chunk payload length"));
+  const std::string where = at(tag, offset);
+  if (std::uint64_t(info->stored_bytes) + kChunkChecksumBytes > r.remaining()) {
+    return error(ErrorCode::kTruncated,
+                 where + ": declared length " + std::to_string(info->stored_bytes) +
+                     " plus its 8-byte checksum exceeds the " + std::to_string(r.remaining()) +
+                     " bytes left in the file");
+  }
+  if ((info->flags & ~kChunkFlagZstd) != 0) {
+    return error(ErrorCode::kCorrupt, where + ": reserved flag bits are set (flags " +
+                                          hex64(info->flags) + "; only bit 0 is defined)");
+  }
+  info->compressed = (info->flags & kChunkFlagZstd) != 0;
+  if (!info->compressed && info->payload_bytes != info->stored_bytes) {
+    return error(ErrorCode::kCorrupt, where + ": uncompressed chunk declares payload length " +
+                                          std::to_string(info->payload_bytes) + " but stores " +
+                                          std::to_string(info->stored_bytes) + " bytes");
+  }
+  CBRDF_RETURN_IF_ERROR(r.bytes(info->stored_bytes, stored, "chunk payload"));
+  std::uint64_t stored_sum = 0;
+  CBRDF_RETURN_IF_ERROR(r.u64(&stored_sum, "chunk checksum"));
+  info->checksum = chunk_checksum(bytes.subspan(offset, kChunkHeaderBytes + info->stored_bytes));
+  if (stored_sum != info->checksum) {
+    return error(ErrorCode::kChecksum, where + ": checksum mismatch (stored " + hex64(stored_sum) +
+                                           ", computed " + hex64(info->checksum) +
+                                           "); the file is damaged");
+  }
+  return ok_status();
+}
+
+// Where a chunk may stand: 'HEAD' first, no known chunk twice, no unknown critical chunk.
+Status check_chunk_place(const ParsedContainer& pc, const ChunkInfo& info) {
+  if (pc.layout.chunks.empty() && info.tag != kTagHeader) {
+    return error(ErrorCode::kCorrupt,
+                 at(info.tag, info.offset) + ": the first chunk must be 'HEAD'");
+  }
+  if (info.known) {
+    const int first = pc.find(info.tag);
+    if (first >= 0) {
+      return error(ErrorCode::kCorrupt,
+                   "duplicate " + std::string(info.critical ? "critical" : "ancillary") +
+                       " chunk '" + info.tag + "' at offset " + std::to_string(info.offset) +
+                       " (first at offset " +
+                       std::to_string(pc.layout.chunks[std::size_t(first)].offset) + ")");
+    }
+  } else if (info.critical) {
+    return error(ErrorCode::kUnsupported, "unknown critical chunk '" + info.tag + "' at offset " +
+                                              std::to_string(info.offset) +
+                                              ": the file needs a newer reader");
+  }
+  return ok_status();
+}
+
+// A known chunk's payload, within its limit and decompressed; unknown chunks are skipped (empty).
+// The end chunk must be empty and unflagged.
+Expected<std::vector<std::uint8_t>> chunk_payload(const ChunkInfo& info,
+                                                  std::span<const std::uint8_t> stored) {
+  const std::string where = at(info.tag, info.offset);
+  std::vector<std::uint8_t> payload;
+  if (info.known) {
+    const std::uint32_t limit = max_chunk_payload_bytes(info.tag);
+    if (info.payload_bytes > limit) {
+      return error(ErrorCode::kLimit, where + ": payload of " + std::to_string(info.payload_bytes) +
+                                          " bytes exceeds the limit of " + std::to_string(limit) +
+                                          " bytes for this chunk");
+    }
+    if (info.compressed) {
+      Expected<std::vector<std::uint8_t>> d = zstd_decompress_exact(stored, info.payload_bytes);
+      if (!d.ok()) return d.status().with_context(where);
+      payload = std::move(d.value());
+    } else {
+      payload.assign(stored.begin(), stored.end());
+    }
+  }
+  if (info.tag == kTagEnd && (info.stored_bytes != 0 || info.flags != 0)) {
+    return error(ErrorCode::kCorrupt, where + ": the end chunk must be empty and unflagged");
+  }
+  return payload;
+}
+
+// After the end chunk: nothing more in the file, and every critical chunk present.
+Status check_complete(const ParsedContainer& pc, const ByteReader& r) {
+  if (!r.at_end()) {
+    return error(ErrorCode::kCorrupt, std::to_string(r.remaining()) +
+                                          " bytes follow the end chunk at offset " +
+                                          std::to_string(pc.layout.chunks.back().offset));
+  }
+  for (std::string_view tag : kCriticalTags) {
+    if (pc.find(tag) < 0) {
+      return error(ErrorCode::kCorrupt, "missing critical chunk '" + std::string(tag) +
+                                            "' (the end chunk is at offset " +
+                                            std::to_string(pc.layout.chunks.back().offset) + ")");
+    }
+  }
+  return ok_status();
+}
+
 }  // namespace
 
 bool chunk_tag_valid(std::string_view tag) {
@@ -122,150 +282,22 @@ std::uint64_t chunk_checksum(std::span<const std::uint8_t> header_and_stored) {
 }
 
 Expected<ParsedContainer> parse_container(std::span<const std::uint8_t> bytes) {
-  if (bytes.size() > kMaxContainerBytes) {
-    return error(ErrorCode::kLimit, "file is " + std::to_string(bytes.size()) +
-                                        " bytes, above the .cbrdf limit of " +
-                                        std::to_string(kMaxContainerBytes) + " bytes");
-  }
-  if (bytes.size() < kContainerSignature.size() ||
-      !std::equal(kContainerSignature.begin(), kContainerSignature.end(), bytes.begin())) {
-    return diagnose_signature(bytes);
-  }
   ParsedContainer pc;
-  pc.layout.file_bytes = bytes.size();
   ByteReader r(bytes);
-  CBRDF_RETURN_IF_ERROR(r.skip(kContainerSignature.size(), "signature"));
-  CBRDF_RETURN_IF_ERROR(r.u16(&pc.layout.major, "major version"));
-  CBRDF_RETURN_IF_ERROR(r.u16(&pc.layout.minor, "minor version"));
-  if (pc.layout.major > kContainerMajorVersion) {
-    return error(ErrorCode::kUnsupported,
-                 "file format version " + std::to_string(pc.layout.major) + "." +
-                     std::to_string(pc.layout.minor) + " is newer than this reader (major " +
-                     std::to_string(kContainerMajorVersion) + "); use a newer cbrdf");
-  }
-  if (pc.layout.major == 0) {
-    return error(ErrorCode::kCorrupt, "file declares major version 0, which does not exist");
-  }
-
+  CBRDF_RETURN_IF_ERROR(read_preamble(bytes, r, &pc.layout));
   bool ended = false;
   while (!ended) {
-    const std::uint64_t offset = r.offset();
-    if (r.at_end()) {
-      return error(ErrorCode::kTruncated, "file ends at offset " + std::to_string(offset) +
-                                              " without the end chunk 'CEND' (truncated?)");
-    }
-    if (pc.layout.chunks.size() == kMaxChunks) {
-      return error(ErrorCode::kLimit, "chunk at offset " + std::to_string(offset) +
-                                          " would be chunk number " +
-                                          std::to_string(kMaxChunks + 1) + ", above the limit of " +
-                                          std::to_string(kMaxChunks) + " chunks per file");
-    }
-    if (r.remaining() < kChunkHeaderBytes) {
-      return error(ErrorCode::kTruncated, "chunk header at offset " + std::to_string(offset) +
-                                              " needs " + std::to_string(kChunkHeaderBytes) +
-                                              " bytes but only " + std::to_string(r.remaining()) +
-                                              " are left (truncated?)");
-    }
-    std::span<const std::uint8_t> raw_tag;
-    CBRDF_RETURN_IF_ERROR(r.bytes(4, &raw_tag, "chunk tag"));
-    const std::string tag(raw_tag.begin(), raw_tag.end());
-    if (!chunk_tag_valid(tag)) {
-      return error(ErrorCode::kCorrupt, "chunk at offset " + std::to_string(offset) +
-                                            " has an invalid tag '" + printable_tag(raw_tag) +
-                                            "' (expected four ASCII letters or digits)");
-    }
     ChunkInfo info;
-    info.tag = tag;
-    info.offset = offset;
-    info.critical = chunk_tag_critical(tag);
-    info.known = chunk_tag_known(tag);
-    CBRDF_RETURN_IF_ERROR(r.u32(&info.stored_bytes, "chunk length"));
-    CBRDF_RETURN_IF_ERROR(r.u32(&info.flags, "chunk flags"));
-    CBRDF_RETURN_IF_ERROR(r.u32(&info.payload_bytes, "chunk payload length"));
-    const std::string where = at(tag, offset);
-    if (std::uint64_t(info.stored_bytes) + kChunkChecksumBytes > r.remaining()) {
-      return error(ErrorCode::kTruncated,
-                   where + ": declared length " + std::to_string(info.stored_bytes) +
-                       " plus its 8-byte checksum exceeds the " + std::to_string(r.remaining()) +
-                       " bytes left in the file");
-    }
-    if ((info.flags & ~kChunkFlagZstd) != 0) {
-      return error(ErrorCode::kCorrupt, where + ": reserved flag bits are set (flags " +
-                                            hex64(info.flags) + "; only bit 0 is defined)");
-    }
-    info.compressed = (info.flags & kChunkFlagZstd) != 0;
-    if (!info.compressed && info.payload_bytes != info.stored_bytes) {
-      return error(ErrorCode::kCorrupt, where + ": uncompressed chunk declares payload length " +
-                                            std::to_string(info.payload_bytes) + " but stores " +
-                                            std::to_string(info.stored_bytes) + " bytes");
-    }
     std::span<const std::uint8_t> stored;
-    CBRDF_RETURN_IF_ERROR(r.bytes(info.stored_bytes, &stored, "chunk payload"));
-    std::uint64_t stored_sum = 0;
-    CBRDF_RETURN_IF_ERROR(r.u64(&stored_sum, "chunk checksum"));
-    info.checksum = chunk_checksum(bytes.subspan(offset, kChunkHeaderBytes + info.stored_bytes));
-    if (stored_sum != info.checksum) {
-      return error(ErrorCode::kChecksum, where + ": checksum mismatch (stored " +
-                                             hex64(stored_sum) + ", computed " +
-                                             hex64(info.checksum) + "); the file is damaged");
-    }
-
-    if (pc.layout.chunks.empty() && tag != kTagHeader) {
-      return error(ErrorCode::kCorrupt, where + ": the first chunk must be 'HEAD'");
-    }
-    if (info.known) {
-      const int first = pc.find(tag);
-      if (first >= 0) {
-        return error(ErrorCode::kCorrupt,
-                     "duplicate " + std::string(info.critical ? "critical" : "ancillary") +
-                         " chunk '" + tag + "' at offset " + std::to_string(offset) +
-                         " (first at offset " +
-                         std::to_string(pc.layout.chunks[std::size_t(first)].offset) + ")");
-      }
-    } else if (info.critical) {
-      return error(ErrorCode::kUnsupported, "unknown critical chunk '" + tag + "' at offset " +
-                                                std::to_string(offset) +
-                                                ": the file needs a newer reader");
-    }
-
-    std::vector<std::uint8_t> payload;
-    if (info.known) {
-      const std::uint32_t limit = max_chunk_payload_bytes(tag);
-      if (info.payload_bytes > limit) {
-        return error(ErrorCode::kLimit, where + ": payload of " +
-                                            std::to_string(info.payload_bytes) +
-                                            " bytes exceeds the limit of " + std::to_string(limit) +
-                                            " bytes for this chunk");
-      }
-      if (info.compressed) {
-        Expected<std::vector<std::uint8_t>> d = zstd_decompress_exact(stored, info.payload_bytes);
-        if (!d.ok()) return d.status().with_context(where);
-        payload = std::move(d.value());
-      } else {
-        payload.assign(stored.begin(), stored.end());
-      }
-    }
-    if (tag == kTagEnd) {
-      if (info.stored_bytes != 0 || info.flags != 0) {
-        return error(ErrorCode::kCorrupt, where + ": the end chunk must be empty and unflagged");
-      }
-      ended = true;
-    }
+    CBRDF_RETURN_IF_ERROR(read_chunk_frame(bytes, r, pc.layout.chunks.size(), &info, &stored));
+    CBRDF_RETURN_IF_ERROR(check_chunk_place(pc, info));
+    Expected<std::vector<std::uint8_t>> payload = chunk_payload(info, stored);
+    if (!payload.ok()) return payload.status();
+    ended = info.tag == kTagEnd;
     pc.layout.chunks.push_back(std::move(info));
-    pc.payloads.push_back(std::move(payload));
+    pc.payloads.push_back(std::move(payload).value());
   }
-  if (!r.at_end()) {
-    return error(ErrorCode::kCorrupt, std::to_string(r.remaining()) +
-                                          " bytes follow the end chunk at offset " +
-                                          std::to_string(pc.layout.chunks.back().offset));
-  }
-  for (std::string_view tag : kCriticalTags) {
-    if (pc.find(tag) < 0) {
-      return error(ErrorCode::kCorrupt, "missing critical chunk '" + std::string(tag) +
-                                            "' (the end chunk is at offset " +
-                                            std::to_string(pc.layout.chunks.back().offset) + ")");
-    }
-  }
+  CBRDF_RETURN_IF_ERROR(check_complete(pc, r));
   return pc;
 }
 

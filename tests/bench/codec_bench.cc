@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cbrdf/codec.h"
 #include "cbrdf/encoder.h"
@@ -95,8 +97,20 @@ BENCHMARK(BM_DecodeTable)->Unit(benchmark::kMillisecond);
 
 constexpr int kPairs = 1 << 16;
 
-void BM_EvalModel(benchmark::State& state) {
-  const cbrdf::Model model = *cbrdf::decode_model(encoded());
+// The bench material fitted with a 4-component mixture (fit_model, one core): what a mixture
+// costs to evaluate.
+const cbrdf::Model& model4() {
+  static cbrdf::Model m = [] {
+    cbrdf::FitSettings st;
+    st.components = 4;
+    auto fit = cbrdf::fit_model(table(), st);
+    if (!fit.ok()) std::abort();
+    return std::move(fit).value();
+  }();
+  return m;
+}
+
+void eval_pairs(benchmark::State& state, const cbrdf::Model& model) {
   const cbrdf::ModelEvaluator ev(model);
   const auto d = random_directions(2 * kPairs);
   double rgb[3];
@@ -107,9 +121,57 @@ void BM_EvalModel(benchmark::State& state) {
     }
   }
   state.SetItemsProcessed(state.iterations() * kPairs);
+  state.counters["ns_per_pair"] =
+      benchmark::Counter(double(state.iterations()) * kPairs,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["footprint_bytes"] = double(ev.footprint_bytes());
+}
+
+// ModelEvaluator::eval, one component per slice and channel (the paper's model).
+void BM_EvalModel(benchmark::State& state) {
+  eval_pairs(state, *cbrdf::decode_model(encoded()));
 }
 BENCHMARK(BM_EvalModel)->Unit(benchmark::kMillisecond);
 
+// ModelEvaluator::eval, four components per slice and channel.
+void BM_EvalModel4(benchmark::State& state) {
+  eval_pairs(state, model4());
+}
+BENCHMARK(BM_EvalModel4)->Unit(benchmark::kMillisecond);
+
+// ModelEvaluator::eval_f32 (a renderer's path), one and four components.
+void eval_pairs_f32(benchmark::State& state, const cbrdf::Model& model) {
+  const cbrdf::ModelEvaluator ev(model);
+  const auto d = random_directions(2 * kPairs);
+  std::vector<float> f(d.size() * 3);
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    f[3 * i] = float(d[i].x);
+    f[3 * i + 1] = float(d[i].y);
+    f[3 * i + 2] = float(d[i].z);
+  }
+  float rgb[3];
+  for (auto _ : state) {
+    for (int n = 0; n < kPairs; ++n) {
+      ev.eval_f32(&f[6 * std::size_t(n)], &f[6 * std::size_t(n) + 3], rgb);
+      benchmark::DoNotOptimize(rgb);
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * kPairs);
+  state.counters["ns_per_pair"] =
+      benchmark::Counter(double(state.iterations()) * kPairs,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+void BM_EvalModelFloat(benchmark::State& state) {
+  eval_pairs_f32(state, *cbrdf::decode_model(encoded()));
+}
+BENCHMARK(BM_EvalModelFloat)->Unit(benchmark::kMillisecond);
+void BM_EvalModelFloat4(benchmark::State& state) {
+  eval_pairs_f32(state, model4());
+}
+BENCHMARK(BM_EvalModelFloat4)->Unit(benchmark::kMillisecond);
+
+// The measured table's nearest-bin lookup (the reference reader's), the baseline the model's
+// evaluation is compared with.
 void BM_LookupMeasuredNearest(benchmark::State& state) {
   const auto d = random_directions(2 * kPairs);
   double rgb[3];
@@ -120,8 +182,56 @@ void BM_LookupMeasuredNearest(benchmark::State& state) {
     }
   }
   state.SetItemsProcessed(state.iterations() * kPairs);
+  state.counters["ns_per_pair"] =
+      benchmark::Counter(double(state.iterations()) * kPairs,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_LookupMeasuredNearest)->Unit(benchmark::kMillisecond);
+
+// The coordinate transform alone: grid_position (the continuous MERL position of a pair).
+void BM_CoordinateTransform(benchmark::State& state) {
+  const auto d = random_directions(2 * kPairs);
+  for (auto _ : state) {
+    for (int n = 0; n < kPairs; ++n) {
+      cbrdf::GridPosition g = cbrdf::grid_position(d[2 * n], d[2 * n + 1]);
+      benchmark::DoNotOptimize(g);
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * kPairs);
+  state.counters["ns_per_pair"] =
+      benchmark::Counter(double(state.iterations()) * kPairs,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_CoordinateTransform)->Unit(benchmark::kMillisecond);
+
+// The console output, and at the end the evaluation benchmarks' ns per pair and their ratios to
+// the nearest-bin lookup, all from this one run.
+class RatioReporter : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    ConsoleReporter::ReportRuns(runs);
+    for (const Run& r : runs) {
+      // Single runs, or the median of repetitions; the counter is in seconds per pair.
+      if (r.run_type == Run::RT_Aggregate && r.aggregate_name != "median") continue;
+      auto it = r.counters.find("ns_per_pair");
+      if (it != r.counters.end()) ns_.emplace_back(r.benchmark_name(), 1e9 * double(it->second));
+    }
+  }
+  void Finalize() override {
+    ConsoleReporter::Finalize();
+    double nearest = 0;
+    for (const auto& [name, ns] : ns_) {
+      if (name.find("LookupMeasuredNearest") != std::string::npos) nearest = ns;
+    }
+    if (ns_.empty()) return;
+    std::printf("\n%-28s %10s %18s\n", "per direction pair", "ns", "nearest lookup / it");
+    for (const auto& [name, ns] : ns_)
+      std::printf("%-28s %10.1f %18.2f\n", name.c_str(), ns, nearest > 0 ? nearest / ns : 0.0);
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>> ns_;
+};
 
 }  // namespace
 
@@ -129,7 +239,9 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (argc > 1) g_material = argv[1];
   encoded();  // make, read and encode the material before timing anything
-  benchmark::RunSpecifiedBenchmarks();
+  model4();
+  RatioReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
   benchmark::Shutdown();
   return 0;
 }

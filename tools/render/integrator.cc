@@ -1,13 +1,12 @@
 #include "render/integrator.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <numbers>
-#include <thread>
 
+#include "cbrdf/parallel_for.h"
 #include "render/lights.h"
 
 namespace cbrdf::render {
@@ -371,21 +370,12 @@ Image render(const Scene& scene, const std::vector<std::unique_ptr<Material>>& m
              const RenderPlan& plan, int threads) {
   Image img(scene.width, scene.height);
   const Integrator integrator(scene, materials, plan);
-  std::atomic<int> next_row{0};
-  auto worker = [&] {
-    for (int y = next_row++; y < scene.height; y = next_row++) {
-      for (int x = 0; x < scene.width; ++x) {
-        const Rgb c = integrator.pixel(x, y);
-        for (int k = 0; k < 3; ++k) img.at(x, y, k) = float(c[k]);
-      }
+  internal::parallel_for(scene.height, threads, [&](int y) {
+    for (int x = 0; x < scene.width; ++x) {
+      const Rgb c = integrator.pixel(x, y);
+      for (int k = 0; k < 3; ++k) img.at(x, y, k) = float(c[k]);
     }
-  };
-  int n = threads > 0 ? threads : int(std::thread::hardware_concurrency());
-  n = std::clamp(n, 1, std::max(1, scene.height));
-  std::vector<std::thread> pool;
-  for (int i = 1; i < n; ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
+  });
   return img;
 }
 

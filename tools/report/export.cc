@@ -59,8 +59,10 @@ std::string to_csv(const std::vector<MaterialResult>& results) {
   return out.str();
 }
 
-std::string to_json(const std::vector<MaterialResult>& results, const Settings& st,
-                    double elapsed_s) {
+namespace {
+
+// The report's settings: the sweep, the baselines and how the run went.
+nlohmann::json settings_json(const Settings& st, double elapsed_s) {
   nlohmann::json components = nlohmann::json::array();
   for (int k : st.sweep.components) {
     if (k == kAutoComponents) {
@@ -69,7 +71,7 @@ std::string to_json(const std::vector<MaterialResult>& results, const Settings& 
       components.push_back(k);
     }
   }
-  nlohmann::json settings = {
+  return {
       {"families", st.sweep.families},
       {"slices", st.sweep.slices},
       {"bits", st.sweep.bits},
@@ -92,43 +94,37 @@ std::string to_json(const std::vector<MaterialResult>& results, const Settings& 
       {"hardware_threads", std::thread::hardware_concurrency()},
       {"elapsed_s", elapsed_s},
   };
-  nlohmann::json rows = nlohmann::json::array();
-  nlohmann::json polar = nlohmann::json::array();
-  for (const MaterialResult& m : results) {
-    for (const Row& r : m.rows) {
-      rows.push_back({{"material", r.material},
-                      {"model", r.model},
-                      {"label", r.label()},
-                      {"kind", r.kind},
-                      {"slices", r.slices},
-                      {"bits", r.bits},
-                      {"components", r.kind == std::string(kKindCopula)
-                                         ? nlohmann::json(components_name(r.components))
-                                         : nlohmann::json(nullptr)},
-                      {"in_sweep", r.in_sweep},
-                      {"paper", r.paper},
-                      {"primary", r.primary},
-                      {"input_bytes", r.input_bytes},
-                      {"bytes", r.bytes},
-                      {"ratio", r.ratio()},
-                      {"rel_rmse", r.rel_rmse},
-                      {"log_rmse", r.log_rmse},
-                      {"cos_rmse", r.cos_rmse},
-                      {"psnr_linear_db", r.psnr_linear},
-                      {"psnr_tonemapped_db", r.psnr_tonemapped},
-                      {"encode_s", r.encode_s},
-                      {"decode_s", r.decode_s},
-                      {"eval_ns", r.eval_ns},
-                      {"detail", r.detail}});
-    }
-    for (const PolarCurve& c : m.polar) {
-      polar.push_back({{"material", m.name},
-                       {"model", c.model},
-                       {"theta_i_deg", c.theta_i_deg},
-                       {"theta_o_deg", c.theta_o_deg},
-                       {"value", c.value}});
-    }
-  }
+}
+
+nlohmann::json row_json(const Row& r) {
+  return {{"material", r.material},
+          {"model", r.model},
+          {"label", r.label()},
+          {"kind", r.kind},
+          {"slices", r.slices},
+          {"bits", r.bits},
+          {"components", r.kind == std::string(kKindCopula)
+                             ? nlohmann::json(components_name(r.components))
+                             : nlohmann::json(nullptr)},
+          {"in_sweep", r.in_sweep},
+          {"paper", r.paper},
+          {"primary", r.primary},
+          {"input_bytes", r.input_bytes},
+          {"bytes", r.bytes},
+          {"ratio", r.ratio()},
+          {"rel_rmse", r.rel_rmse},
+          {"log_rmse", r.log_rmse},
+          {"cos_rmse", r.cos_rmse},
+          {"psnr_linear_db", r.psnr_linear},
+          {"psnr_tonemapped_db", r.psnr_tonemapped},
+          {"encode_s", r.encode_s},
+          {"decode_s", r.decode_s},
+          {"eval_ns", r.eval_ns},
+          {"detail", r.detail}};
+}
+
+// The mean and per-material gains over the paper's setting at each budget factor.
+nlohmann::json gains_json(const std::vector<MaterialResult>& results) {
   nlohmann::json gains = nlohmann::json::array();
   for (double f : kBudgetFactors) {
     const BudgetGain b = budget_gain(material_points(results), f);
@@ -157,10 +153,29 @@ std::string to_json(const std::vector<MaterialResult>& results, const Settings& 
                      {"mean_encode_ratio", num(b.mean_encode_ratio)},
                      {"per_material", per}});
   }
-  return nlohmann::json{{"settings", settings},
+  return gains;
+}
+
+}  // namespace
+
+std::string to_json(const std::vector<MaterialResult>& results, const Settings& st,
+                    double elapsed_s) {
+  nlohmann::json rows = nlohmann::json::array();
+  nlohmann::json polar = nlohmann::json::array();
+  for (const MaterialResult& m : results) {
+    for (const Row& r : m.rows) rows.push_back(row_json(r));
+    for (const PolarCurve& c : m.polar) {
+      polar.push_back({{"material", m.name},
+                       {"model", c.model},
+                       {"theta_i_deg", c.theta_i_deg},
+                       {"theta_o_deg", c.theta_o_deg},
+                       {"value", c.value}});
+    }
+  }
+  return nlohmann::json{{"settings", settings_json(st, elapsed_s)},
                         {"rows", rows},
                         {"polar", polar},
-                        {"gains", gains},
+                        {"gains", gains_json(results)},
                         {"frontier", frontier_json(results, st)}}
              .dump(1, ' ', false, nlohmann::json::error_handler_t::replace) +
          "\n";

@@ -8,13 +8,13 @@
 #include <filesystem>
 #include <numbers>
 #include <random>
-#include <thread>
 
 #include "cbrdf/encoder.h"
 #include "cbrdf/file_io.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
+#include "cbrdf/parallel_for.h"
 #include "cbrdf/samples.h"
 #include "report/float16_baseline.h"
 #include "report/lossless.h"
@@ -109,22 +109,18 @@ std::vector<std::pair<CodecSetting, bool>> copula_settings(const Settings& st) {
   return out;
 }
 
-FitSettings fit_settings(const CodecSetting& s, int threads) {
-  FitSettings fs;
-  fs.slices = s.slices;
-  fs.threads = threads;
-  if (s.family == "auto") {
-    fs.auto_family = true;
-  } else {
-    fs.family = *family_from_name(s.family);
-  }
-  if (s.components == kAutoComponents) {
-    fs.components = kAutoMaxComponents;
-    fs.auto_components = true;
-  } else {
-    fs.components = s.components;
-  }
-  return fs;
+// The encoder's settings at a sweep setting, as `cbrdf encode` would build them from the same
+// options (so that the sizes match what it writes).
+Expected<EncoderSettings> encoder_settings_at(const CodecSetting& s, int threads,
+                                              const std::string& source_name) {
+  EncoderOptions o;
+  o.slices = std::to_string(s.slices);
+  o.components = components_name(s.components);
+  o.family = s.family;
+  o.bits = s.bits;
+  o.threads = threads;
+  o.source_name = source_name;
+  return encoder_settings(o);
 }
 
 class MaterialRun {
@@ -196,11 +192,16 @@ class MaterialRun {
     Model model;
     double fit_s = 0;
     CodecSetting fitted{"", 0, 0, 0};
+    // As `cbrdf encode` records it.
+    const std::string source_name =
+        m_.builtin ? m_.name : std::filesystem::path(m_.path).filename().string();
     for (const auto& [s, in_sweep] : settings) {
+      auto es = encoder_settings_at(s, threads_, source_name);
+      if (!es.ok()) return es.status().with_context(m_.name + " (" + s.label() + ")");
       if (fitted.family != s.family || fitted.slices != s.slices ||
           fitted.components != s.components) {
         const auto t0 = Clock::now();
-        auto m = fit_model(table_, fit_settings(s, threads_));
+        auto m = fit_model(table_, es->fit);
         fit_s = since(t0);
         if (!m.ok()) return m.status().with_context(m_.name + " (" + s.label() + ")");
         model = std::move(m).value();
@@ -213,12 +214,8 @@ class MaterialRun {
       r.in_sweep = in_sweep;
       r.primary = s == primary;
       r.paper = s == paper_setting();
-      ContainerSettings es;
-      es.bits = s.bits;
-      // As `cbrdf encode` records it, so that the sizes match what it writes.
-      es.source_name = m_.builtin ? m_.name : std::filesystem::path(m_.path).filename().string();
       auto t0 = Clock::now();
-      auto bytes = encode_model(model, es);
+      auto bytes = encode_model(model, es->container);
       r.encode_s = fit_s + since(t0);
       if (!bytes.ok()) return bytes.status().with_context(m_.name + " (" + s.label() + ")");
       r.bytes = double(bytes->size());
@@ -370,26 +367,20 @@ Expected<std::vector<MaterialResult>> measure_all(const std::vector<Material>& m
   std::vector<Status> errors(materials.size());
   const int jobs = std::max(1, std::min<int>(st.jobs, int(materials.size())));
   // With one job the fits and renders use every core; with several, each material gets one.
-  const int threads = jobs == 1 ? std::max(1, int(std::thread::hardware_concurrency())) : 1;
+  const int threads = jobs == 1 ? thread_limit() : 1;
   Progress progress(materials.size() * steps_per_material(st), st.progress);
-  std::atomic<std::size_t> next{0};
   std::atomic<bool> failed{false};
-  auto worker = [&] {
-    for (std::size_t i = next++; i < materials.size() && !failed; i = next++) {
-      MaterialRun run(materials[i], st, threads, &progress);
-      auto r = run.run();
-      if (r.ok()) {
-        results[i] = std::move(r).value();
-      } else {
-        errors[i] = r.status();
-        failed = true;
-      }
+  internal::parallel_for(int(materials.size()), jobs, [&](int i) {
+    if (failed) return;
+    MaterialRun run(materials[std::size_t(i)], st, threads, &progress);
+    auto r = run.run();
+    if (r.ok()) {
+      results[std::size_t(i)] = std::move(r).value();
+    } else {
+      errors[std::size_t(i)] = r.status();
+      failed = true;
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < jobs; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  });
   progress.finish();
   for (const Status& e : errors) {
     if (!e.ok()) return e;

@@ -126,7 +126,14 @@ const std::string& palette(std::size_t i) {
   return colours[i % colours.size()];
 }
 
-std::string render_chart(const Chart& c) {
+namespace {
+
+// The data range of the chart's axes (x in log10 when log_x), padded so no point sits on the frame.
+struct Range {
+  double xmin, xmax, ymin, ymax;
+};
+
+Range data_range(const Chart& c) {
   const bool categorical = !c.categories.empty();
   double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
   for (const Series& s : c.series) {
@@ -145,20 +152,14 @@ std::string render_chart(const Chart& c) {
   if (ymax - ymin < 1e-12) ymin -= 1, ymax += 1;
   const double ypad = 0.05 * (ymax - ymin);
   ymin -= ypad, ymax += ypad;
+  return {xmin, xmax, ymin, ymax};
+}
 
-  const double legend_w = 190;
-  const double bottom_margin = categorical ? 150 : 56;
-  Frame f{70,   40,     c.width - legend_w - 10, c.height - bottom_margin, xmin, xmax, ymin,
-          ymax, c.log_x};
-  std::ostringstream out;
-  out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << c.width << "\" height=\""
-      << c.height << "\" viewBox=\"0 0 " << c.width << " " << c.height
-      << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
-  out << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  out << "<text x=\"" << c.width / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">"
-      << xml_escape(c.title) << "</text>\n";
+// Grid lines, ticks, the frame and the axis labels.
+void draw_axes(std::ostringstream& out, const Chart& c, const Frame& f) {
+  const bool categorical = !c.categories.empty();
   // Grid and ticks.
-  for (double t : nice_ticks(ymin, ymax, 6)) {
+  for (double t : nice_ticks(f.y0, f.y1, 6)) {
     out << "<line x1=\"" << num(f.left) << "\" x2=\"" << num(f.right) << "\" y1=\"" << num(f.py(t))
         << "\" y2=\"" << num(f.py(t)) << "\" stroke=\"#ddd\"/>\n";
     out << "<text x=\"" << num(f.left - 6) << "\" y=\"" << num(f.py(t) + 4)
@@ -175,9 +176,9 @@ std::string render_chart(const Chart& c) {
   } else {
     std::vector<double> ticks;
     if (c.log_x) {
-      for (double e = xmin; e <= xmax + 1e-9; e += 1) ticks.push_back(std::pow(10.0, e));
+      for (double e = f.x0; e <= f.x1 + 1e-9; e += 1) ticks.push_back(std::pow(10.0, e));
     } else {
-      ticks = nice_ticks(xmin, xmax, 8);
+      ticks = nice_ticks(f.x0, f.x1, 8);
     }
     for (double t : ticks) {
       const double x = f.px(t);
@@ -196,7 +197,10 @@ std::string render_chart(const Chart& c) {
   }
   out << "<text transform=\"translate(18," << num((f.top + f.bottom) / 2)
       << ") rotate(-90)\" text-anchor=\"middle\">" << xml_escape(c.y_label) << "</text>\n";
-  // Series and legend (series without a name have no legend entry).
+}
+
+// Series and legend (series without a name have no legend entry).
+void draw_series_and_legend(std::ostringstream& out, const Chart& c, const Frame& f) {
   std::size_t entries = 0;
   for (std::size_t i = 0; i < c.series.size(); ++i) {
     const Series& s = c.series[i];
@@ -214,6 +218,26 @@ std::string render_chart(const Chart& c) {
     out << "<text x=\"" << num(lx + 28) << "\" y=\"" << num(ly + 4) << "\">" << xml_escape(s.name)
         << "</text>\n";
   }
+}
+
+}  // namespace
+
+std::string render_chart(const Chart& c) {
+  const bool categorical = !c.categories.empty();
+  const Range r = data_range(c);
+  const double legend_w = 190;
+  const double bottom_margin = categorical ? 150 : 56;
+  Frame f{70,     40,     c.width - legend_w - 10, c.height - bottom_margin, r.xmin, r.xmax, r.ymin,
+          r.ymax, c.log_x};
+  std::ostringstream out;
+  out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << c.width << "\" height=\""
+      << c.height << "\" viewBox=\"0 0 " << c.width << " " << c.height
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
+  out << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  out << "<text x=\"" << c.width / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">"
+      << xml_escape(c.title) << "</text>\n";
+  draw_axes(out, c, f);
+  draw_series_and_legend(out, c, f);
   out << "</svg>\n";
   return out.str();
 }

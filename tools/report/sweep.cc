@@ -2,11 +2,12 @@
 #include "report/sweep.h"
 
 #include <algorithm>
-#include <charconv>
+#include <optional>
 #include <sstream>
 
 #include "cbrdf/codec.h"
 #include "cbrdf/copula_family.h"
+#include "cbrdf/encoder.h"
 #include "cbrdf/fit.h"
 
 namespace cbrdf::report {
@@ -25,16 +26,17 @@ std::vector<std::string> split(const std::string& text, char sep) {
   return parts;
 }
 
-Expected<std::vector<int>> parse_ints(const std::string& key, const std::string& values, int lo,
-                                      int hi) {
+// A list of "integer or auto" values (auto only when allow_auto; it stands as kAutoComponents).
+Expected<std::vector<int>> parse_counts(const std::string& key, const std::string& values, int lo,
+                                        int hi, bool allow_auto) {
   std::vector<int> out;
   for (const std::string& v : split(values, ',')) {
-    int x = 0;
-    const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
-    if (v.empty() || ec != std::errc() || end != v.data() + v.size() || x < lo || x > hi) {
+    const std::optional<CountOrAuto> n = parse_count_or_auto(v, lo, hi, allow_auto);
+    if (!n) {
       return bad(key + "='" + v + "' is not an integer from " + std::to_string(lo) + " to " +
-                 std::to_string(hi));
+                 std::to_string(hi) + (allow_auto ? " or auto" : ""));
     }
+    const int x = n->is_auto ? kAutoComponents : n->count;
     if (std::find(out.begin(), out.end(), x) != out.end()) {
       return bad(key + " lists " + v + " twice");
     }
@@ -55,26 +57,6 @@ Expected<std::vector<std::string>> parse_families(const std::string& values) {
       return bad("family lists " + v + " twice");
     }
     out.push_back(v);
-  }
-  return out;
-}
-
-Expected<std::vector<int>> parse_components(const std::string& values) {
-  std::vector<int> out;
-  for (const std::string& v : split(values, ',')) {
-    int k = 0;
-    const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), k);
-    if (v == "auto") {
-      k = kAutoComponents;
-    } else if (v.empty() || ec != std::errc() || end != v.data() + v.size() || k < 1 ||
-               k > kMaxComponents) {
-      return bad("components='" + v + "' is not an integer from 1 to " +
-                 std::to_string(kMaxComponents) + " or auto");
-    }
-    if (std::find(out.begin(), out.end(), k) != out.end()) {
-      return bad("components lists " + v + " twice");
-    }
-    out.push_back(k);
   }
   return out;
 }
@@ -162,11 +144,11 @@ Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
       if (values.empty()) return bad("'" + key + "=' has no values");
       seen.push_back(key);
       if (key == "slices") {
-        auto v = parse_ints(key, values, 1, 90);
+        auto v = parse_counts(key, values, 1, kThetaDBins, false);
         if (!v) return v.status();
         sweep.slices = *v;
       } else if (key == "bits") {
-        auto v = parse_ints(key, values, 6, 16);
+        auto v = parse_counts(key, values, 6, 16, false);
         if (!v) return v.status();
         sweep.bits = *v;
       } else if (key == "family" || key == "families") {
@@ -174,7 +156,7 @@ Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
         if (!v) return v.status();
         sweep.families = *v;
       } else if (key == "components") {
-        auto v = parse_components(values);
+        auto v = parse_counts(key, values, 1, kMaxComponents, true);
         if (!v) return v.status();
         sweep.components = *v;
       } else {

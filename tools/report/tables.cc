@@ -289,15 +289,14 @@ std::vector<std::string> compared_labels(const std::vector<MaterialResult>& resu
   return out;
 }
 
-std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
-                                     const Settings& st) {
-  std::vector<TextTable> tables = frontier_tables(results, st);
-  const std::vector<std::string> compared = compared_labels(results, st);
-  std::vector<std::string> lossy;
-  for (const std::string& l : compared) {
-    if (l.rfind("zstd-", 0) != 0 && l.rfind("xz-", 0) != 0) lossy.push_back(l);
-  }
+namespace {
 
+// Tables 1, 1b and 2: tone-mapped and linear PSNR of the lossy models, and the bytes of every
+// compared model, per material.
+void add_per_material_tables(const std::vector<MaterialResult>& results,
+                             const std::vector<std::string>& lossy,
+                             const std::vector<std::string>& compared, const Settings& st,
+                             std::vector<TextTable>* tables) {
   TextTable t1 = per_material_table(results, lossy, &Row::psnr_tonemapped, db);
   t1.id = "psnr";
   t1.title = "Table 1: sphere PSNR per material and model (tone-mapped, dB)";
@@ -308,7 +307,7 @@ std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
       db(kPsnrCapDb) +
       " dB). Copula columns are 'family sSLICES bBITS'. Lossless baselines are "
       "bit-exact and not listed.";
-  tables.push_back(std::move(t1));
+  tables->push_back(std::move(t1));
 
   TextTable t1b = per_material_table(results, lossy, &Row::psnr_linear, db);
   t1b.id = "psnr-linear";
@@ -316,7 +315,7 @@ std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
   t1b.note =
       "The same renders without tone mapping; the peak is the input image's maximum per "
       "channel, so highlights dominate.";
-  tables.push_back(std::move(t1b));
+  tables->push_back(std::move(t1b));
 
   TextTable t2 = per_material_table(results, compared, &Row::bytes, bytes);
   t2.id = "storage";
@@ -328,8 +327,12 @@ std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
       std::to_string(st.float16_zstd_level) + ". Lossless: zstd level " +
       std::to_string(st.lossless_zstd_level) + " and xz preset " + std::to_string(st.xz_preset) +
       " of the .binary file (34,992,012 bytes).";
-  tables.push_back(std::move(t2));
+  tables->push_back(std::move(t2));
+}
 
+// Table 3: means over the materials per compared model.
+TextTable time_table(const std::vector<MaterialResult>& results,
+                     const std::vector<std::string>& compared, const Settings& st) {
   TextTable t3;
   t3.id = "time";
   t3.title = "Table 3: means over the materials per model: size, error and time";
@@ -344,21 +347,26 @@ std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
       std::to_string(st.jobs) + ".";
   t3.header = kSummaryHeader;
   for (const std::string& l : compared) t3.rows.push_back(summary_row(results, l));
-  tables.push_back(std::move(t3));
+  return t3;
+}
 
-  const std::vector<std::string> sweep = sweep_labels(st);
-  if (sweep.size() > 1) {
-    TextTable t4;
-    t4.id = "sweep";
-    t4.title = "Table 4: the sweep, means over the materials";
-    t4.note = "Every combination of the --sweep axes.";
-    t4.header = kSummaryHeader;
-    t4.header[0] = "setting";
-    for (const std::string& l : sweep) t4.rows.push_back(summary_row(results, l));
-    tables.push_back(std::move(t4));
-  }
+// Table 4: every setting of the sweep, means over the materials.
+TextTable sweep_table(const std::vector<MaterialResult>& results,
+                      const std::vector<std::string>& sweep) {
+  TextTable t4;
+  t4.id = "sweep";
+  t4.title = "Table 4: the sweep, means over the materials";
+  t4.note = "Every combination of the --sweep axes.";
+  t4.header = kSummaryHeader;
+  t4.header[0] = "setting";
+  for (const std::string& l : sweep) t4.rows.push_back(summary_row(results, l));
+  return t4;
+}
 
-  // What accuracy costs in time: along each swept axis, the other axes at the primary setting.
+// Table 5: what accuracy costs in time, along each swept axis (the other axes at the primary
+// setting), then along the lossy models ordered by tone-mapped PSNR.
+TextTable cost_table(const std::vector<MaterialResult>& results,
+                     const std::vector<std::string>& lossy, const Settings& st) {
   TextTable t5;
   t5.id = "cost";
   t5.title = "Table 5: what accuracy costs in time";
@@ -406,23 +414,42 @@ std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
   for (std::size_t i = 1; i < ladder.size(); ++i) {
     t5.rows.push_back(step_row(results, ladder[i - 1], ladder[i]));
   }
-  tables.push_back(std::move(t5));
+  return t5;
+}
 
-  if (st.baselines.analytic) {
-    TextTable t6;
-    t6.id = "analytic";
-    t6.title = "Fitted analytic parameters";
-    t6.note =
-        "Lobe colours are per channel (Lambertian albedo, GGX F0, Ward rho_s, "
-        "Ashikhmin-Shirley Rs); shape is the roughness alpha or the exponent n.";
-    t6.header = {"material", "model", "parameters"};
-    for (const MaterialResult& m : results) {
-      for (const Row& r : m.rows) {
-        if (r.kind == std::string(kKindAnalytic)) t6.rows.push_back({m.name, r.model, r.detail});
-      }
+// The fitted analytic models' parameters, per material.
+TextTable analytic_table(const std::vector<MaterialResult>& results) {
+  TextTable t6;
+  t6.id = "analytic";
+  t6.title = "Fitted analytic parameters";
+  t6.note =
+      "Lobe colours are per channel (Lambertian albedo, GGX F0, Ward rho_s, "
+      "Ashikhmin-Shirley Rs); shape is the roughness alpha or the exponent n.";
+  t6.header = {"material", "model", "parameters"};
+  for (const MaterialResult& m : results) {
+    for (const Row& r : m.rows) {
+      if (r.kind == std::string(kKindAnalytic)) t6.rows.push_back({m.name, r.model, r.detail});
     }
-    tables.push_back(std::move(t6));
   }
+  return t6;
+}
+
+}  // namespace
+
+std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
+                                     const Settings& st) {
+  std::vector<TextTable> tables = frontier_tables(results, st);
+  const std::vector<std::string> compared = compared_labels(results, st);
+  std::vector<std::string> lossy;
+  for (const std::string& l : compared) {
+    if (l.rfind("zstd-", 0) != 0 && l.rfind("xz-", 0) != 0) lossy.push_back(l);
+  }
+  add_per_material_tables(results, lossy, compared, st, &tables);
+  tables.push_back(time_table(results, compared, st));
+  const std::vector<std::string> sweep = sweep_labels(st);
+  if (sweep.size() > 1) tables.push_back(sweep_table(results, sweep));
+  tables.push_back(cost_table(results, lossy, st));
+  if (st.baselines.analytic) tables.push_back(analytic_table(results));
   return tables;
 }
 

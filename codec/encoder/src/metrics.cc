@@ -6,7 +6,7 @@
 #include <limits>
 #include <mutex>
 
-#include "parallel_rows.h"
+#include "cbrdf/parallel_for.h"
 
 namespace cbrdf {
 namespace {

@@ -34,10 +34,7 @@ Expected<RateResult> encode_to_target(const BrdfTable& table, const EncoderSetti
   for (int slices : target.slice_counts) {
     for (int components = 1; components <= target.max_components; ++components) {
       EncoderSettings st = base;
-      st.fit.slices = slices;
-      st.fit.slice_bounds.clear();
-      st.fit.components = components;
-      st.fit.auto_components = false;
+      set_counts({slices, false}, {components, false}, &st.fit);
       FitReport report;
       auto model = fit_model(table, st.fit, &report);
       if (!model.ok()) return model.status();

@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "cbrdf/metrics.h"
-#include "parallel_rows.h"
+#include "cbrdf/parallel_for.h"
 
 namespace cbrdf {
 namespace {

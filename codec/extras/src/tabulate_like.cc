@@ -5,7 +5,7 @@
 
 #include "cbrdf/analytic_fit.h"
 #include "cbrdf/coords.h"
-#include "parallel_rows.h"
+#include "cbrdf/parallel_for.h"
 
 namespace cbrdf {
 

@@ -81,6 +81,17 @@ CBRDF_C_API const char* cbrdf_last_error_message(void);
  * "internal"); "unknown" for any other value. Static; never NULL. */
 CBRDF_C_API const char* cbrdf_status_name(cbrdf_status status);
 
+/* ---- Threads ----------------------------------------------------------------------------------
+ */
+
+/* Caps the threads of every parallel loop in cbrdf (batch evaluation, fitting, tables) at n,
+ * counting the calling thread; n <= 0 means one per core. The one global setting
+ * (cbrdf/parallel.h); per-call requests (encode settings' threads) get the smaller of theirs and
+ * this. Thread-safe; does not touch the last error. */
+CBRDF_C_API void cbrdf_set_thread_limit(int n);
+/* The limit in force, with "one per core" resolved to the core count (at least 1). */
+CBRDF_C_API int cbrdf_thread_limit(void);
+
 /* ---- Opening a model --------------------------------------------------------------------------
  */
 

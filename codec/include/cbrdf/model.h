@@ -82,6 +82,9 @@ struct CBRDF_EXPORT Model {
 namespace fit {
 class GridCopula;
 }
+namespace eval {
+class InterpTables;
+}
 
 // A model prepared for evaluation: per slice and channel, CDFs and the copula's per-axis terms.
 // Building one costs microseconds; keep it for as long as the model is evaluated. The evaluator
@@ -99,11 +102,22 @@ class CBRDF_EXPORT ModelEvaluator {
 
   // Model value (physical, 1/sr) of a channel at a MERL bin, ignoring the not-measured mask.
   double bin_value(int channel, int theta_h, int theta_d, int phi_d) const;
-  // RGB physical value at a direction pair (unit vectors, z = normal); continuous in angle
-  // (trilinear in MERL bin position between the 8 surrounding bins, phi_d periodic) and equal to
-  // bin_value at bin positions. 0 when wi or wo is at or below the horizon. Reciprocal: swapping
-  // wi and wo maps phi_d to phi_d + pi, the same bin.
+  // RGB physical value at a direction pair (unit vectors, z = normal); continuous in angle and
+  // equal to bin_value at bin positions (up to rounding). 0 when wi or wo is at or below the
+  // horizon. Reciprocal: swapping wi and wo maps phi_d to phi_d + pi, the same bin. Between bins,
+  // the marginals' and the copula's per-axis terms are linear in MERL bin position (phi_d
+  // periodic; linear in theta_d across a slice boundary) and the density is evaluated once per
+  // channel and component at the interpolated terms (the paper's Algorithm 4); the separable part
+  // is exactly trilinear between the 8 surrounding bins. Families without a product form
+  // (Clayton, Gumbel, Joe) are trilinear between the 8 surrounding bins' values.
   void eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const;
+  // The same in single precision, for renderers: from tables rounded to float and float angle
+  // arithmetic. Its relative error against eval is tested (tests/model_eval_test.cc).
+  void eval_f32(const float wi[3], const float wo[3], float rgb[3]) const;
+  // Bytes this evaluator holds beyond its Model: the per-axis interpolation tables (float64 and
+  // float32), the copula grids behind bin_value and table(), the bookkeeping. Not the Model itself
+  // (its masses and not-measured mask).
+  std::size_t footprint_bytes() const;
   // The full table (see Model::table()).
   BrdfTable table() const;
   // The model evaluated.
@@ -115,6 +129,7 @@ class CBRDF_EXPORT ModelEvaluator {
   std::shared_ptr<const Model> model_;
   std::vector<int> slice_of_bin_;  // theta_d bin -> slice
   std::vector<std::array<std::unique_ptr<Part>, kChannels>> parts_;
+  std::unique_ptr<eval::InterpTables> interp_;  // eval's tables
 };
 
 }  // namespace cbrdf

@@ -79,11 +79,14 @@ class CBRDF_EXPORT BrdfSampler {
   std::unique_ptr<Table[]> tables_;
 };
 
-// The model's eval() as a BrdfFn. The evaluator is referenced: it must outlive the function.
+// The model's eval() as a BrdfFn, and a sampler for the copula model through it. The first forms
+// reference the evaluator (it must outlive them and must not be moved); the shared forms keep it
+// alive themselves.
 CBRDF_EXPORT BrdfFn model_brdf_fn(const ModelEvaluator& evaluator);
-
-// A sampler for the copula model (its eval() through model_brdf_fn).
+CBRDF_EXPORT BrdfFn model_brdf_fn(std::shared_ptr<const ModelEvaluator> evaluator);
 CBRDF_EXPORT BrdfSampler make_model_sampler(const ModelEvaluator& evaluator,
+                                            const SamplerSettings& settings = {});
+CBRDF_EXPORT BrdfSampler make_model_sampler(std::shared_ptr<const ModelEvaluator> evaluator,
                                             const SamplerSettings& settings = {});
 
 // Cosine-weighted hemisphere sampling, the usual baseline: wi with pdf cos(theta_i) / pi.

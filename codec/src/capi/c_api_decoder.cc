@@ -24,6 +24,7 @@
 #include "cbrdf/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/model.h"
+#include "cbrdf/parallel.h"
 #include "cbrdf/sampling.h"
 #include "cbrdf/status.h"
 #include "cbrdf/version.h"
@@ -246,6 +247,14 @@ cbrdf_status cbrdf_last_error_code(void) {
 
 const char* cbrdf_last_error_message(void) {
   return cbrdf::capi::last_error().message.c_str();
+}
+
+void cbrdf_set_thread_limit(int n) {
+  cbrdf::set_thread_limit(n);
+}
+
+int cbrdf_thread_limit(void) {
+  return cbrdf::thread_limit();
 }
 
 const char* cbrdf_status_name(cbrdf_status status) {

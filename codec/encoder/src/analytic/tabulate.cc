@@ -3,11 +3,10 @@
 #include <atomic>
 #include <cmath>
 #include <string>
-#include <system_error>
-#include <thread>
 #include <vector>
 
 #include "cbrdf/coords.h"
+#include "cbrdf/parallel_for.h"
 #include "cbrdf/samples.h"
 
 namespace cbrdf {
@@ -47,29 +46,15 @@ std::size_t fill_row(const AnalyticBrdf& brdf, int i, BrdfTable* table) {
 Expected<BrdfTable> tabulate(const AnalyticBrdf& brdf) {
   CBRDF_RETURN_IF_ERROR(brdf.validate());
   BrdfTable table;
-  std::atomic<int> next_row{0};
   std::atomic<std::size_t> first_bad{kBinsPerChannel};
-  auto work = [&] {
-    for (int i = next_row++; i < kThetaHBins; i = next_row++) {
-      const std::size_t bad = fill_row(brdf, i, &table);
-      std::size_t seen = first_bad.load();
-      while (bad < seen && !first_bad.compare_exchange_weak(seen, bad)) {
-      }
+  // Rows are independent and write disjoint parts of the table; at most 8 threads (memory-bound
+  // beyond that).
+  internal::parallel_for(kThetaHBins, 8, [&](int i) {
+    const std::size_t bad = fill_row(brdf, i, &table);
+    std::size_t seen = first_bad.load();
+    while (bad < seen && !first_bad.compare_exchange_weak(seen, bad)) {
     }
-  };
-  // Rows are independent and write disjoint parts of the table.
-  const unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u, 8u);
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) {
-    // Without another thread the calling thread still does every row, only slower.
-    try {
-      pool.emplace_back(work);
-    } catch (const std::system_error&) {
-      break;
-    }
-  }
-  work();
-  for (std::thread& t : pool) t.join();
+  });
   if (first_bad.load() != kBinsPerChannel) {
     const BinIndex b = merl_bin(first_bad.load());
     return error(ErrorCode::kNumeric, "analytic BRDF is not finite at MERL bin (theta_h " +

@@ -10,7 +10,6 @@
 #include <limits>
 #include <new>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -21,6 +20,7 @@
 #include "cbrdf/file_io.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
+#include "cbrdf/parallel.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf::capi {
@@ -81,8 +81,7 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
     out.fit.family = CopulaFamily(s.family);
   }
   // 0: one thread per core, as `cbrdf encode --threads 0`.
-  out.fit.threads =
-      s.threads > 0 ? s.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  out.fit.threads = s.threads > 0 ? s.threads : thread_limit();
   return out;
 }
 

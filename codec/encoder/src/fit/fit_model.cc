@@ -1,11 +1,10 @@
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <thread>
 
 #include "cbrdf/fit.h"
+#include "cbrdf/parallel_for.h"
 #include "density/grid_copula.h"
 #include "fit/fit_parameter.h"
 #include "fit/marginals.h"
@@ -51,9 +50,9 @@ SliceFitResult fit_family(const fit::SliceData& s, CopulaFamily family, const Fi
   r.cs.family = family;
   r.cs.theta = p.theta;
   r.cs.scale = p.scale;
-  r.cs.pdf_h = m.f1;
-  r.cs.pdf_d = m.f2;
-  r.cs.pdf_p = m.f3;
+  r.cs.pdf_h = m.pdf_h;
+  r.cs.pdf_d = m.pdf_d;
+  r.cs.pdf_p = m.pdf_p;
   r.report.objective = p.objective;
   r.report.objective_independence = p.objective_independence;
   r.report.measured_bins = int(s.measured_count());
@@ -220,19 +219,12 @@ Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings, F
   // Jobs are independent (slice, channel) pairs; each writes only its own result, so the output
   // does not depend on the thread count.
   const int jobs = slices * kChannels;
-  std::atomic<int> next{0};
-  auto worker = [&] {
-    for (int job = next++; job < jobs; job = next++) {
-      const int s = job / kChannels, c = job % kChannels;
-      SliceFitResult r = fit_slice_channel(table, c, (*bounds)[s], (*bounds)[s + 1], st);
-      model.slices[s].channel[c] = std::move(r.cs);
-      if (report) report->slices[s][c] = r.report;
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::min(st.threads, jobs); ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  internal::parallel_for(jobs, st.threads, [&](int job) {
+    const int s = job / kChannels, c = job % kChannels;
+    SliceFitResult r = fit_slice_channel(table, c, (*bounds)[s], (*bounds)[s + 1], st);
+    model.slices[s].channel[c] = std::move(r.cs);
+    if (report) report->slices[s][c] = r.report;
+  });
   for (int s = 0; s < slices; ++s) {
     model.slices[s].theta_d_begin = (*bounds)[s];
     model.slices[s].theta_d_end = (*bounds)[s + 1];

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fit/loss.h"
 #include "fit/solver_options.h"
 
 namespace cbrdf::fit {
@@ -33,7 +34,7 @@ class SliceCost final : public ceres::SizedCostFunction<3, 1, 1> {
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     const double theta = parameters[0][0], k = parameters[1][0];
-    copula_.prepare(theta, m_.u1, m_.u2, m_.u3);
+    copula_.prepare(theta, m_.cdf_h, m_.cdf_d, m_.cdf_p);
     const bool want_jacobian = jacobians != nullptr;
     std::vector<double> c(std::size_t(s_.np)), dc(std::size_t(s_.np));
     // Sums of r^2, J^T J and J^T r, with J = (-K dc f, -c f).
@@ -44,20 +45,12 @@ class SliceCost final : public ceres::SizedCostFunction<3, 1, 1> {
         const std::uint32_t begin = s_.row_begin[row], end = s_.row_begin[row + 1];
         if (begin == end) continue;
         copula_.row(i, j, c.data(), want_jacobian ? dc.data() : nullptr);
-        const double f12 = m_.f1[i] * m_.f2[j];
+        const double pdf_hd = m_.pdf_h[i] * m_.pdf_d[j];
         for (std::uint32_t q = begin; q < end; ++q) {
           const int l = s_.mk[q];
-          const double f = f12 * m_.f3[l];
+          const double f = pdf_hd * m_.pdf_p[l];
           const double model = k * c[l] * f;
-          double r, dr_dm;  // the residual and its derivative in the model value
-          if (loss_ == FitLoss::kLog) {
-            r = std::log1p(s_.mv[q] * s_.unit) - std::log1p(model * physical_vbar_);
-            dr_dm = -physical_vbar_ / (1.0 + model * physical_vbar_);
-          } else {
-            const double w = loss_ == FitLoss::kCosine ? std::sqrt(s_.mw[q]) : 1.0;
-            r = w * (s_.mv[q] * inv_vbar_ - model);
-            dr_dm = -w;
-          }
+          const auto [r, dr_dm] = loss_residual(loss_, s_, q, model, inv_vbar_, physical_vbar_);
           rr += r * r;
           if (!want_jacobian) continue;
           const double a = dr_dm * k * dc[l] * f, b = dr_dm * c[l] * f;
@@ -111,8 +104,8 @@ double mean_measured(const SliceData& s) {
   return s.mv.empty() ? 0 : sum / double(s.mv.size());
 }
 
-// Calls f(q, p) for every measured bin q of the slice with p = c * f1 * f2 * f3, the unscaled
-// model at the copula's prepared parameter; rows without a measured bin are skipped.
+// Calls f(q, p) for every measured bin q of the slice with p = c * pdf_h * pdf_d * pdf_p, the
+// unscaled model at the copula's prepared parameter; rows without a measured bin are skipped.
 template <typename F>
 void for_each_measured(const SliceData& s, const Marginals& m, GridCopula& copula, F f) {
   std::vector<double> c(std::size_t(s.np));
@@ -122,8 +115,8 @@ void for_each_measured(const SliceData& s, const Marginals& m, GridCopula& copul
       const std::uint32_t begin = s.row_begin[row], end = s.row_begin[row + 1];
       if (begin == end) continue;
       copula.row(i, j, c.data(), nullptr);
-      const double f12 = m.f1[i] * m.f2[j];
-      for (std::uint32_t q = begin; q < end; ++q) f(q, c[s.mk[q]] * f12 * m.f3[s.mk[q]]);
+      const double pdf_hd = m.pdf_h[i] * m.pdf_d[j];
+      for (std::uint32_t q = begin; q < end; ++q) f(q, c[s.mk[q]] * pdf_hd * m.pdf_p[s.mk[q]]);
     }
   }
 }
@@ -136,7 +129,7 @@ ParameterFit evaluate_parameter(const SliceData& s, const Marginals& m, GridCopu
   r.theta = theta;
   const double vbar = mean_measured(s);
   if (s.mv.empty() || vbar <= 0) return r;
-  copula.prepare(theta, m.u1, m.u2, m.u3);
+  copula.prepare(theta, m.cdf_h, m.cdf_d, m.cdf_p);
   double vp = 0, pp = 0, vv = 0;
   for_each_measured(s, m, copula, [&](std::uint32_t q, double p) {
     const double v = s.mv[q] / vbar;

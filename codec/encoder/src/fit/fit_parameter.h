@@ -11,8 +11,9 @@ namespace cbrdf::fit {
 struct ParameterFit {
   double theta = 0;
   double scale = 0;  // K, in units of the slice's SliceData::unit
-  // Mean over measured bins of the loss: for kLinear ((v - K c f1 f2 f3) / mean v)^2, kCosine the
-  // same weighted by cos(theta_i) cos(theta_o), kLog (log(1 + v) - log(1 + K c f1 f2 f3))^2.
+  // Mean over measured bins of the loss: for kLinear ((v - K c pdf_h pdf_d pdf_p) / mean v)^2,
+  // kCosine the same weighted by cos(theta_i) cos(theta_o), kLog (log(1 + v) - log(1 + K c pdf_h
+  // pdf_d pdf_p))^2.
   double objective = 0;
   double objective_independence = 0;  // the same at independence (K optimal there)
   int iterations = 0;

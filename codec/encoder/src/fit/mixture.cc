@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "density/grid_copula.h"
+#include "fit/loss.h"
 #include "fit/marginals.h"
 #include "fit/solver_options.h"
 
@@ -18,18 +19,19 @@ namespace {
 // 1e-3 (3.4 s vs 2.1 s); 1e-2 lost 0.14 dB.
 constexpr double kSweepTolerance = 1e-3;
 
-// Nonnegative rank-K factors of a slice: value(i, j, k) ~ sum_r a[r][i] b[r][j] c[r][k].
+// Nonnegative rank-K factors of a slice, one per marginal axis (theta_h, theta_d, phi_d), not
+// normalized: value(i, j, k) ~ sum_r pdf_h[r][i] pdf_d[r][j] pdf_p[r][k].
 struct Factors {
-  std::vector<std::vector<double>> a, b, c;
-  int rank() const { return int(a.size()); }
+  std::vector<std::vector<double>> pdf_h, pdf_d, pdf_p;
+  int rank() const { return int(pdf_h.size()); }
 };
 
 void add(Factors* f, const Component& comp) {
-  std::vector<double> a(comp.pdf_h);
-  for (double& x : a) x *= comp.scale;
-  f->a.push_back(std::move(a));
-  f->b.push_back(comp.pdf_d);
-  f->c.push_back(comp.pdf_p);
+  std::vector<double> pdf_h(comp.pdf_h);
+  for (double& x : pdf_h) x *= comp.scale;
+  f->pdf_h.push_back(std::move(pdf_h));
+  f->pdf_d.push_back(comp.pdf_d);
+  f->pdf_p.push_back(comp.pdf_p);
 }
 
 double dot(const std::vector<double>& x, const std::vector<double>& y) {
@@ -54,10 +56,11 @@ double dot_row(const double* x, const double* y, int n) {
 void model_row(const Factors& f, int i, int j, int np, double* row) {
   std::fill(row, row + np, 0.0);
   for (int r = 0; r < f.rank(); ++r) {
-    const double w = f.a[std::size_t(r)][std::size_t(i)] * f.b[std::size_t(r)][std::size_t(j)];
+    const double w =
+        f.pdf_h[std::size_t(r)][std::size_t(i)] * f.pdf_d[std::size_t(r)][std::size_t(j)];
     if (w == 0.0) continue;
-    const double* c = f.c[std::size_t(r)].data();
-    for (int k = 0; k < np; ++k) row[k] += w * c[k];
+    const double* pdf_p = f.pdf_p[std::size_t(r)].data();
+    for (int k = 0; k < np; ++k) row[k] += w * pdf_p[k];
   }
 }
 
@@ -90,8 +93,8 @@ double fill_and_measure(const SliceData& s, const Factors& f, std::vector<double
 // blue-metallic-paint, because least squares chases the specular peak while the sums keep the broad
 // shape.
 void add_residual_component(const SliceData& s, const std::vector<double>& y, Factors* f) {
-  std::vector<double> a(std::size_t(s.nh), 0.0), b(std::size_t(s.nd), 0.0),
-      c(std::size_t(s.np), 0.0), row(std::size_t(s.np));
+  std::vector<double> pdf_h(std::size_t(s.nh), 0.0), pdf_d(std::size_t(s.nd), 0.0),
+      pdf_p(std::size_t(s.np), 0.0), row(std::size_t(s.np));
   double total = 0;
   for (int i = 0; i < s.nh; ++i) {
     for (int j = 0; j < s.nd; ++j) {
@@ -99,18 +102,18 @@ void add_residual_component(const SliceData& s, const std::vector<double>& y, Fa
       const double* yr = y.data() + s.at(i, j, 0);
       for (int k = 0; k < s.np; ++k) {
         const double r = std::max(0.0, yr[k] - row[std::size_t(k)]);
-        a[std::size_t(i)] += r;
-        b[std::size_t(j)] += r;
-        c[std::size_t(k)] += r;
+        pdf_h[std::size_t(i)] += r;
+        pdf_d[std::size_t(j)] += r;
+        pdf_p[std::size_t(k)] += r;
         total += r;
       }
     }
   }
   if (!(total > 0)) return;
-  for (double& x : a) x /= total * total;
-  f->a.push_back(std::move(a));
-  f->b.push_back(std::move(b));
-  f->c.push_back(std::move(c));
+  for (double& x : pdf_h) x /= total * total;
+  f->pdf_h.push_back(std::move(pdf_h));
+  f->pdf_d.push_back(std::move(pdf_d));
+  f->pdf_p.push_back(std::move(pdf_p));
 }
 
 // Gram matrix G[q][r] = <x_q, x_r>.
@@ -150,12 +153,12 @@ void hals_update(const std::vector<double>& m, const std::vector<double>& g1,
 void hals_sweep(const SliceData& s, const std::vector<double>& y, Factors* f) {
   const std::size_t n = std::size_t(f->rank());
   const std::size_t rows = std::size_t(s.nh) * std::size_t(s.nd);
-  // t[(i * nd + j) * n + r] = sum_k y(i, j, k) c_r(k): serves the theta_h and theta_d updates.
+  // t[(i * nd + j) * n + r] = sum_k y(i, j, k) pdf_p_r(k): serves the theta_h and theta_d updates.
   std::vector<double> t(rows * n);
   for (std::size_t row = 0; row < rows; ++row) {
     const double* yr = y.data() + row * std::size_t(s.np);
     for (std::size_t r = 0; r < n; ++r) {
-      t[row * n + r] = dot_row(yr, f->c[r].data(), s.np);
+      t[row * n + r] = dot_row(yr, f->pdf_p[r].data(), s.np);
     }
   }
   std::vector<double> m(std::size_t(s.nh) * n, 0.0);
@@ -164,11 +167,11 @@ void hals_sweep(const SliceData& s, const std::vector<double>& y, Factors* f) {
       for (std::size_t r = 0; r < n; ++r) {
         m[std::size_t(i) * n + r] +=
             t[(std::size_t(i) * std::size_t(s.nd) + std::size_t(j)) * n + r] *
-            f->b[r][std::size_t(j)];
+            f->pdf_d[r][std::size_t(j)];
       }
     }
   }
-  hals_update(m, gram(f->b), gram(f->c), &f->a);
+  hals_update(m, gram(f->pdf_d), gram(f->pdf_p), &f->pdf_h);
 
   m.assign(std::size_t(s.nd) * n, 0.0);
   for (int i = 0; i < s.nh; ++i) {
@@ -176,19 +179,19 @@ void hals_sweep(const SliceData& s, const std::vector<double>& y, Factors* f) {
       for (std::size_t r = 0; r < n; ++r) {
         m[std::size_t(j) * n + r] +=
             t[(std::size_t(i) * std::size_t(s.nd) + std::size_t(j)) * n + r] *
-            f->a[r][std::size_t(i)];
+            f->pdf_h[r][std::size_t(i)];
       }
     }
   }
-  hals_update(m, gram(f->a), gram(f->c), &f->b);
+  hals_update(m, gram(f->pdf_h), gram(f->pdf_p), &f->pdf_d);
 
-  // mc[r * np + k] = sum_ij y(i, j, k) a_r(i) b_r(j), accumulated row by row (vectorizes).
+  // mc[r * np + k] = sum_ij y(i, j, k) pdf_h_r(i) pdf_d_r(j), accumulated row by row (vectorizes).
   std::vector<double> mc(n * std::size_t(s.np), 0.0);
   for (int i = 0; i < s.nh; ++i) {
     for (int j = 0; j < s.nd; ++j) {
       const double* yr = y.data() + s.at(i, j, 0);
       for (std::size_t r = 0; r < n; ++r) {
-        const double w = f->a[r][std::size_t(i)] * f->b[r][std::size_t(j)];
+        const double w = f->pdf_h[r][std::size_t(i)] * f->pdf_d[r][std::size_t(j)];
         if (w == 0.0) continue;
         double* out = mc.data() + r * std::size_t(s.np);
         for (int k = 0; k < s.np; ++k) out[k] += yr[k] * w;
@@ -200,17 +203,18 @@ void hals_sweep(const SliceData& s, const std::vector<double>& y, Factors* f) {
     for (int k = 0; k < s.np; ++k)
       m[std::size_t(k) * n + r] = mc[r * std::size_t(s.np) + std::size_t(k)];
   }
-  hals_update(m, gram(f->a), gram(f->b), &f->c);
+  hals_update(m, gram(f->pdf_h), gram(f->pdf_d), &f->pdf_p);
 
   // Equal norms across a component's three factors keep the sweeps well scaled.
   for (std::size_t r = 0; r < n; ++r) {
-    const double na = std::sqrt(dot(f->a[r], f->a[r])), nb = std::sqrt(dot(f->b[r], f->b[r])),
-                 nc = std::sqrt(dot(f->c[r], f->c[r]));
-    if (!(na > 0 && nb > 0 && nc > 0)) continue;
-    const double g = std::cbrt(na * nb * nc);
-    for (double& x : f->a[r]) x *= g / na;
-    for (double& x : f->b[r]) x *= g / nb;
-    for (double& x : f->c[r]) x *= g / nc;
+    const double norm_h = std::sqrt(dot(f->pdf_h[r], f->pdf_h[r])),
+                 norm_d = std::sqrt(dot(f->pdf_d[r], f->pdf_d[r])),
+                 norm_p = std::sqrt(dot(f->pdf_p[r], f->pdf_p[r]));
+    if (!(norm_h > 0 && norm_d > 0 && norm_p > 0)) continue;
+    const double g = std::cbrt(norm_h * norm_d * norm_p);
+    for (double& x : f->pdf_h[r]) x *= g / norm_h;
+    for (double& x : f->pdf_d[r]) x *= g / norm_d;
+    for (double& x : f->pdf_p[r]) x *= g / norm_p;
   }
 }
 
@@ -221,16 +225,16 @@ void drop_vanished(Factors* f) {
       return std::any_of(v.begin(), v.end(), [](double x) { return x > 0; });
     };
     const std::size_t u = std::size_t(r);
-    if (nonzero(f->a[u]) && nonzero(f->b[u]) && nonzero(f->c[u])) continue;
-    f->a.erase(f->a.begin() + r);
-    f->b.erase(f->b.begin() + r);
-    f->c.erase(f->c.begin() + r);
+    if (nonzero(f->pdf_h[u]) && nonzero(f->pdf_d[u]) && nonzero(f->pdf_p[u])) continue;
+    f->pdf_h.erase(f->pdf_h.begin() + r);
+    f->pdf_d.erase(f->pdf_d.begin() + r);
+    f->pdf_p.erase(f->pdf_p.begin() + r);
   }
 }
 
 // A component's marginals (masses and midpoint CDFs) and weight, from its factors.
 struct Term {
-  std::vector<double> f1, f2, f3, u1, u2, u3;
+  std::vector<double> pdf_h, pdf_d, pdf_p, cdf_h, cdf_d, cdf_p;
   double weight = 0;  // in units of the mean measured value
   std::unique_ptr<GridCopula> copula;
 };
@@ -261,7 +265,7 @@ class MixtureCost final : public ceres::CostFunction {
     std::vector<double> w(n);
     for (std::size_t r = 0; r < n; ++r) {
       w[r] = std::exp(x[2 * r]);
-      terms_[r].copula->prepare(x[2 * r + 1], terms_[r].u1, terms_[r].u2, terms_[r].u3);
+      terms_[r].copula->prepare(x[2 * r + 1], terms_[r].cdf_h, terms_[r].cdf_d, terms_[r].cdf_p);
     }
     const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
     std::vector<std::vector<double>> c(n, std::vector<double>(std::size_t(s_.np))),
@@ -283,7 +287,7 @@ class MixtureCost final : public ceres::CostFunction {
           double model = 0;
           for (std::size_t r = 0; r < n; ++r) {
             const Term& t = terms_[r];
-            const double f = t.f1[std::size_t(i)] * t.f2[std::size_t(j)] * t.f3[l];
+            const double f = t.pdf_h[std::size_t(i)] * t.pdf_d[std::size_t(j)] * t.pdf_p[l];
             const double wf = w[r] * f;
             model += wf * c[r][l];
             if (want_jacobian) {
@@ -291,17 +295,7 @@ class MixtureCost final : public ceres::CostFunction {
               g[Eigen::Index(2 * r + 1)] = wf * dc[r][l];
             }
           }
-          double res, dr_dm;
-          if (loss_ == FitLoss::kLog) {
-            // Physical units: the stored values times the slice's unit.
-            const double pv = vbar_ * s_.unit;
-            res = std::log1p(s_.mv[q] * s_.unit) - std::log1p(model * pv);
-            dr_dm = -pv / (1.0 + model * pv);
-          } else {
-            const double wt = loss_ == FitLoss::kCosine ? std::sqrt(s_.mw[q]) : 1.0;
-            res = wt * (s_.mv[q] * inv_vbar - model);
-            dr_dm = -wt;
-          }
+          const auto [res, dr_dm] = loss_residual(loss_, s_, q, model, inv_vbar, vbar_ * s_.unit);
           rr += res * res;
           if (!want_jacobian) continue;
           g *= dr_dm;
@@ -357,17 +351,9 @@ double objective_at(const SliceData& s, std::vector<Term>& terms, double vbar, F
   return res[0] * res[0] / double(s.measured_count());
 }
 
-}  // namespace
-
-MixtureFit fit_mixture(const SliceData& s, const ChannelSlice& start, int components,
-                       CopulaFamily family, FitLoss loss) {
-  MixtureFit out;
-  out.cs = start;
-  if (s.mv.empty()) return out;
-  const double vbar = std::accumulate(s.mv.begin(), s.mv.end(), 0.0) / double(s.mv.size());
-  if (!(vbar > 0)) return out;
-
-  // Stage 1: factorization, each added component started from the residual of the fit before.
+// Stage 1: the factorization, each added component started from the residual of the fit before.
+// Counts HALS sweeps and unconverged factorizations in `out`.
+Factors factorize(const SliceData& s, const ChannelSlice& start, int components, MixtureFit* out) {
   Factors f;
   for (int r = 0; r < start.components(); ++r) {
     if (start.component(r).scale > 0) add(&f, start.component(r));
@@ -382,63 +368,74 @@ MixtureFit fit_mixture(const SliceData& s, const ChannelSlice& start, int compon
     for (int sweep = 0; sweep < kMaxSweeps && !converged; ++sweep) {
       hals_sweep(s, y, &f);
       const double next = fill_and_measure(s, f, &y);
-      ++out.sweeps;
+      ++out->sweeps;
       converged = sse - next <= kSweepTolerance * sse;
       sse = next;
     }
-    if (!converged) ++out.unconverged;
+    if (!converged) ++out->unconverged;
     drop_vanished(&f);
   }
-  if (f.rank() == 0) return out;
+  return f;
+}
 
-  // Stage 2: copula parameters and weights, jointly.
-  auto probe = make_grid_copula(family);
-  if (!probe) family = CopulaFamily::kFrank, probe = make_grid_copula(family);
+// Each component's normalized marginals and weight (in units of vbar), with its copula at
+// independence; `x` gets the starting parameters (log weight, theta) per component.
+std::vector<Term> terms_at_independence(const Factors& f, double vbar, CopulaFamily family,
+                                        std::vector<double>* x) {
   std::vector<Term> terms(std::size_t(f.rank()));
-  std::vector<double> x;
   for (std::size_t r = 0; r < terms.size(); ++r) {
     Term& t = terms[r];
-    double sa = 0, sb = 0, sc = 0;
-    t.f1 = normalized(f.a[r], &sa);
-    t.f2 = normalized(f.b[r], &sb);
-    t.f3 = normalized(f.c[r], &sc);
-    midpoint_cdf(t.f1, &t.u1);
-    midpoint_cdf(t.f2, &t.u2);
-    midpoint_cdf(t.f3, &t.u3);
-    t.weight = sa * sb * sc / vbar;
+    double sum_h = 0, sum_d = 0, sum_p = 0;
+    t.pdf_h = normalized(f.pdf_h[r], &sum_h);
+    t.pdf_d = normalized(f.pdf_d[r], &sum_d);
+    t.pdf_p = normalized(f.pdf_p[r], &sum_p);
+    midpoint_cdf(t.pdf_h, &t.cdf_h);
+    midpoint_cdf(t.pdf_d, &t.cdf_d);
+    midpoint_cdf(t.pdf_p, &t.cdf_p);
+    t.weight = sum_h * sum_d * sum_p / vbar;
     t.copula = make_grid_copula(family);
-    x.push_back(std::log(t.weight));
-    x.push_back(t.copula->independence());
+    x->push_back(std::log(t.weight));
+    x->push_back(t.copula->independence());
   }
-  const std::vector<double> x0 = x;
-  const double start_objective = objective_at(s, terms, vbar, loss, x0);
-  out.objective_factorization = start_objective;
-  double best_objective = start_objective;
-  {
-    ceres::Problem::Options problem_options;
-    problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-    ceres::Problem problem(problem_options);
-    problem.AddResidualBlock(new MixtureCost(s, terms, vbar, loss), nullptr, x.data());
-    for (std::size_t r = 0; r < terms.size(); ++r) {
-      problem.SetParameterLowerBound(x.data(), int(2 * r + 1), probe->fit_lo());
-      problem.SetParameterUpperBound(x.data(), int(2 * r + 1), probe->fit_hi());
-    }
-    const ceres::Solver::Options options = small_problem_options();
-    ceres::Solver::Summary summary;
-    ceres::Solve(options, &problem, &summary);
-    out.solver_iterations = int(summary.iterations.size());
-    const double solved = 2.0 * summary.final_cost / double(s.measured_count());
-    // The solver only ever improves on its start; keep the start if rounding says otherwise.
-    if (solved <= start_objective &&
-        std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); })) {
-      best_objective = solved;
-    } else {
-      x = x0;
-    }
-  }
-  out.objective = best_objective;
+  return terms;
+}
 
-  // Largest component first; ties keep the factorization's order.
+// Stage 2: the copula parameters and weights, jointly, from x (the factorization's start). Sets
+// out's objectives and solver iterations; x is left at the solution, or at the start when the
+// solver did not improve on it.
+void solve_copulas_and_weights(const SliceData& s, std::vector<Term>& terms, double vbar,
+                               FitLoss loss, const GridCopula& probe, std::vector<double>* x,
+                               MixtureFit* out) {
+  const std::vector<double> x0 = *x;
+  const double start_objective = objective_at(s, terms, vbar, loss, x0);
+  out->objective_factorization = start_objective;
+  double best_objective = start_objective;
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  problem.AddResidualBlock(new MixtureCost(s, terms, vbar, loss), nullptr, x->data());
+  for (std::size_t r = 0; r < terms.size(); ++r) {
+    problem.SetParameterLowerBound(x->data(), int(2 * r + 1), probe.fit_lo());
+    problem.SetParameterUpperBound(x->data(), int(2 * r + 1), probe.fit_hi());
+  }
+  const ceres::Solver::Options options = small_problem_options();
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  out->solver_iterations = int(summary.iterations.size());
+  const double solved = 2.0 * summary.final_cost / double(s.measured_count());
+  // The solver only ever improves on its start; keep the start if rounding says otherwise.
+  if (solved <= start_objective &&
+      std::all_of(x->begin(), x->end(), [](double v) { return std::isfinite(v); })) {
+    best_objective = solved;
+  } else {
+    *x = x0;
+  }
+  out->objective = best_objective;
+}
+
+// The components as a ChannelSlice, largest first; ties keep the factorization's order.
+ChannelSlice largest_first(std::vector<Term>& terms, const std::vector<double>& x, double vbar,
+                           CopulaFamily family, const GridCopula& probe) {
   std::vector<std::size_t> order(terms.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
@@ -448,18 +445,39 @@ MixtureFit fit_mixture(const SliceData& s, const ChannelSlice& start, int compon
     const std::size_t r = order[o];
     Component comp;
     comp.family = family;
-    comp.theta = std::clamp(x[2 * r + 1], probe->fit_lo(), probe->fit_hi());
+    comp.theta = std::clamp(x[2 * r + 1], probe.fit_lo(), probe.fit_hi());
     comp.scale = std::exp(x[2 * r]) * vbar;
-    comp.pdf_h = std::move(terms[r].f1);
-    comp.pdf_d = std::move(terms[r].f2);
-    comp.pdf_p = std::move(terms[r].f3);
+    comp.pdf_h = std::move(terms[r].pdf_h);
+    comp.pdf_d = std::move(terms[r].pdf_d);
+    comp.pdf_p = std::move(terms[r].pdf_p);
     if (o == 0) {
       static_cast<Component&>(cs) = std::move(comp);
     } else {
       cs.extra.push_back(std::move(comp));
     }
   }
-  out.cs = std::move(cs);
+  return cs;
+}
+
+}  // namespace
+
+MixtureFit fit_mixture(const SliceData& s, const ChannelSlice& start, int components,
+                       CopulaFamily family, FitLoss loss) {
+  MixtureFit out;
+  out.cs = start;
+  if (s.mv.empty()) return out;
+  const double vbar = std::accumulate(s.mv.begin(), s.mv.end(), 0.0) / double(s.mv.size());
+  if (!(vbar > 0)) return out;
+
+  const Factors f = factorize(s, start, components, &out);
+  if (f.rank() == 0) return out;
+
+  auto probe = make_grid_copula(family);
+  if (!probe) family = CopulaFamily::kFrank, probe = make_grid_copula(family);
+  std::vector<double> x;
+  std::vector<Term> terms = terms_at_independence(f, vbar, family, &x);
+  solve_copulas_and_weights(s, terms, vbar, loss, *probe, &x, &out);
+  out.cs = largest_first(terms, x, vbar, family, *probe);
   return out;
 }
 

@@ -1,0 +1,91 @@
+// The user-facing encoder options (`cbrdf encode`, `cbrdf report`, rate control) as
+// EncoderSettings: one place for their parsing, their defaults and their error messages.
+#include <algorithm>
+#include <charconv>
+#include <thread>
+
+#include "cbrdf/encoder.h"
+#include "cbrdf/parallel.h"
+
+namespace cbrdf {
+namespace {
+
+Status invalid(const std::string& message) {
+  return error(ErrorCode::kInvalidArgument, message);
+}
+
+}  // namespace
+
+std::optional<CountOrAuto> parse_count_or_auto(std::string_view text, int lo, int hi,
+                                               bool allow_auto) {
+  if (allow_auto && text == "auto") return CountOrAuto{0, true};
+  int n = 0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, n);
+  if (text.empty() || ec != std::errc() || ptr != end || n < lo || n > hi) return std::nullopt;
+  return CountOrAuto{n, false};
+}
+
+void set_counts(CountOrAuto slices, CountOrAuto components, FitSettings* settings) {
+  if (slices.is_auto) {
+    settings->auto_slices = true;
+  } else {
+    settings->auto_slices = false;  // a count replaces a data-chosen one
+    settings->slices = slices.count;
+    settings->slice_bounds.clear();
+  }
+  settings->auto_components = components.is_auto;
+  settings->components = components.is_auto ? kAutoMaxComponents : components.count;
+}
+
+// Checked in the order `cbrdf encode` always has: the first bad option is the one named.
+Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
+  EncoderSettings st;
+  const auto slices = parse_count_or_auto(o.slices, 1, kThetaDBins, true);
+  if (!slices) return invalid("--slices must be 1 to 90 or auto, not '" + o.slices + "'");
+  if (o.placement == "adaptive") {
+    st.fit.adaptive_slices = true;
+  } else if (o.placement != "uniform") {
+    return invalid("unknown --slice-placement '" + o.placement + "' (uniform or adaptive)");
+  }
+  if (o.family == "auto") {
+    st.fit.auto_family = true;
+  } else if (auto f = family_from_name(o.family)) {
+    st.fit.family = *f;
+  } else {
+    return invalid("unknown --family '" + o.family +
+                   "' (frank, clayton, gumbel, joe, independence or auto)");
+  }
+  const auto components = parse_count_or_auto(o.components, 1, kMaxComponents, true);
+  if (!components) {
+    return invalid("--components must be 1 to " + std::to_string(kMaxComponents) +
+                   " or auto, not '" + o.components + "'");
+  }
+  set_counts(*slices, *components, &st.fit);
+  if (o.loss == "linear") {
+    st.fit.loss = FitLoss::kLinear;
+  } else if (o.loss == "cosine") {
+    st.fit.loss = FitLoss::kCosine;
+  } else if (o.loss == "log") {
+    st.fit.loss = FitLoss::kLog;
+  } else {
+    return invalid("unknown --loss '" + o.loss + "' (linear, cosine or log)");
+  }
+  if (o.bits < 6 || o.bits > 16) {
+    return invalid("--bits must be 6 to 16, not " + std::to_string(o.bits));
+  }
+  if (o.level < 1 || o.level > 22) {
+    return invalid("--level must be 1 to 22, not " + std::to_string(o.level));
+  }
+  if (o.threads < 0) {
+    return invalid("--threads must be 0 (one per core) or more, not " + std::to_string(o.threads));
+  }
+  st.fit.impute_missing = !o.naive_marginals;
+  st.fit.threads = o.threads > 0 ? o.threads : thread_limit();
+  st.container.bits = o.bits;
+  st.container.zstd_level = o.level;
+  st.container.source_name = o.source_name;
+  return st;
+}
+
+}  // namespace cbrdf

@@ -1,0 +1,389 @@
+#include "eval/interp_tables.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "density/frank_grid.h"
+#include "density/grid_copula.h"
+
+namespace cbrdf::eval {
+namespace {
+
+// Parameters are evaluated clamped to [-1e300, 1e300] (model.cc, spec/container.md).
+constexpr double kMaxEvaluatedParameter = 1e300;
+
+template <class T>
+inline T saturate(T v) {
+  constexpr T kMax = std::numeric_limits<T>::max();
+  return v < kMax ? v : (v == v ? kMax : T(0));
+}
+
+// Whether a component has the product form (see the header) and, if so, its slot constants and
+// per-axis (e, w, y) at CDF values u, as FrankGrid::prepare forms them.
+struct ProductForm {
+  bool ok = false;
+  double t = 0, b = 0;
+  SlotConstants<double> k{};
+};
+
+ProductForm product_form(const Component& c) {
+  ProductForm f;
+  const double theta = std::clamp(c.theta, -kMaxEvaluatedParameter, kMaxEvaluatedParameter);
+  if (c.family == CopulaFamily::kIndependence ||
+      (c.family == CopulaFamily::kFrank && theta == 0.0)) {
+    f.ok = true;
+    f.k = {c.scale, 1, 0, 0, 1, 0, 0};
+    return f;
+  }
+  if (c.family != CopulaFamily::kFrank || theta < fit::kFrankGridMinAlpha) return f;
+  f.ok = true;
+  f.t = -theta;
+  f.b = -std::expm1(-f.t);
+  const double et = std::exp(-f.t);
+  constexpr double kLn2Lo = 2.319046813846299558e-17;  // as frank_grid.cc
+  const double one_plus_b = -2.0 * std::expm1((theta - std::numbers::ln2) - kLn2Lo);
+  const double r = f.t / f.b;
+  const double k = c.scale * (r * r);
+  if (f.t > 0) {
+    f.k = {k, et, f.b, 0, 1, 0, f.b};  // 1 - h = e^{-t} + b Y, 1 + h = 1 + b W
+  } else {
+    f.k = {k, 1, 0, -f.b, one_plus_b, -f.b, 0};  // 1 - h = 1 - b W, 1 + h = (2 - e^{-t}) - b Y
+  }
+  return f;
+}
+
+// Axis terms of masses `pdf` (their midpoint CDF) for a product form.
+void axis_terms(const ProductForm& f, const std::vector<double>& pdf,
+                std::vector<AxisTerms<double>>* out) {
+  std::vector<double> u;
+  fit::midpoint_cdf(pdf, &u);
+  out->resize(pdf.size());
+  for (std::size_t i = 0; i < pdf.size(); ++i) {
+    AxisTerms<double>& a = (*out)[i];
+    if (f.t == 0.0) {
+      a = {pdf[i], 0, 0};
+      continue;
+    }
+    const double x = u[i], e = std::exp(-f.t * x);
+    a.g = pdf[i] * e;
+    a.w = -std::expm1(-f.t * x) / f.b;
+    a.y = -e * std::expm1(-f.t * (1.0 - x)) / f.b;
+  }
+}
+
+template <class T>
+AxisTerms<T> cast_terms(const AxisTerms<double>& a) {
+  return {T(a.g), T(a.w), T(a.y)};
+}
+
+template <class T>
+SlotConstants<T> cast_consts(const SlotConstants<double>& c) {
+  return {T(c.k), T(c.a0), T(c.a1), T(c.a2), T(c.b0), T(c.b1), T(c.b2)};
+}
+
+// Adds weight * the slice's value at the interpolated position to rgb. The axis entries of the
+// two bins around the position: h0/h1, d0/d1, p0/p1 (3R entries each), fractions fh, fd, fp.
+template <class T>
+inline void add_slice(const SliceTables<T>& st, int i0, T fh, int jl0, T fd, int k0, T fp, T weight,
+                      T rgb[3]) {
+  const int n = 3 * st.slots_per_channel, R = st.slots_per_channel;
+  const AxisTerms<T>* h0 = st.h.data() + std::size_t(i0) * std::size_t(n);
+  const AxisTerms<T>* h1 = h0 + n;
+  const AxisTerms<T>* d0 = st.d.data() + std::size_t(jl0) * std::size_t(n);
+  const AxisTerms<T>* d1 = d0 + n;
+  const AxisTerms<T>* p0 = st.p.data() + std::size_t(k0) * std::size_t(n);
+  const AxisTerms<T>* p1 = p0 + n;
+  const T gh = 1 - fh, gd = 1 - fd, gp = 1 - fp;
+  const SlotConstants<T>* kc = st.consts.data();
+  for (int c = 0; c < kChannels; ++c) {
+    T sum = 0;
+    for (int r = 0; r < R; ++r) {
+      const int q = c * R + r;
+      const T g1 = h0[q].g * gh + h1[q].g * fh, w1 = h0[q].w * gh + h1[q].w * fh,
+              y1 = h0[q].y * gh + h1[q].y * fh;
+      const T g2 = d0[q].g * gd + d1[q].g * fd, w2 = d0[q].w * gd + d1[q].w * fd,
+              y2 = d0[q].y * gd + d1[q].y * fd;
+      const T g3 = p0[q].g * gp + p1[q].g * fp, w3 = p0[q].w * gp + p1[q].w * fp,
+              y3 = p0[q].y * gp + p1[q].y * fp;
+      const SlotConstants<T>& k = kc[q];
+      const T w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
+      const T omh = k.a0 + k.a1 * Y + k.a2 * W;
+      const T oph = k.b0 + k.b1 * Y + k.b2 * W;
+      sum += k.k * (g1 * g2 * g3) * oph / (omh * omh * omh);
+    }
+    rgb[c] += weight * sum;
+  }
+}
+
+// atan(x) for |x| <= 7/16: fdlibm's s_atan.c polynomial (relative error below 3e-16).
+template <class T>
+inline T atan_core(T x) {
+  const T z = x * x, w = z * z;
+  const T s1 =
+      z *
+      (T(3.33333333333329318027e-01) +
+       w * (T(1.42857142725034663711e-01) +
+            w * (T(9.09088713343650656196e-02) +
+                 w * (T(6.66107313738753120669e-02) +
+                      w * (T(4.97687799461593236017e-02) + w * T(1.62858201153657823623e-02))))));
+  const T s2 =
+      w * (T(-1.99999999998764832476e-01) +
+           w * (T(-1.11111104054623557880e-01) +
+                w * (T(-7.69187620504482999495e-02) +
+                     w * (T(-5.83357013379057348645e-02) + w * T(-3.65315727442169155270e-02)))));
+  return x - x * (s1 + s2);
+}
+
+// atan2(a, b) for a, b >= 0 (0 when both are): one division and one polynomial, the argument
+// reduced to |x| <= tan(pi/8) by atan(a/b) = pi/4 + atan((a - b) / (a + b)) and
+// atan(a/b) = pi/2 - atan(b/a). Relative error below 1e-15 (tests/model_eval_test.cc).
+template <class T>
+inline T atan2_first_quadrant(T a, T b) {
+  constexpr T kTanPi8 = T(0.41421356237309504880);
+  constexpr T kPi4 = T(std::numbers::pi / 4), kPi2 = T(std::numbers::pi / 2);
+  // Selected without branches: the case is data dependent, so a branch mispredicts often.
+  const bool above = a > kTanPi8 * b, below_far = !(b > kTanPi8 * a);
+  const bool mid = above && !below_far, far = above && below_far;
+  const T num = mid ? a - b : (far ? -b : a);
+  const T den = mid ? a + b : (far ? a : b);
+  const T base = mid ? kPi4 : (far ? kPi2 : T(0));
+  if (!(den > 0)) return 0;
+  return base + atan_core(num / den);
+}
+
+// Grid position of a direction pair with wi.z, wo.z > 0 (unit vectors). With H = wi + wo and
+// D = wi - wo: tan theta_h = |H_xy| / H_z, tan theta_d = |D| / |H|, and phi_d the angle of D (so
+// of wi) in the difference frame (grid_position's), its components scaled by |H_xy| |H| > 0:
+//   dx = (D_xy . H_xy) H_z - D_z |H_xy|^2,  dy = (D_y H_x - D_x H_y) |H|,
+// folded to [0, pi) by reciprocity. Swapping wi and wo leaves H and |D| as they are and negates
+// D, bit for bit, so dx and dy change sign exactly and the fold gives the same phi_d.
+template <class T>
+inline Position<T> position(T ix, T iy, T iz, T ox, T oy, T oz) {
+  constexpr T kDeg = T(180 / std::numbers::pi), kPi = T(std::numbers::pi);
+  const T hx = ix + ox, hy = iy + oy, hz = iz + oz;
+  const T ex = ix - ox, ey = iy - oy, ez = iz - oz;
+  const T rho2 = hx * hx + hy * hy;
+  const T rho = std::sqrt(rho2), len = std::sqrt(rho2 + hz * hz);
+  const T chord = std::sqrt(ex * ex + ey * ey + ez * ez);
+  const T theta_h = atan2_first_quadrant(rho, hz);
+  const T theta_d = atan2_first_quadrant(chord, len);
+  // From D, not wi: D is orthogonal to h (wi and wo have one length), so its azimuth in the frame
+  // is wi's, without the cancellation of wi's large component along h when theta_d is small.
+  T dx = (ex * hx + ey * hy) * hz - ez * rho2, dy = (ey * hx - ex * hy) * len;
+  if (!(rho2 > std::numeric_limits<T>::min())) {
+    dx = ex;  // h is the normal: the frame of phi_h = 0, as grid_position takes it
+    dy = ey;
+  }
+  const T alpha = atan2_first_quadrant(std::abs(dy), std::abs(dx));
+  // atan2(dy, dx) folded to [0, pi]: alpha where dx and dy have one sign, pi - alpha elsewhere.
+  const T phi = (dx >= 0) == (dy >= 0) ? alpha : kPi - alpha;
+  Position<T> g;
+  // Positions: sqrt(theta_h / 90deg) * 90, theta_d / 1deg, phi_d / 1deg; clamped (a NaN to 0).
+  g.h = std::min(T(kThetaHBins - 1),
+                 std::max(T(0), std::sqrt(theta_h * T(2 / std::numbers::pi)) * T(kThetaHBins)));
+  g.d = std::min(T(kThetaDBins - 1), std::max(T(0), theta_d * kDeg));
+  g.p = std::min(T(kPhiDBins), std::max(T(0), phi * kDeg));
+  return g;
+}
+
+}  // namespace
+
+template <class T>
+std::size_t SliceTables<T>::bytes() const {
+  return sizeof(*this) + (h.capacity() + d.capacity() + p.capacity()) * sizeof(AxisTerms<T>) +
+         consts.capacity() * sizeof(SlotConstants<T>);
+}
+template struct SliceTables<double>;
+template struct SliceTables<float>;
+
+GenericTerm::GenericTerm() = default;
+GenericTerm::GenericTerm(GenericTerm&&) noexcept = default;
+GenericTerm& GenericTerm::operator=(GenericTerm&&) noexcept = default;
+GenericTerm::~GenericTerm() = default;
+
+double GenericTerm::value(int i, int j, int k) const {
+  const Component& cs = *component;
+  const double f = cs.pdf_h[std::size_t(i)] * cs.pdf_d[std::size_t(j)] * cs.pdf_p[std::size_t(k)];
+  if (f == 0.0 || cs.scale == 0.0) return 0.0;
+  return saturate(cs.scale * copula->density(i, j, k) * f);
+}
+
+InterpTables::InterpTables(const Model& model) {
+  for (int j = 0; j < kThetaDBins; ++j) slice_of_bin_[j] = model.slice_of(j);
+  const std::size_t ns = model.slices.size();
+  f64_.resize(ns);
+  f32_.resize(ns);
+  generic_.resize(ns);
+  std::vector<AxisTerms<double>> th, td, tp;
+  for (std::size_t s = 0; s < ns; ++s) {
+    const Slice& slice = model.slices[s];
+    SliceTables<double>& st = f64_[s];
+    st.theta_d_begin = slice.theta_d_begin;
+    st.theta_d_end = slice.theta_d_end;
+    int R = 1;
+    for (const ChannelSlice& cs : slice.channel) R = std::max(R, cs.components());
+    st.slots_per_channel = R;
+    const int n = 3 * R, width = slice.width();
+    st.h.assign(std::size_t((kThetaHBins + 1) * n), AxisTerms<double>{0, 0, 0});
+    st.d.assign(std::size_t((width + 1) * n), AxisTerms<double>{0, 0, 0});
+    st.p.assign(std::size_t((kPhiDBins + 1) * n), AxisTerms<double>{0, 0, 0});
+    st.consts.assign(std::size_t(n), SlotConstants<double>{0, 1, 0, 0, 1, 0, 0});
+    for (int c = 0; c < kChannels; ++c) {
+      const ChannelSlice& cs = slice.channel[std::size_t(c)];
+      for (int r = 0; r < cs.components(); ++r) {
+        const Component& comp = cs.component(r);
+        const int q = c * R + r;
+        const ProductForm f = product_form(comp);
+        if (!f.ok) {
+          GenericTerm g;
+          g.component = &comp;
+          g.channel = c;
+          const double theta =
+              std::clamp(comp.theta, -kMaxEvaluatedParameter, kMaxEvaluatedParameter);
+          g.copula = comp.family == CopulaFamily::kFrank ? fit::make_archimedean_grid(comp.family)
+                                                         : fit::make_grid_copula(comp.family);
+          std::vector<double> u1, u2, u3;
+          fit::midpoint_cdf(comp.pdf_h, &u1);
+          fit::midpoint_cdf(comp.pdf_d, &u2);
+          fit::midpoint_cdf(comp.pdf_p, &u3);
+          g.copula->prepare(theta, u1, u2, u3);
+          generic_[s].push_back(std::move(g));
+          any_generic_ = true;
+          continue;  // its slot stays zero
+        }
+        if (comp.scale == 0.0) continue;
+        st.consts[std::size_t(q)] = f.k;
+        axis_terms(f, comp.pdf_h, &th);
+        axis_terms(f, comp.pdf_d, &td);
+        axis_terms(f, comp.pdf_p, &tp);
+        for (int i = 0; i <= kThetaHBins; ++i)
+          st.h[std::size_t(i * n + q)] = th[std::size_t(std::min(i, kThetaHBins - 1))];
+        for (int j = 0; j <= width; ++j)
+          st.d[std::size_t(j * n + q)] = td[std::size_t(std::min(j, width - 1))];
+        for (int k = 0; k <= kPhiDBins; ++k)
+          st.p[std::size_t(k * n + q)] = tp[std::size_t(std::min(k, kPhiDBins - 1))];
+      }
+    }
+    SliceTables<float>& sf = f32_[s];
+    sf.theta_d_begin = st.theta_d_begin;
+    sf.theta_d_end = st.theta_d_end;
+    sf.slots_per_channel = R;
+    auto cast_all = [](const std::vector<AxisTerms<double>>& from,
+                       std::vector<AxisTerms<float>>* to) {
+      to->resize(from.size());
+      for (std::size_t i = 0; i < from.size(); ++i) (*to)[i] = cast_terms<float>(from[i]);
+    };
+    cast_all(st.h, &sf.h);
+    cast_all(st.d, &sf.d);
+    cast_all(st.p, &sf.p);
+    sf.consts.resize(st.consts.size());
+    for (std::size_t q = 0; q < st.consts.size(); ++q)
+      sf.consts[q] = cast_consts<float>(st.consts[q]);
+  }
+}
+
+InterpTables::~InterpTables() = default;
+
+template <class T>
+void InterpTables::eval_impl(const std::vector<SliceTables<T>>& tables, const Position<T>& pos,
+                             T rgb[3]) const {
+  const int h0 = std::min(int(pos.h), kThetaHBins - 1);
+  const int d0 = std::min(int(pos.d), kThetaDBins - 1);
+  const int p0 = std::min(int(pos.p), kPhiDBins - 1);
+  const T fh = pos.h - T(h0), fd = pos.d - T(d0), fp = pos.p - T(p0);
+  const int s0 = slice_of_bin_[d0];
+  const SliceTables<T>& st = tables[std::size_t(s0)];
+  // Across the phi_d period (bin 179 to bin 0, where the CDF returns from 1 to 0) and across a
+  // slice boundary (two slices' marginals and copulas), the terms are not interpolated: the value
+  // is linear between the two bins' values, as trilinear interpolation has it.
+  auto along_p = [&](const SliceTables<T>& sl, int jl, T fd_in, T weight) {
+    if (p0 + 1 < kPhiDBins || fp == 0) {
+      add_slice(sl, h0, fh, jl, fd_in, p0, fp, weight, rgb);
+    } else {
+      add_slice(sl, h0, fh, jl, fd_in, p0, T(0), weight * (1 - fp), rgb);
+      add_slice(sl, h0, fh, jl, fd_in, 0, T(0), weight * fp, rgb);
+    }
+  };
+  if (d0 + 1 < st.theta_d_end || fd == 0) {
+    along_p(st, d0 - st.theta_d_begin, fd, T(1));
+  } else {
+    const SliceTables<T>& next = tables[std::size_t(slice_of_bin_[d0 + 1])];
+    along_p(st, d0 - st.theta_d_begin, T(0), 1 - fd);
+    along_p(next, d0 + 1 - next.theta_d_begin, T(0), fd);
+  }
+}
+
+void InterpTables::add_generic(int i0, double fh, int j0, double fd, int k0, double fp,
+                               double rgb[3]) const {
+  for (int b = 0; b < 2; ++b) {
+    const double wb = b ? fd : 1 - fd;
+    if (wb == 0.0) continue;
+    const int j = j0 + b;
+    const std::size_t s = std::size_t(slice_of_bin_[j]);
+    const int jl = j - f64_[s].theta_d_begin;
+    for (const GenericTerm& g : generic_[s]) {
+      double v = 0;
+      for (int a = 0; a < 2; ++a) {
+        const double wa = a ? fh : 1 - fh;
+        if (wa == 0.0) continue;
+        for (int e = 0; e < 2; ++e) {
+          const double w = wa * (e ? fp : 1 - fp);
+          if (w == 0.0) continue;
+          v += w * g.value(i0 + a, jl, (k0 + e) % kPhiDBins);
+        }
+      }
+      rgb[g.channel] += wb * v;
+    }
+  }
+}
+
+void InterpTables::eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const {
+  rgb[0] = rgb[1] = rgb[2] = 0.0;
+  if (!(wi.z > 0.0) || !(wo.z > 0.0)) return;
+  const Position<double> pos = position(wi.x, wi.y, wi.z, wo.x, wo.y, wo.z);
+  eval_impl(f64_, pos, rgb);
+  if (any_generic_) {
+    const int h0 = std::min(int(pos.h), kThetaHBins - 1);
+    const int d0 = std::min(int(pos.d), kThetaDBins - 1);
+    const int p0 = std::min(int(pos.p), kPhiDBins - 1);
+    add_generic(h0, pos.h - h0, d0, pos.d - d0, p0, pos.p - p0, rgb);
+  }
+  for (int c = 0; c < kChannels; ++c) rgb[c] = saturate(rgb[c]);
+}
+
+void InterpTables::eval(const float wi[3], const float wo[3], float rgb[3]) const {
+  rgb[0] = rgb[1] = rgb[2] = 0.0f;
+  if (!(wi[2] > 0.0f) || !(wo[2] > 0.0f)) return;
+  const Position<float> pos = position(wi[0], wi[1], wi[2], wo[0], wo[1], wo[2]);
+  eval_impl(f32_, pos, rgb);
+  if (any_generic_) {
+    const int h0 = std::min(int(pos.h), kThetaHBins - 1);
+    const int d0 = std::min(int(pos.d), kThetaDBins - 1);
+    const int p0 = std::min(int(pos.p), kPhiDBins - 1);
+    double g[3] = {0, 0, 0};
+    add_generic(h0, double(pos.h) - h0, d0, double(pos.d) - d0, p0, double(pos.p) - p0, g);
+    for (int c = 0; c < kChannels; ++c) rgb[c] += float(g[c]);
+  }
+  for (int c = 0; c < kChannels; ++c) rgb[c] = saturate(rgb[c]);
+}
+
+std::size_t InterpTables::footprint_bytes() const {
+  std::size_t n = sizeof(*this);
+  for (const auto& s : f64_) n += s.bytes();
+  for (const auto& s : f32_) n += s.bytes();
+  for (const auto& gs : generic_) {
+    n += gs.capacity() * sizeof(GenericTerm);
+    for (const GenericTerm& g : gs) {
+      // The grid's prepared per-axis arrays: Archimedean grids hold two prepared grids of four
+      // arrays per axis (generic terms are never FrankGrid).
+      const std::size_t bins =
+          g.component->pdf_h.size() + g.component->pdf_d.size() + g.component->pdf_p.size();
+      n += 2 * 4 * bins * sizeof(double) + 256;
+    }
+  }
+  return n;
+}
+
+}  // namespace cbrdf::eval
