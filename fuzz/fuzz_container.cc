@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // libFuzzer entry point: parse_container and inspect_container on raw bytes
 // (harness/container_target.h).
 #include <cstddef>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // libFuzzer entry point: decode_model with checksums repaired, then evaluation
 // (harness/decode_target.h).
 #include <cstddef>

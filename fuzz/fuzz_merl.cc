@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // libFuzzer entry point: parse_merl on raw bytes or on a patched 35/70 MB template
 // (harness/merl_target.h).
 #include <cstddef>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // libFuzzer entry point: encode_model -> decode_model on Models built from bytes
 // (harness/roundtrip_target.h).
 #include <cstddef>

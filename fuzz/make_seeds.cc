@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Writes the seed corpora fuzz/corpus/<target>/ and their manifest fuzz/corpus/EXPECTED.txt
 // (the outcome each seed is made to have; tests/fuzz_regression_test.cc checks it).
 //   Usage: fuzz_make_seeds OUT_DIR      (normally fuzz/corpus; the output is deterministic)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A stand-in for libFuzzer's main where there is no libFuzzer (GCC builds): `fuzz_X PATH...`
 // runs each file, or each file in each directory, through the target once, so crash inputs can be
 // replayed under a debugger or a GCC sanitizer build. Prints one line per input.

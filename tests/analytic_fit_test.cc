@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // fit_analytic recovers the parameters of tables made from known analytic BRDFs.
 #include "cbrdf/analytic_fit.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "cbrdf/analytic.h"
 
 #include <gtest/gtest.h>

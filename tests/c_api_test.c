@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 /* The C API (cbrdf/cbrdf_c.h), compiled as C99: every function, every error path, and results
  * checked against the golden files' recorded contents (`cbrdf info --json`), against each other
  * (eval and eval_batch bit for bit, sample_batch and pdf, table and write_merl) and against the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The `cbrdf` command against a hostile or careless user: device nodes and links as outputs,
 // outputs that would destroy inputs, FIFOs as inputs, names that are not UTF-8, the longest file
 // names, `-` for standard input and output, bad numbers, not-measured NaN and -Inf values.

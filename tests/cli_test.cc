@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The `cbrdf` command end to end: exit codes, one-line errors, no partial output files.
 #include <gtest/gtest.h>
 

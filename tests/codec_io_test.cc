@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Model -> .cbrdf bytes -> Model: exactness of everything but the marginals, the quantization
 // bound per bits value (pinned from both sides), masks, golden files and measured costs.
 #include <gtest/gtest.h>

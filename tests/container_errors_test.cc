@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Malformed .cbrdf files: each case must fail with a stated ErrorCode and a message that says
 // what is wrong and where (chunk tag and byte offset).
 #include <gtest/gtest.h>

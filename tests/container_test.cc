@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The chunk layer on its own: writing and parsing, compression choice, tag rules, unknown chunks,
 // the byte reader every parser uses, and the worked example of spec/container.md.
 #include "cbrdf/container.h"

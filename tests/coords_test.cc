@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "cbrdf/coords.h"
 
 #include <gtest/gtest.h>

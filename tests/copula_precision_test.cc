@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Precision of the copula densities against independent higher-precision references.
 //
 // The references are written in long double (64-bit significand, and an exponent range to

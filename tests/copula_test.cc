@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Behaviour of the copula families: domains, no NaN anywhere, density vs CDF, symmetry,
 // normalisation, the fast path, conditional distributions and their inverses, Frank's edge cases.
 // Precision against higher-precision references is in copula_precision_test.cc.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // What write_file_atomic and the readers do with every kind of path: devices, FIFOs, sockets,
 // symbolic links, descriptors, long names, and signals during a write (cbrdf/file_io.h).
 #include "cbrdf/file_io.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Fitting and reconstruction on synthetic tables, including the hard inputs.
 #include "cbrdf/fit.h"
 

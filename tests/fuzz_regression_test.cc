@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Replays every seed in fuzz/corpus/<target>/ and every crash input kept in
 // fuzz/regressions/<target>/ through the fuzz targets' own entry points (fuzz/harness/), as one
 // test per file: no broken invariant, and the outcome recorded for the file in the directory's

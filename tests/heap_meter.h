@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A replaced global operator new/delete that meters the heap, for the tests that bound memory
 // (resource_bounds_test, model_eval_test). Include it in exactly one file of a test binary: it
 // defines the replacement operators.

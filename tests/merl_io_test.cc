@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // file_io (reads with limits, atomic writes) and MERL .binary reading, validation, folding,
 // writing.
 #include "cbrdf/merl_io.h"

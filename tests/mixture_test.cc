@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Copula mixtures (several components per slice and channel): evaluation, fitting, coding.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // ModelEvaluator::eval between bins (codec/src/eval/interp_tables.h): equal to bin_value at bin
 // positions, reciprocal, continuous, 0 below the horizon; its difference from the previous eval
 // (trilinear between the 8 surrounding bin values, rebuilt here from bin_value and grid_position);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Numeric hardening: a valid file decodes with bounded work per bin whatever its parameters, the
 // fit does not depend on the table's overall scale, tables outside the supported value range are
 // refused in the user's terms, and sphere PSNR never reports a wrong result as a perfect match

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The library's one runner (cbrdf/parallel.h): every task once, the thread limit and per-call
 // requests, nesting, exceptions, a custom runner, and many loops at once.
 #include "cbrdf/parallel.h"

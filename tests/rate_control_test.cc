@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "cbrdf/rate_control.h"
 
 #include <gtest/gtest.h>

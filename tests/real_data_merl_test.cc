@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The real materials (../shared, made into MERL files by make-merl.sh): each one reads, its
 // not-measured mask is exactly the below-horizon geometry, and it round-trips byte for byte.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The model on the 20 real materials: per material the BRDF-space and image-space errors, the
 // fitted parameters, and the same for the separable model and for the paper's naive marginals.
 // The table is printed and written to BUILD/real-data-model.txt.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `cbrdf render` and `cbrdf imgdiff` end to end: closed forms, furnace tests, determinism, meshes,
 // the built-in scenes and scene errors.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The renderer's library (tools/render): scene loading and its errors, the integrator plan, a
 // closed-form render, the mesh BVH against brute force, and images independent of the threads.
 // tests/render_cli_test.cc runs the `cbrdf render` command end to end.

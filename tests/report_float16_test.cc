@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // float16 conversion: exact round trips and round-to-nearest-even, checked against GCC's _Float16.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `cbrdf report`: the rate-distortion frontier, the gain over the paper's setting at a byte
 // budget, and the sweep's parsing, on hand-made inputs (linked from the cbrdf_report library).
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // report.html in headless Chromium: the page loads and every image resolves.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `cbrdf report`: argument errors, and a small run whose figures are checked against what
 // `cbrdf encode` writes and what the library measures on the decoded file.
 #include <gtest/gtest.h>

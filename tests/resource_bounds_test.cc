@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The resource bounds of spec/container.md ("Resource bounds"): a hostile file is refused before
 // anything of its declared size is allocated, a decompression bomb is refused, and the largest
 // legitimate file decodes within the documented heap bound. Heap use is measured with a replaced

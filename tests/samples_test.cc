@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "cbrdf/samples.h"
 
 #include <gtest/gtest.h>

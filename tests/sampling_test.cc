@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // BrdfSampler: chi-square goodness of fit of sample() against pdf() (as pbrt and Mitsuba test their
 // BSDFs), normalization, and the variance gain over cosine-weighted sampling.
 #include "cbrdf/sampling.h"

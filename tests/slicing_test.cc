@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Slice boundaries chosen from the data (cbrdf/slicing.h) on synthetic tables.
 #include "cbrdf/slicing.h"
 

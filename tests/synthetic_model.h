@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Hand-built copula Models for the container and codec tests: realistic marginal shapes (smooth
 // lobes, near-mirror peaks spanning 12 decades), every family, and the standard MERL mask.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Synthetic MERL tables for the fitting tests, filled from a function of the bin indices.
 #pragma once
 

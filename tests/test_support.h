@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Helpers shared by the tests: temporary directories, the real-data folder, running the CLI.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Shared pieces of the `cbrdf` command: exit codes, messages, subcommand registration.
 #pragma once
 

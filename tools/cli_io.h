@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // How the `cbrdf` command names its files: `-` for standard input and output, checks that no
 // output overwrites an input or another output, and where informational lines go.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `cbrdf decode`: .cbrdf -> MERL .binary (and OpenEXR for inspection).
 #include <cstdio>
 

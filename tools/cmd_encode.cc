@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `cbrdf encode`: MERL .binary -> .cbrdf.
 #include <charconv>
 #include <chrono>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `cbrdf imgdiff`: PSNR between two images and a false-colour difference image.
 #include <algorithm>
 #include <cmath>

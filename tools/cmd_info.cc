@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `cbrdf info`: describe a .cbrdf container or a MERL .binary.
 #include <algorithm>
 #include <cstdio>

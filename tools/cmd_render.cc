@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `cbrdf render`: renders a scene file (or a built-in scene) to OpenEXR and PNG, with the cheapest
 // integrator that is exact for what the scene contains (render/integrator.h).
 #include <unistd.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `cbrdf report`: storage against PSNR and time, per material and setting, with baselines.
 #include <unistd.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `cbrdf sample`: the built-in analytic materials, written as MERL tables.
 #include <cstdio>
 

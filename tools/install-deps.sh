@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Installs the Debian packages cbrdf needs, only when one is missing.
 # Safe to run repeatedly; needs root (or sudo) only when something must be installed.
 set -euo pipefail

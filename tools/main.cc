@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // cbrdf: the command-line front end. One file per subcommand; this file only dispatches.
 #include <cstdio>
 #include <cstring>

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Installs what is missing, builds cbrdf, and runs the main job: compress the built-in sample
 # materials and print the size/PSNR table.   Usage: tools/quickstart.sh [BUILD_DIR]
 set -euo pipefail

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Builds the fuzz targets with clang (libFuzzer + ASan + UBSan), replays the committed seed corpus
 # and regression inputs, then fuzzes each target for SECONDS_PER_TARGET seconds, two at a time.
 # Fails (exit 1) on any crash, broken invariant, leak, timeout, out-of-memory or sanitizer report;

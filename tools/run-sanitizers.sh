@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Builds cbrdf and every test with AddressSanitizer + UndefinedBehaviorSanitizer
 # (-DCBRDF_SANITIZE=ON; GCC, or whatever CXX names) in a separate build directory and runs the whole
 # ctest suite under them. Any sanitizer report fails the test that triggered it (UBSan is built

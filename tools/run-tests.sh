@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Installs what is missing, builds cbrdf with warnings as errors and runs every test; then runs
 # the whole suite again under AddressSanitizer + UBSan, and replays and fuzzes every parser for a
 # bounded time.   Usage: tools/run-tests.sh [BUILD_DIR]

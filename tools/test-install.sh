@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Installs a built tree into a temporary prefix and builds two programs against it out of tree, as
 # users would: a C++ one through find_package(cbrdf) that encodes a built-in sample and decodes it,
 # and a C one through `pkg-config cbrdf-decoder` that links only the decoder and evaluates a golden

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The payloads of the version-1 chunks (spec/container.md section 4): one file per chunk with its
 // reader and writer side by side (head.cc, modl.cc, marg.cc, mask.cc, meta.cc), the constants and
 // rules they share (params.cc), and the model-level reader and writer (read_model.cc,

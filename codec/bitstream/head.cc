@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // HEAD (spec 4.1): the grid, the colour scales and the slice count. Reader and writer.
 #include <string>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // MARG (spec 4.3): the quantized marginal tables. Reader and writer.
 #include <string>
 

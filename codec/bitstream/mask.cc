@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // MASK (spec 4.4): the not-measured mask (exact) and the stored values at its bins. Reader and
 // writer; the writer chooses the reference (none or the below-horizon mask) and the form (bitmap or
 // runs) that make the mask smallest, so a standard MERL mask costs a few bytes.

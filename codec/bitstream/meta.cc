@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // mETA (spec 4.5): key=value metadata lines. Reader and writer.
 #include <string>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // MODL (spec 4.2): slice bounds and, per slice, channel and component, the copula family,
 // its parameter and the scale K. Reader and writer.
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The parameter domains the file format accepts, shared by encoder and decoder.
 #include <cmath>
 #include <cstdio>

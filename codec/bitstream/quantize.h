@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Quantization of marginal probability-mass tables in the log domain (spec/container.md, "MARG").
 //
 // Code 0 is an exact zero; codes 1..2^bits-1 sit evenly in log mass between the table's lo and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // decode_model and inspect_container: the container parser, then each chunk's payload parser,
 // with every error prefixed by the chunk's tag and file offset.
 #include <bit>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // encode_model: validates the model against what a file can hold, then writes the chunks.
 #include <bit>
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Names of the copula families, as used on the command line and in reports.
 #include "cbrdf/copula_family.h"
 

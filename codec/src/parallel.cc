@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The runner behind cbrdf/parallel.h: a persistent pool of std::threads shared by every loop, or
 // the caller's runner.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // BrdfSampler: per-theta_o tables over half-vector cells (the design is in sampling.h).
 #include "cbrdf/sampling.h"
 

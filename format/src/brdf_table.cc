@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "cbrdf/brdf_table.h"
 
 namespace cbrdf {

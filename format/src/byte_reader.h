@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The bounds-checked little-endian reader every cbrdf parser goes through.
 //
 // Each read checks the remaining length first and reports kTruncated with the offset and the

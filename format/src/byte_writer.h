@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The little-endian writer behind every cbrdf serializer (the counterpart of ByteReader).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The version-1 chunk layer: tag rules, limits and the one validating parser.
 #include "cbrdf/container.h"
 

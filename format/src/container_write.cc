@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The container writer: the file header, chunks (zstd where it pays) and the end chunk.
 #include <algorithm>
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "cbrdf/float16.h"
 
 #include <bit>

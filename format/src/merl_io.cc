@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "cbrdf/merl_io.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Names of temporary files being written, kept where a signal handler can remove them.
 //
 // A fixed table of slots (no allocation, no locks), so that the handler only reads memory that is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // UTF-8 validation for text the container stores (metadata values).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "zstd_util.h"
 
 #include <zstd.h>

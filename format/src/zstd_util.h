@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // One-shot zstd with the safety rules of the container: a frame must declare its content size,
 // that size must equal the size the chunk declared, and nothing is allocated beyond it.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // What every fuzz target reports about one input: accepted or rejected (with the error), and the
 // invariants it found broken. The libFuzzer entry points abort on a broken invariant, so the
 // fuzzer records the input as a crash; tests/fuzz_regression_test.cc replays the same functions

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // fuzz_container: parse_container and inspect_container (the `cbrdf info` path) on raw bytes.
 // Checksums are left as they are: this target is about the chunk layer (signature, version,
 // bounds, flags, checksums, zstd frames, order); fuzz_decode repairs checksums to reach payloads.

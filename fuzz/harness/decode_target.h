@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // fuzz_decode: decode_model, then evaluation of the decoded model.
 //
 // Every mutation of a chunk breaks its XXH64, which would stop almost every input at the chunk

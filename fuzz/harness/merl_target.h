@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // fuzz_merl: parse_merl, in two modes chosen by the input's first bytes.
 //
 // Raw mode (any input not starting with "TPL"): the input is the file. Fuzzer inputs are small,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Invariants of every Model that decode_model returns, whatever the file: what the spec promises
 // a decoded model satisfies, so that renderers and the MERL writer can trust it.
 #pragma once

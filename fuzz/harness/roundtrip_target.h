@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // fuzz_roundtrip: encode_model -> decode_model on Models built from the fuzzer's bytes.
 //
 // Fitting a table is far too slow for a fuzzer (seconds per input), and the codec's contract is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // What the codec costs: reading a table, fitting, decoding, and evaluating the model against the
 // measured table's nearest-bin lookup. Run: build/tests/bench/cbrdf_bench [MATERIAL]
 // (MATERIAL: a name from ../shared/data, default blue-metallic-paint; "sample:NAME" for a

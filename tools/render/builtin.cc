@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Built-in scenes: written out (scene JSON plus generated assets) so that they render like any
 // scene file. tests/data/scenes/ holds their exported copies.
 #include "render/builtin.h"

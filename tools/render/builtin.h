@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Built-in scenes for `cbrdf render --builtin NAME`, exported as a scene file plus its assets.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The renderer's integrators, chosen from what the scene contains (plan_render), and the render.
 //
 // Delta lights only (point, directional) and no indirect bounces: one ray through each pixel

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Light sampling for the Monte Carlo integrator: environment maps (piecewise-constant importance
 // sampling over lat-long pixels) and rectangular area lights (uniform over the area).
 #pragma once

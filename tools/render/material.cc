@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "render/material.h"
 
 #include <chrono>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Render materials: every BRDF source behind one interface, local frame (z = normal), physical RGB.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // TriangleMesh: BVH and ray queries.
 #include "render/mesh.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Triangle meshes for the renderer: Draco loading (.drc, and .obj/.ply through Draco's readers),
 // Draco writing (for the built-in scenes), and a BVH for ray queries.
 #pragma once

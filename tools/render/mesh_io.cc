@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Draco mesh reading and writing.
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>

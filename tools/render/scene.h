@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A render scene as `cbrdf render` reads it from JSON (world space, y up, right-handed).
 //
 // {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // load_scene: JSON -> Scene, every problem reported with its JSON path.
 #include <cmath>
 #include <fstream>

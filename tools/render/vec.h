@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Small vector helpers for the renderer, on cbrdf::Vec3 (world space, y up).
 #pragma once
 

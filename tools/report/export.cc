@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "report/export.h"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Machine-readable report files: every figure of every row, for scripts.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "report/float16_baseline.h"
 
 #include <algorithm>

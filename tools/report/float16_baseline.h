@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The near-lossless baseline: every physical value as an IEEE half (round to nearest even), the
 // three channel blocks in MERL order, little-endian, then zstd. Physical rather than stored values
 // because MERL's stored values (physical * 1500 / scale) overflow the half range at bright

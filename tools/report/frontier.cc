@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Included by name relative to this folder (not "report/..."): tests compile this file alone.
 #include "report/frontier.h"
 

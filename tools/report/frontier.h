@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The rate-distortion frontier of the sweep, per material and on average, and what it gains over
 // the paper's setting (Frank, 6 uniform slices, one component) at a byte budget.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // report.html: the tables, the figures and the per-material sphere renders on one page.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "report/lossless.h"
 
 #include <lzma.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // General-purpose compressors as baselines: sizes and times of a verified round trip.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The measurements behind `cbrdf report`: per material, the codec at every sweep setting and the
 // baselines, each as one Row; plus what the plots and images need.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The report's figures as SVG text: rate-distortion curves, time against PSNR, PSNR per material
 // sorted as the paper's Figure 5, and polar plots as its Figure 3.
 #pragma once

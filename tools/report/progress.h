@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A progress bar on stderr for long reports: steps done, the current one, and a time estimate.
 #pragma once
 

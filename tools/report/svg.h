@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Minimal SVG charts for the report, written as text: x-y charts (linear or log x, or categories)
 // and grids of polar plots. No dependency; every chart has a fixed width and height so that an
 // <img> shows it at its natural size.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `cbrdf report --sweep`: which codec settings to measure, and which baselines to run beside them.
 #pragma once
 

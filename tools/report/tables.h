@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The report's tables, built once and rendered as Markdown (report.md), HTML (report.html) and
 // plain text (stdout).
 #pragma once

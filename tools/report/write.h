@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Writes every report file into a directory: report.md, report.csv, report.json, the SVG
 // figures, the sphere PNGs and report.html.
 #pragma once

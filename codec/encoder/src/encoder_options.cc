@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The user-facing encoder options (`cbrdf encode`, `cbrdf report`, rate control) as
 // EncoderSettings: one place for their parsing, their defaults and their error messages.
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // PSNR, percentile exposure, tone mapping and false-colour differences (metrics.h).
 #include <algorithm>
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // BRDF-space error metrics (metrics.h documents the exact definitions).
 #include "cbrdf/metrics.h"
 

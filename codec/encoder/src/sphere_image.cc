@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Sphere renders and their PSNR (metrics.h documents the scene exactly).
 #include <algorithm>
 #include <atomic>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "exr_channels.h"
 
 #include <ImfChannelList.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // OpenEXR files as named float channels: the one place that talks to the OpenEXR library, shared by
 // the image writer/reader and the BrdfTable mosaic export. OpenEXR throws; these return Status.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "cbrdf/exr_table.h"
 
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // tabulate_like(): an analytic BRDF on the MERL grid with a reference table's not-measured bins.
 #include <atomic>
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A BRDF as a function: what samplers, metrics and renderers take, whatever the representation
 // (the copula model, a measured table, an analytic model).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 /* The cbrdf C API: open, describe, evaluate, sample and encode .cbrdf files from C (C99) or any
  * language with a C foreign-function interface.
  *

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Model <-> .cbrdf bytes: the lossy codec's public entry points (spec/container.md).
 //
 // encode_model quantizes the marginal tables (the only lossy step); families, parameters, the

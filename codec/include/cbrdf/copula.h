@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Archimedean copula families in three dimensions: densities, CDFs, conditional distributions for
 // sampling, and a per-axis fast path for fitting over a grid.
 //

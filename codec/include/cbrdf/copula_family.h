@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The Archimedean copula families cbrdf knows. Values are stable: they are written to .cbrdf files.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The copula BRDF model (Ozturk, Kurt, Bilgili 2010): per theta_d slice and colour channel, the
 // BRDF is K * c(F1(theta_h), F2(theta_d), F3(phi_d); theta) * f1(theta_h) f2(theta_d) f3(phi_d),
 // with empirical marginals f (probability mass per MERL bin), their CDFs F, an Archimedean copula

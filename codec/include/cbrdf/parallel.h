@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // How many threads cbrdf uses, and on what. Every parallel loop in the library (fitting, metrics,
 // sphere images, tabulating analytic BRDFs) and in the `cbrdf` command (rendering, the report)
 // runs through one runner, as libjxl's JxlParallelRunner does:

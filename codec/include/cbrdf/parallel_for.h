@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The library's loops over the runner of cbrdf/parallel.h. Used by the encoder, the extras, the
 // renderer and the report; not installed and not part of the API.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Importance sampling of an isotropic BRDF (the copula model, a measured table or an analytic
 // BRDF) for renderers: sample(wo, u) -> wi and the exact density pdf(wo, wi) of what it draws.
 //

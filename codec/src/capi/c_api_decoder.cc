@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The C API (cbrdf/cbrdf_c.h) except encoding: errors, model handles, description, evaluation,
 // sampling and tables. Everything here is a thin boundary over the C++ API: arguments are checked,
 // results copied out, and every exception is caught and reported as the thread's last error.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // What the C API's encoder part (c_api_encoder.cc) uses from its decoder part (c_api_decoder.cc):
 // the thread's last error and the boundary that turns Status values and exceptions into it. Not
 // installed; the encoder library will link the decoder library for these.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The Clayton copula: phi(u) = (u^{-theta} - 1)/theta, psi(s) = (1 + theta s)^{-1/theta},
 //   c(u) = (1+theta)(1+2 theta) prod u_i^{-theta-1} (sum u_i^{-theta} - 2)^{-1/theta-3}.
 //

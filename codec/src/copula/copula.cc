@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Family-independent parts of Copula: everything expressed through log phi, log|phi'| and
 // log|psi^{(k)}|, so that each family only supplies those (plus a robust log_density).
 #include "cbrdf/copula.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The concrete copula families (internal): one final class per file, registered by copula_for().
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The Frank copula in the paper's sign convention (theta_paper = -t with t the standard parameter).
 //
 // With t = -theta, a = 1 - e^{-t}, r(u) = (1 - e^{-tu}) / a:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The Gumbel-Hougaard copula: phi(u) = (-log u)^theta, psi(s) = exp(-s^{1/theta}).
 //
 // Domain, 3-D: for theta >= 1 psi is the Laplace transform of a positive stable(1/theta) variable,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The independence copula: c = 1, phi(u) = -log u, psi(s) = e^{-s}. Its only parameter is 0.
 #include <cmath>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The Joe copula: phi(u) = -log(1 - (1-u)^theta), psi(s) = 1 - (1 - e^{-s})^{1/theta}.
 //
 // Domain, 3-D: for theta >= 1 psi is the Laplace transform of a Sibuya(1/theta) variable,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Small numerical helpers shared by the copula families (internal).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // GridCopula for the families without a closed product form (Clayton, Gumbel, Joe), through the
 // Archimedean fast path of copula.h: log c = log|psi'''(s)| + sum_i log|phi'(u_i)|, s = sum_i
 // phi(u_i). Per-axis terms are prepared once per parameter, so a bin costs two adds, one log/exp

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "density/frank_grid.h"
 
 #include <numbers>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Fast evaluation of the 3-D Frank copula density over a tensor grid, for fitting and
 // reconstruction.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "density/grid_copula.h"
 
 #include <algorithm>

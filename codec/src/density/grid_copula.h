@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A copula density evaluated over the tensor grid of a slice's CDF values: per-axis terms are
 // prepared once per parameter value, so a bin costs a few multiply-adds.
 #pragma once

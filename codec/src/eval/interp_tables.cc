@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "eval/interp_tables.h"
 
 #include <algorithm>

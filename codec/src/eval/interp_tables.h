@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Continuous evaluation of a Model between MERL bins, prepared once per model
 // (ModelEvaluator::eval).
 //

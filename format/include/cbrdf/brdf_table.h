@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // BrdfTable: a full MERL-resolution isotropic BRDF, the one place that knows the MERL layout.
 //
 // Values are kept exactly as a MERL .binary stores them (physical value divided by the channel's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The .cbrdf chunk layer (container version 1.0): signature, version, chunks with checksums and
 // optional zstd compression, and the one validating parser used by decode, `cbrdf info`, the
 // fuzzers and the tests. What the payloads mean is the codec's business (cbrdf/codec.h); this

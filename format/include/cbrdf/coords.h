@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Rusinkiewicz half/difference coordinates and the MERL bin mapping.
 //
 // Directions are unit vectors in the local shading frame (z = surface normal). Angles in radians.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Symbol visibility of the shared libraries: they are built with hidden visibility, and only what
 // the installed headers declare with CBRDF_EXPORT is exported. CBRDF_INTERNAL_EXPORT marks internal
 // functions that one of cbrdf's own shared libraries calls in another (the encoder in the decoder);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Whole-file reads with a size limit, a streaming reader, and atomic file writes. POSIX only.
 //
 // Every writer in cbrdf goes through write_file_atomic. What it does depends on what the path

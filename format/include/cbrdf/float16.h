@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // IEEE 754 binary16 ("half") conversion, for the near-lossless float16 storage baseline.
 //
 // float_to_half rounds to nearest, ties to even, exactly as a hardware conversion does: values

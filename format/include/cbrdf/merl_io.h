@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // MERL .binary files: reading (validated), writing (atomic, byte-exact), statistics.
 //
 // Layout: int32 dims {theta_h, theta_d, phi_d} = {90, 90, 180}, then three blocks (R, G, B) of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Errors as values: a stable code and a message a user can act on (naming file, chunk, offset).
 // Nothing in cbrdf throws across its API.
 #pragma once

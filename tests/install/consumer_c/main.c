@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 /* Links only the installed decoder (found with pkg-config cbrdf-decoder), opens a golden file,
    describes and evaluates it. Usage: consumer_c FILE.cbrdf */
 #include <cbrdf/cbrdf_c.h>

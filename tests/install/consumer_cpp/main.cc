@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Encodes a built-in sample with the installed library, decodes it, and checks the result.
 #include <cbrdf/cbrdf.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Analytic isotropic BRDFs: reference materials, baseline fits and renderer input.
 //
 // All values are physical (1/sr), RGB, in the local shading frame (z = surface normal). A BRDF is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // One-call encoding of whole tables: fit + quantize + container (decode_table, the way back, is
 // the decoder's: codec.h).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Fitting the copula model to a measured table.
 //
 // Per colour channel the table is cut into slices along theta_d. Each slice is normalized over its

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Image: a small linear float RGB image, the currency of the metrics, the renderer and image I/O.
 //
 // Pixels are interleaved R, G, B, row-major, row 0 at the top: pixel (x, y) channel c is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Error metrics between a reference BRDF and a test BRDF, in BRDF space and in image space, and the
 // image helpers every report reuses (sphere renders, tone mapping, false-colour differences).
 //

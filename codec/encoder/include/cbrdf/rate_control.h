@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Rate-distortion control: the encoder searches slices, components and bits for the best setting
 // that meets a target, measured as the tone-mapped sphere PSNR of the decoded file against the
 // input (metrics.h, sphere_psnr).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Built-in sample materials: analytic BRDFs written out as MERL tables, for tests, demos and
 // benchmarks that must run without the measured database.
 #pragma once

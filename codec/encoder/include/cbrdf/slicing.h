@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Slice boundaries along theta_d chosen from the data, for FitSettings::slice_bounds.
 //
 // Within a slice the copula model gives every theta_d bin the same (theta_h, phi_d) profile up to

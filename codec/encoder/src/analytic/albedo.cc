@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // directional_albedo(): quadrature over half vectors (wi = reflect(wo, h), d(wi) = 4 (wo.h) d(h)).
 // Each lobe gets theta_h = atan(a tan(w)) with a matched to its width, which spreads a lobe of
 // roughness a evenly over w in [0, pi/2): a GGX D cos(theta_h) d(h) becomes sin(w) cos(w) dw dphi /

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "analytic/lobes.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Evaluation of single analytic lobes from the geometry of a direction pair.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Microfacet building blocks shared by the analytic lobes (and checked directly by the tests).
 // Angles are passed as tangent squared or cosine so that callers can compute them without the
 // cancellation of 1 - cos^2 near the normal.

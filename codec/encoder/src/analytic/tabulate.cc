@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // tabulate(): an analytic BRDF sampled at the MERL grid, one theta_h row per work item.
 #include <algorithm>
 #include <atomic>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The C API's encoding part (cbrdf/cbrdf_c.h): settings, and table or file -> .cbrdf. Kept apart
 // from c_api_decoder.cc so that a decoder-only library need not link the fitter.
 #include <algorithm>

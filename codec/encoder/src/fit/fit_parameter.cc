@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "fit/fit_parameter.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Least-squares fit of a slice's copula parameter and scale with Ceres (Eq. 17).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The fitting loss (FitLoss) at one measured bin: what the single-copula and the mixture fits
 // minimize, with the derivative their Jacobians need.
 #pragma once

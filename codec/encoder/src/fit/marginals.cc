@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "fit/marginals.h"
 
 #include <algorithm>

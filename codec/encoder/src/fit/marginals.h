@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Marginal masses of a slice, naive (missing bins as 0) or imputed (missing bins as the model's).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "fit/mixture.h"
 
 #include <Eigen/Dense>

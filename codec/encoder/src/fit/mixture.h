@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Fitting a slice as a mixture of K copula components (beyond the paper; container version 1.1).
 //
 // Two stages. (1) The marginals of all components: a nonnegative rank-K factorization of the slice

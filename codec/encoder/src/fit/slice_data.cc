@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "fit/slice_data.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // One slice of one channel, laid out for fitting: values and mask in [theta_h][theta_d][phi_d]
 // order.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "cbrdf/slicing.h"
 
 #include <Eigen/Dense>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The Ceres settings every per-slice fit uses: problems with a handful of parameters and a few
 // compressed residuals, solved silently on the calling thread (fits run in parallel across slices,
 // and one thread per solve keeps results identical for any thread count).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Fitting analytic BRDFs (analytic.h) to a measured table, after Ngan, Durand and Matusik 2005
 // ("Experimental analysis of BRDF models"): the compact baselines the copula codec is compared
 // with, and a quick analytic approximation of a measured material.

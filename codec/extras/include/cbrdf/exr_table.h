@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A BrdfTable as an OpenEXR image, for looking at a material in any EXR viewer.
 //
 // Layout: one 180 x 90 tile per theta_d bin (x = phi_d bin, y = theta_h bin, row 0 at the top),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Image files: OpenEXR (linear float RGB) and PNG (8-bit RGB) for renders, differences and reports.
 //
 // Writers are atomic (file_io.h). Readers cap images at kMaxImagePixels before allocating.
