@@ -453,6 +453,64 @@ static void test_metadata(const cbrdf_model* m, const struct expected_model* e) 
 
 #define N_DIRS 40
 
+/* cbrdf_model_eval_batch_soa: the same values bit for bit from separate coordinate arrays, and
+ * its errors (outputs unchanged). wi, wo: N_DIRS triples; rgb: their cbrdf_model_eval values. */
+static void test_eval_batch_soa(const cbrdf_model* m, const double* wi, const double* wo,
+                                const double* rgb) {
+  double x[6][N_DIRS], out[3][N_DIRS], keep[3][N_DIRS];
+  int k, c, same = 1;
+  for (k = 0; k < N_DIRS; ++k) {
+    for (c = 0; c < 3; ++c) {
+      x[c][k] = wi[3 * k + c];
+      x[3 + c][k] = wo[3 * k + c];
+    }
+  }
+  memset(out, 0xEE, sizeof out);
+  CHECK_STATUS(cbrdf_model_eval_batch_soa(m, N_DIRS, x[0], x[1], x[2], x[3], x[4], x[5], out[0],
+                                          out[1], out[2]),
+               CBRDF_OK);
+  for (k = 0; k < N_DIRS; ++k) {
+    for (c = 0; c < 3; ++c) same &= memcmp(&out[c][k], &rgb[3 * k + c], sizeof(double)) == 0;
+  }
+  CHECK(same);
+  /* Errors: a bad element (named by its index), NULL arrays, a NULL model, n too large. */
+  memcpy(keep, out, sizeof out);
+  x[1][5] = 2.0;
+  CHECK_STATUS(cbrdf_model_eval_batch_soa(m, N_DIRS, x[0], x[1], x[2], x[3], x[4], x[5], out[0],
+                                          out[1], out[2]),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("wi[5]");
+  x[1][5] = wi[3 * 5 + 1];
+  x[5][11] = NAN;
+  CHECK_STATUS(cbrdf_model_eval_batch_soa(m, N_DIRS, x[0], x[1], x[2], x[3], x[4], x[5], out[0],
+                                          out[1], out[2]),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("wo[11]");
+  x[5][11] = wo[3 * 11 + 2];
+  CHECK(memcmp(keep, out, sizeof out) == 0);
+  for (k = 0; k < 9; ++k) {
+    const double* in[6];
+    double* o[3];
+    for (c = 0; c < 6; ++c) in[c] = k == c ? NULL : x[c];
+    for (c = 0; c < 3; ++c) o[c] = k == 6 + c ? NULL : out[c];
+    CHECK_STATUS(cbrdf_model_eval_batch_soa(m, 1, in[0], in[1], in[2], in[3], in[4], in[5], o[0],
+                                            o[1], o[2]),
+                 CBRDF_ERROR_INVALID_ARGUMENT);
+    CHECK_MESSAGE_HAS("NULL");
+  }
+  CHECK_STATUS(
+      cbrdf_model_eval_batch_soa(m, 0, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL),
+      CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_eval_batch_soa(NULL, 1, x[0], x[1], x[2], x[3], x[4], x[5], out[0],
+                                          out[1], out[2]),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_batch_soa(m, SIZE_MAX, x[0], x[1], x[2], x[3], x[4], x[5], out[0],
+                                          out[1], out[2]),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("too large");
+  CHECK(memcmp(keep, out, sizeof out) == 0);
+}
+
 static void test_eval(const cbrdf_model* m) {
   double wi[N_DIRS * 3], wo[N_DIRS * 3], rgb[N_DIRS * 3], batch[N_DIRS * 3];
   double one[3], back[3], below[3], up[3], n[3] = {0, 0, 1}, bad[3], saved;
@@ -482,6 +540,7 @@ static void test_eval(const cbrdf_model* m) {
   memset(batch, 0xEE, sizeof batch);
   CHECK_STATUS(cbrdf_model_eval_batch(m, N_DIRS, wi, wo, batch), CBRDF_OK);
   CHECK(memcmp(batch, rgb, sizeof rgb) == 0);
+  test_eval_batch_soa(m, wi, wo, rgb);
 
   /* Zero at and below the horizon, on either side. */
   direction(60, 30, up);

@@ -54,9 +54,12 @@ TEST(Cli, SampleEncodeInfoDecodeRoundTrip) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("MARG"), std::string::npos);
   EXPECT_NE(r.out.find("frank"), std::string::npos);
+  // The evaluator's memory, against the 35 MB table it replaces.
+  EXPECT_NE(r.out.find("evaluator: "), std::string::npos) << r.out;
   r = run_cli("info --json '" + enc.string() + "'");
   ASSERT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("\"slices\""), std::string::npos);
+  EXPECT_NE(r.out.find("\"evaluator_bytes\""), std::string::npos);
   r = run_cli("info '" + bin.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("equals the below-horizon geometry"), std::string::npos);

@@ -2,7 +2,8 @@
 // ModelEvaluator::eval between bins (codec/src/eval/interp_tables.h): equal to bin_value at bin
 // positions, reciprocal, continuous, 0 below the horizon; its difference from the previous eval
 // (trilinear between the 8 surrounding bin values, rebuilt here from bin_value and grid_position);
-// the float32 path against the float64 one; the evaluator's footprint; and decode_model plus an
+// the float32 path against the float64 one; the batch paths against eval and eval_f32 (bit for bit,
+// at 1 and 2 threads); the evaluator's footprint; and decode_model plus an
 // evaluator of a small file without a full-table allocation (heap counted by a replaced global
 // operator new, this test binary only, as tests/resource_bounds_test.cc does). Speed is measured
 // in tests/bench/codec_bench.cc, never here.
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <new>
 #include <random>
@@ -340,6 +342,81 @@ TEST(ModelEval, Float32PathAgainstFloat64) {
         max_rel, max_abs_below);
     EXPECT_LT(max_rel, cs.max_rel);
     EXPECT_LT(max_abs_below, 1e-6);
+  }
+}
+
+// Direction pairs for the batch tests: random ones, and the cases eval treats apart (below and at
+// the horizon, h along the normal, wi == wo, phi_d at the period's end, NaN).
+std::vector<Vec3> batch_directions(int random_pairs) {
+  std::vector<Vec3> d = random_directions(2 * random_pairs, 23);
+  const double s = std::sqrt(0.5);
+  const std::vector<std::pair<Vec3, Vec3>> special = {{{0, 0, 1}, {0, 0, 1}},
+                                                      {{s, 0, s}, {-s, 0, s}},
+                                                      {{s, 0, s}, {s, 0, s}},
+                                                      {{0.6, 0, 0.8}, {0.6, 0, -0.8}},
+                                                      {{1, 0, 0}, {0, 0, 1}},
+                                                      {{0, s, s}, {0, -s, s}},
+                                                      {{0.6, 0.0, 0.8}, {-0.6, 1e-17, 0.8}},
+                                                      {{NAN, 0, 1}, {0, 0, 1}}};
+  for (const auto& [wi, wo] : special) {
+    d.push_back(wi);
+    d.push_back(wo);
+  }
+  return d;
+}
+
+TEST(ModelEval, BatchEqualsEvalBitForBit) {
+  std::vector<Model> models = {frank_model(1), frank_model(4),
+                               testing::make_mixture_model(testing::six_slices(), 4)};
+  if (!fitted_real_material("blue-metallic-paint").slices.empty())
+    models.push_back(fitted_real_material("blue-metallic-paint"));
+  const std::vector<Vec3> d = batch_directions(5000);  // not a multiple of the block or chunk
+  const std::size_t n = d.size() / 2;
+  std::vector<double> x[6];
+  std::vector<float> xf[6];
+  std::vector<double> wi3, wo3;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 &wi = d[2 * k], &wo = d[2 * k + 1];
+    const double v[6] = {wi.x, wi.y, wi.z, wo.x, wo.y, wo.z};
+    for (int a = 0; a < 6; ++a) {
+      x[a].push_back(v[a]);
+      xf[a].push_back(float(v[a]));
+    }
+    for (int a = 0; a < 3; ++a) {
+      wi3.push_back(v[a]);
+      wo3.push_back(v[3 + a]);
+    }
+  }
+  for (const Model& m : models) {
+    const ModelEvaluator ev(m);
+    std::vector<double> want(3 * n);
+    std::vector<float> want_f(3 * n);
+    for (std::size_t k = 0; k < n; ++k) {
+      ev.eval(d[2 * k], d[2 * k + 1], &want[3 * k]);
+      const float fi[3] = {xf[0][k], xf[1][k], xf[2][k]}, fo[3] = {xf[3][k], xf[4][k], xf[5][k]};
+      ev.eval_f32(fi, fo, &want_f[3 * k]);
+    }
+    for (int threads : {1, 2, 0}) {
+      std::vector<double> r(n), g(n), b(n), rgb(3 * n);
+      ev.eval_batch(n, x[0].data(), x[1].data(), x[2].data(), x[3].data(), x[4].data(), x[5].data(),
+                    r.data(), g.data(), b.data(), threads);
+      ev.eval_batch(n, wi3.data(), wo3.data(), rgb.data(), threads);
+      std::vector<float> rf(n), gf(n), bf(n);
+      ev.eval_batch_f32(n, xf[0].data(), xf[1].data(), xf[2].data(), xf[3].data(), xf[4].data(),
+                        xf[5].data(), rf.data(), gf.data(), bf.data(), threads);
+      int differ = 0, differ_f = 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        const double soa[3] = {r[k], g[k], b[k]};
+        const float soa_f[3] = {rf[k], gf[k], bf[k]};
+        differ += std::memcmp(soa, &want[3 * k], sizeof soa) != 0;
+        differ += std::memcmp(&rgb[3 * k], &want[3 * k], sizeof soa) != 0;
+        differ_f += std::memcmp(soa_f, &want_f[3 * k], sizeof soa_f) != 0;
+      }
+      EXPECT_EQ(differ, 0) << "threads " << threads;
+      EXPECT_EQ(differ_f, 0) << "threads " << threads;
+    }
+    ev.eval_batch(0, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
+                  nullptr);  // n == 0 reads nothing
   }
 }
 

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <numbers>
 #include <random>
 #include <string>
@@ -121,15 +122,47 @@ struct ChiSquare {
   std::string detail;
 };
 
-ChiSquare chi_square(const BrdfSampler& s, const Vec3& wo, int n, std::uint64_t seed) {
+// batch: the draws through BrdfSampler::sample_batch (structure of arrays, 2 threads), which must
+// also equal sample() bit for bit on the first draws.
+ChiSquare chi_square(const BrdfSampler& s, const Vec3& wo, int n, std::uint64_t seed,
+                     bool batch = false) {
   double total = 0;
   const std::vector<double> expected_p = expected_probabilities(s, wo, &total);
   std::vector<double> observed(expected_p.size(), 0.0);
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int i = 0; i < n; ++i) {
-    const BrdfSample smp = s.sample(wo, u(rng), u(rng));
-    observed[std::size_t(smp.valid ? wi_bin(smp.wi) : kRejectedBin)] += 1;
+  if (!batch) {
+    for (int i = 0; i < n; ++i) {
+      const BrdfSample smp = s.sample(wo, u(rng), u(rng));
+      observed[std::size_t(smp.valid ? wi_bin(smp.wi) : kRejectedBin)] += 1;
+    }
+  } else {
+    const std::size_t m = std::size_t(n);
+    std::vector<double> ox(m, wo.x), oy(m, wo.y), oz(m, wo.z), u1(m), u2(m);
+    for (std::size_t i = 0; i < m; ++i) {
+      u1[i] = u(rng);
+      u2[i] = u(rng);
+    }
+    std::vector<double> x(m), y(m), z(m), pdf(m), wr(m), wg(m), wb(m);
+    s.sample_batch(m, ox.data(), oy.data(), oz.data(), u1.data(), u2.data(), x.data(), y.data(),
+                   z.data(), pdf.data(), wr.data(), wg.data(), wb.data(), 2);
+    int differ = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+      const bool valid = pdf[i] > 0;
+      if (i < 5000) {
+        const BrdfSample smp = s.sample(wo, u1[i], u2[i]);
+        const Vec3 wi{x[i], y[i], z[i]};
+        differ += smp.valid != valid;
+        if (smp.valid && valid) {
+          differ += std::memcmp(&smp.wi, &wi, sizeof wi) != 0 || smp.pdf != pdf[i];
+        } else {
+          differ +=
+              !(x[i] == 0 && y[i] == 0 && z[i] == 0 && wr[i] == 0 && wg[i] == 0 && wb[i] == 0);
+        }
+      }
+      observed[std::size_t(valid ? wi_bin(Vec3{x[i], y[i], z[i]}) : kRejectedBin)] += 1;
+    }
+    EXPECT_EQ(differ, 0) << "sample_batch differs from sample()";
   }
   ChiSquare r;
   // Pool bins expecting fewer than 5 draws (the usual validity condition of the test).
@@ -200,6 +233,56 @@ TEST(Sampling, ChiSquareAgainstPdfForSeveralMaterialsAndDirections) {
       EXPECT_GT(r.p_value, alpha) << m.name << " wo.z " << wo.z << ": " << r.detail;
     }
   }
+}
+
+// The same chi-square test on the batch path, for a model sampler (weights through the
+// evaluator's batch) and a generic one (weights through f); and the batch's weights against
+// eval per draw, bit for bit.
+TEST(Sampling, ChiSquareOnTheBatchPath) {
+  const ModelEvaluator fitted_eval(fitted_near_mirror());
+  const BrdfSampler model_sampler = make_model_sampler(fitted_eval);
+  const BrdfSampler analytic_sampler(analytic_fn(*sample_brdf("ggx-sharp")));
+  const std::vector<Vec3> wos = {direction(0, 0), direction(35, 0.7), direction(70, 2.5),
+                                 direction(86, -1.2)};
+  const double alpha = 0.01 / double(2 * wos.size());
+  std::uint64_t seed = 101;
+  for (const BrdfSampler* s : {&model_sampler, &analytic_sampler}) {
+    for (const Vec3& wo : wos) {
+      const ChiSquare r = chi_square(*s, wo, 200000, seed++, /*batch=*/true);
+      EXPECT_GT(r.dof, 10);
+      EXPECT_GT(r.p_value, alpha) << "wo.z " << wo.z << ": " << r.detail;
+    }
+  }
+  // Interleaved form and weights: f(wi, wo) cos / pdf with f = eval, bit for bit; rejections 0.
+  const int n = 3001;
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> wo(3 * n), uu(2 * n), wi(3 * n), pdf(n), w(3 * n);
+  for (int k = 0; k < n; ++k) {
+    const Vec3 o = k % 50 == 0 ? Vec3{0.6, 0.0, -0.8} : direction(85 * u(rng), 6 * u(rng));
+    wo[3 * k] = o.x;
+    wo[3 * k + 1] = o.y;
+    wo[3 * k + 2] = o.z;
+    uu[2 * k] = u(rng);
+    uu[2 * k + 1] = u(rng);
+  }
+  model_sampler.sample_batch(std::size_t(n), wo.data(), uu.data(), wi.data(), pdf.data(), w.data());
+  int differ = 0, rejected = 0;
+  for (int k = 0; k < n; ++k) {
+    const Vec3 o{wo[3 * k], wo[3 * k + 1], wo[3 * k + 2]};
+    const BrdfSample smp = model_sampler.sample(o, uu[2 * k], uu[2 * k + 1]);
+    if (!smp.valid) {
+      ++rejected;
+      differ += pdf[k] != 0 || w[3 * k] != 0 || wi[3 * k + 2] != 0;
+      continue;
+    }
+    double f[3];
+    fitted_eval.eval(smp.wi, o, f);
+    differ += pdf[k] != smp.pdf || wi[3 * k] != smp.wi.x || wi[3 * k + 2] != smp.wi.z;
+    for (int c = 0; c < 3; ++c) differ += w[3 * k + c] != f[c] * smp.wi.z / smp.pdf;
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_GE(rejected, n / 50);  // the wo below the horizon at least
 }
 
 // The test above must be able to fail: a density off by a Jacobian factor is rejected.

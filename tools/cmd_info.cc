@@ -33,6 +33,10 @@ bool is_container(const std::vector<std::uint8_t>& bytes) {
 int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
   auto info = inspect_container(bytes);
   if (!info.ok()) return fail(info.status().with_context(shown(o.input, false)));
+  // What a renderer holds to evaluate the file: the evaluator's tables, against the 35 MB table.
+  auto model = decode_model(bytes);
+  if (!model.ok()) return fail(model.status().with_context(shown(o.input, false)));
+  const std::size_t evaluator_bytes = ModelEvaluator(std::move(model).value()).footprint_bytes();
   if (o.json) {
     nlohmann::json j;
     j["file"] = o.input;
@@ -51,6 +55,7 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
     j["bits"] = info->bits;
     j["colour_scale"] = info->colour_scale;
     j["not_measured_bins"] = info->not_measured_bins;
+    j["evaluator_bytes"] = evaluator_bytes;
     for (const SliceParams& s : info->slices) {
       nlohmann::json js;
       js["theta_d_bins"] = {s.theta_d_begin, s.theta_d_end};
@@ -79,6 +84,8 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
   std::printf("marginals: %d bits per value; not-measured bins: %zu%s\n", info->bits,
               info->not_measured_bins,
               info->mask_relative_to_horizon ? " (coded against the horizon mask)" : "");
+  std::printf("evaluator: %zu bytes in memory (the MERL table it replaces: %zu)\n", evaluator_bytes,
+              std::size_t(kMerlFileBytes));
   for (const auto& [k, v] : info->metadata) std::printf("%s: %s\n", k.c_str(), v.c_str());
   // Parameters of each slice channel's first component; a mixture adds the component counts.
   bool mixture = false;

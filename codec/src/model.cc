@@ -156,6 +156,53 @@ void ModelEvaluator::eval_f32(const float wi[3], const float wo[3], float rgb[3]
   interp_->eval(wi, wo, rgb);
 }
 
+void ModelEvaluator::eval_batch(std::size_t n, const double* wi_x, const double* wi_y,
+                                const double* wi_z, const double* wo_x, const double* wo_y,
+                                const double* wo_z, double* r, double* g, double* b,
+                                int threads) const {
+  eval::BatchArgs<double> a;
+  a.in[0] = wi_x;
+  a.in[1] = wi_y;
+  a.in[2] = wi_z;
+  a.in[3] = wo_x;
+  a.in[4] = wo_y;
+  a.in[5] = wo_z;
+  a.out[0] = r;
+  a.out[1] = g;
+  a.out[2] = b;
+  interp_->eval_batch(n, a, threads);
+}
+
+void ModelEvaluator::eval_batch(std::size_t n, const double* wi, const double* wo, double* rgb,
+                                int threads) const {
+  if (n == 0) return;
+  eval::BatchArgs<double> a;
+  for (int i = 0; i < 3; ++i) {
+    a.in[i] = wi + i;
+    a.in[3 + i] = wo + i;
+    a.out[i] = rgb + i;
+  }
+  a.in_stride = a.out_stride = 3;
+  interp_->eval_batch(n, a, threads);
+}
+
+void ModelEvaluator::eval_batch_f32(std::size_t n, const float* wi_x, const float* wi_y,
+                                    const float* wi_z, const float* wo_x, const float* wo_y,
+                                    const float* wo_z, float* r, float* g, float* b,
+                                    int threads) const {
+  eval::BatchArgs<float> a;
+  a.in[0] = wi_x;
+  a.in[1] = wi_y;
+  a.in[2] = wi_z;
+  a.in[3] = wo_x;
+  a.in[4] = wo_y;
+  a.in[5] = wo_z;
+  a.out[0] = r;
+  a.out[1] = g;
+  a.out[2] = b;
+  interp_->eval_batch(n, a, threads);
+}
+
 std::size_t ModelEvaluator::footprint_bytes() const {
   std::size_t n = sizeof(*this) + slice_of_bin_.capacity() * sizeof(int) +
                   parts_.capacity() * sizeof(parts_[0]) + interp_->footprint_bytes();

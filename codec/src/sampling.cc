@@ -8,6 +8,8 @@
 #include <numbers>
 #include <utility>
 
+#include "cbrdf/parallel_for.h"
+
 namespace cbrdf {
 namespace {
 
@@ -190,6 +192,120 @@ BrdfSample BrdfSampler::sample(const Vec3& wo, double u1, double u2) const {
   return s;
 }
 
+// The arrays of a batch, each read or written at index k * its stride (1: structure of arrays,
+// 3 or 2: interleaved).
+struct BrdfSampler::BatchIo {
+  const double* wo[3] = {};
+  std::size_t wo_stride = 1;
+  const double* u[2] = {};
+  std::size_t u_stride = 1;
+  double* wi[3] = {};
+  std::size_t wi_stride = 1;
+  double* pdf = nullptr;
+  double* weight[3] = {};
+  std::size_t weight_stride = 1;
+};
+
+void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t end) const {
+  // Blocks: the draws (scalar: binary searches in the tables), then the block's BRDF values
+  // through the evaluator's batch path (or f per draw), then the weights.
+  constexpr std::size_t kBlock = 256;
+  double v[6][kBlock], f[3][kBlock], p[kBlock];
+  for (std::size_t base = begin; base < end; base += kBlock) {
+    const std::size_t m = std::min(kBlock, end - base);
+    for (std::size_t l = 0; l < m; ++l) {
+      const std::size_t k = base + l;
+      const Vec3 o{io.wo[0][k * io.wo_stride], io.wo[1][k * io.wo_stride],
+                   io.wo[2][k * io.wo_stride]};
+      const BrdfSample s = sample(o, io.u[0][k * io.u_stride], io.u[1][k * io.u_stride]);
+      const bool ok = s.valid && s.pdf > 0;
+      v[0][l] = ok ? s.wi.x : 0.0;
+      v[1][l] = ok ? s.wi.y : 0.0;
+      v[2][l] = ok ? s.wi.z : 0.0;
+      v[3][l] = o.x;
+      v[4][l] = o.y;
+      v[5][l] = o.z;
+      p[l] = ok ? s.pdf : 0.0;
+    }
+    if (evaluator_ != nullptr) {
+      evaluator_->eval_batch(m, v[0], v[1], v[2], v[3], v[4], v[5], f[0], f[1], f[2], 1);
+    } else {
+      for (std::size_t l = 0; l < m; ++l) {
+        double rgb[3] = {0, 0, 0};
+        if (p[l] > 0) f_(Vec3{v[0][l], v[1][l], v[2][l]}, Vec3{v[3][l], v[4][l], v[5][l]}, rgb);
+        for (int c = 0; c < 3; ++c) f[c][l] = rgb[c];
+      }
+    }
+    for (std::size_t l = 0; l < m; ++l) {
+      const std::size_t k = base + l;
+      for (int c = 0; c < 3; ++c) io.wi[c][k * io.wi_stride] = v[c][l];
+      io.pdf[k] = p[l];
+      for (int c = 0; c < 3; ++c) {
+        io.weight[c][k * io.weight_stride] = p[l] > 0 ? f[c][l] * v[2][l] / p[l] : 0.0;
+      }
+    }
+  }
+}
+
+namespace {
+
+// Chunks of draws for the pool (as the evaluator's batches).
+template <class Fn>
+void for_sample_chunks(std::size_t n, int threads, const Fn& fn) {
+  constexpr std::size_t kChunk = 1024;
+  if (n == 0) return;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  if (chunks == 1) {
+    fn(std::size_t(0), n);
+    return;
+  }
+  const int tasks = int(std::min<std::size_t>(chunks, 1 << 20));
+  const std::size_t per = (n + std::size_t(tasks) - 1) / std::size_t(tasks);
+  internal::parallel_for(tasks, threads, [&](int t) {
+    const std::size_t b = std::size_t(t) * per;
+    if (b < n) fn(b, std::min(n, b + per));
+  });
+}
+
+}  // namespace
+
+void BrdfSampler::sample_batch(std::size_t n, const double* wo_x, const double* wo_y,
+                               const double* wo_z, const double* u1, const double* u2, double* wi_x,
+                               double* wi_y, double* wi_z, double* pdf, double* weight_r,
+                               double* weight_g, double* weight_b, int threads) const {
+  BatchIo io;
+  io.wo[0] = wo_x;
+  io.wo[1] = wo_y;
+  io.wo[2] = wo_z;
+  io.u[0] = u1;
+  io.u[1] = u2;
+  io.wi[0] = wi_x;
+  io.wi[1] = wi_y;
+  io.wi[2] = wi_z;
+  io.pdf = pdf;
+  io.weight[0] = weight_r;
+  io.weight[1] = weight_g;
+  io.weight[2] = weight_b;
+  for_sample_chunks(n, threads, [&](std::size_t b, std::size_t e) { sample_chunk(io, b, e); });
+}
+
+void BrdfSampler::sample_batch(std::size_t n, const double* wo, const double* u, double* wi,
+                               double* pdf, double* weight, int threads) const {
+  if (n == 0) return;
+  BatchIo io;
+  for (int c = 0; c < 3; ++c) {
+    io.wo[c] = wo + c;
+    io.wi[c] = wi + c;
+    io.weight[c] = weight + c;
+  }
+  io.u[0] = u;
+  io.u[1] = u + 1;
+  io.wo_stride = io.wi_stride = io.weight_stride = 3;
+  io.u_stride = 2;
+  io.pdf = pdf;
+  for_sample_chunks(n, threads, [&](std::size_t b, std::size_t e) { sample_chunk(io, b, e); });
+}
+
 Vec3 sample_cosine_hemisphere(double u1, double u2) {
   const double r = std::sqrt(u1), phi = 2 * kPi * u2;
   return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1 - u1))};
@@ -207,12 +323,17 @@ BrdfFn model_brdf_fn(std::shared_ptr<const ModelEvaluator> evaluator) {
 }
 
 BrdfSampler make_model_sampler(const ModelEvaluator& evaluator, const SamplerSettings& settings) {
-  return BrdfSampler(model_brdf_fn(evaluator), settings);
+  BrdfSampler s(model_brdf_fn(evaluator), settings);
+  s.evaluator_ = &evaluator;
+  return s;
 }
 
 BrdfSampler make_model_sampler(std::shared_ptr<const ModelEvaluator> evaluator,
                                const SamplerSettings& settings) {
-  return BrdfSampler(model_brdf_fn(std::move(evaluator)), settings);
+  const ModelEvaluator* e = evaluator.get();  // kept alive by the function's copy
+  BrdfSampler s(model_brdf_fn(std::move(evaluator)), settings);
+  s.evaluator_ = e;
+  return s;
 }
 
 }  // namespace cbrdf

@@ -20,6 +20,7 @@
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/samples.h"
+#include "cbrdf/sampling.h"
 
 namespace {
 
@@ -132,13 +133,13 @@ void eval_pairs(benchmark::State& state, const cbrdf::Model& model) {
 void BM_EvalModel(benchmark::State& state) {
   eval_pairs(state, *cbrdf::decode_model(encoded()));
 }
-BENCHMARK(BM_EvalModel)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EvalModel)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // ModelEvaluator::eval, four components per slice and channel.
 void BM_EvalModel4(benchmark::State& state) {
   eval_pairs(state, model4());
 }
-BENCHMARK(BM_EvalModel4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EvalModel4)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // ModelEvaluator::eval_f32 (a renderer's path), one and four components.
 void eval_pairs_f32(benchmark::State& state, const cbrdf::Model& model) {
@@ -165,11 +166,153 @@ void eval_pairs_f32(benchmark::State& state, const cbrdf::Model& model) {
 void BM_EvalModelFloat(benchmark::State& state) {
   eval_pairs_f32(state, *cbrdf::decode_model(encoded()));
 }
-BENCHMARK(BM_EvalModelFloat)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EvalModelFloat)->Unit(benchmark::kMillisecond)->UseRealTime();
 void BM_EvalModelFloat4(benchmark::State& state) {
   eval_pairs_f32(state, model4());
 }
-BENCHMARK(BM_EvalModelFloat4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EvalModelFloat4)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// ModelEvaluator::eval_batch (structure of arrays), at a thread count (state.range(0)); float64
+// and float32. Compare its ns_per_pair with BM_EvalModel's (the scalar loop) in the table at
+// the end.
+struct SoaPairs {
+  std::vector<double> x[6];
+  std::vector<float> f[6];
+  explicit SoaPairs(int n) {
+    const auto d = random_directions(2 * n);
+    for (int k = 0; k < n; ++k) {
+      const cbrdf::Vec3 &wi = d[2 * std::size_t(k)], &wo = d[2 * std::size_t(k) + 1];
+      const double v[6] = {wi.x, wi.y, wi.z, wo.x, wo.y, wo.z};
+      for (int a = 0; a < 6; ++a) {
+        x[a].push_back(v[a]);
+        f[a].push_back(float(v[a]));
+      }
+    }
+  }
+};
+
+void set_pair_counters(benchmark::State& state, int pairs) {
+  state.SetItemsProcessed(state.iterations() * pairs);
+  // Wall time: the batch's threads do the work, the calling thread only part of it.
+  state.counters["ns_per_pair"] =
+      benchmark::Counter(double(state.iterations()) * pairs,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void BM_EvalBatch(benchmark::State& state) {
+  const cbrdf::ModelEvaluator ev(*cbrdf::decode_model(encoded()));
+  const SoaPairs p(kPairs);
+  std::vector<double> r(kPairs), g(kPairs), b(kPairs);
+  const int threads = int(state.range(0));
+  for (auto _ : state) {
+    ev.eval_batch(kPairs, p.x[0].data(), p.x[1].data(), p.x[2].data(), p.x[3].data(), p.x[4].data(),
+                  p.x[5].data(), r.data(), g.data(), b.data(), threads);
+    benchmark::DoNotOptimize(r.data());
+  }
+  set_pair_counters(state, kPairs);
+}
+BENCHMARK(BM_EvalBatch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_EvalBatch4(benchmark::State& state) {
+  const cbrdf::ModelEvaluator ev(model4());
+  const SoaPairs p(kPairs);
+  std::vector<double> r(kPairs), g(kPairs), b(kPairs);
+  for (auto _ : state) {
+    ev.eval_batch(kPairs, p.x[0].data(), p.x[1].data(), p.x[2].data(), p.x[3].data(), p.x[4].data(),
+                  p.x[5].data(), r.data(), g.data(), b.data(), 1);
+    benchmark::DoNotOptimize(r.data());
+  }
+  set_pair_counters(state, kPairs);
+}
+BENCHMARK(BM_EvalBatch4)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_EvalBatchFloat(benchmark::State& state) {
+  const cbrdf::ModelEvaluator ev(*cbrdf::decode_model(encoded()));
+  const SoaPairs p(kPairs);
+  std::vector<float> r(kPairs), g(kPairs), b(kPairs);
+  const int threads = int(state.range(0));
+  for (auto _ : state) {
+    ev.eval_batch_f32(kPairs, p.f[0].data(), p.f[1].data(), p.f[2].data(), p.f[3].data(),
+                      p.f[4].data(), p.f[5].data(), r.data(), g.data(), b.data(), threads);
+    benchmark::DoNotOptimize(r.data());
+  }
+  set_pair_counters(state, kPairs);
+}
+BENCHMARK(BM_EvalBatchFloat)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Importance sampling with weights (direction, pdf, f cos / pdf), the model's sampler: the scalar
+// loop (sample() and eval per draw, as a renderer does) and BrdfSampler::sample_batch at 1 and 2
+// threads. The sampler's tables are built before timing.
+constexpr int kDraws = 1 << 15;
+
+struct SampleInputs {
+  std::vector<double> x, y, z, u1, u2;
+  SampleInputs() {
+    const auto d = random_directions(kDraws);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (const cbrdf::Vec3& v : d) {
+      x.push_back(v.x);
+      y.push_back(v.y);
+      z.push_back(v.z);
+      u1.push_back(u(rng));
+      u2.push_back(u(rng));
+    }
+  }
+};
+
+const cbrdf::ModelEvaluator& bench_evaluator() {
+  static const cbrdf::ModelEvaluator ev(*cbrdf::decode_model(encoded()));
+  return ev;
+}
+
+const cbrdf::BrdfSampler& bench_sampler() {
+  static const cbrdf::BrdfSampler s = [] {
+    cbrdf::BrdfSampler sampler = cbrdf::make_model_sampler(bench_evaluator());
+    const SampleInputs in;
+    std::vector<double> o(6 * std::size_t(kDraws));
+    sampler.sample_batch(kDraws, in.x.data(), in.y.data(), in.z.data(), in.u1.data(), in.u2.data(),
+                         o.data(), o.data() + kDraws, o.data() + 2 * kDraws, o.data() + 3 * kDraws,
+                         o.data() + 4 * kDraws, o.data() + 5 * kDraws, o.data() + 5 * kDraws);
+    return sampler;
+  }();
+  return s;
+}
+
+void BM_SampleScalar(benchmark::State& state) {
+  const cbrdf::BrdfSampler& s = bench_sampler();
+  const cbrdf::ModelEvaluator& ev = bench_evaluator();
+  const SampleInputs in;
+  double w[3];
+  for (auto _ : state) {
+    for (int k = 0; k < kDraws; ++k) {
+      const cbrdf::Vec3 wo{in.x[k], in.y[k], in.z[k]};
+      const cbrdf::BrdfSample smp = s.sample(wo, in.u1[k], in.u2[k]);
+      double f[3] = {0, 0, 0};
+      if (smp.valid) ev.eval(smp.wi, wo, f);
+      for (int c = 0; c < 3; ++c) w[c] = smp.valid ? f[c] * smp.wi.z / smp.pdf : 0.0;
+      benchmark::DoNotOptimize(w);
+    }
+  }
+  set_pair_counters(state, kDraws);
+}
+BENCHMARK(BM_SampleScalar)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_SampleBatch(benchmark::State& state) {
+  const cbrdf::BrdfSampler& s = bench_sampler();
+  const SampleInputs in;
+  std::vector<double> o(7 * std::size_t(kDraws));
+  double* p = o.data();
+  const int threads = int(state.range(0));
+  for (auto _ : state) {
+    s.sample_batch(kDraws, in.x.data(), in.y.data(), in.z.data(), in.u1.data(), in.u2.data(), p,
+                   p + kDraws, p + 2 * kDraws, p + 3 * kDraws, p + 4 * kDraws, p + 5 * kDraws,
+                   p + 6 * kDraws, threads);
+    benchmark::DoNotOptimize(p);
+  }
+  set_pair_counters(state, kDraws);
+}
+BENCHMARK(BM_SampleBatch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The measured table's nearest-bin lookup (the reference reader's), the baseline the model's
 // evaluation is compared with.
@@ -187,7 +330,7 @@ void BM_LookupMeasuredNearest(benchmark::State& state) {
       benchmark::Counter(double(state.iterations()) * kPairs,
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_LookupMeasuredNearest)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LookupMeasuredNearest)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The coordinate transform alone: grid_position (the continuous MERL position of a pair).
 void BM_CoordinateTransform(benchmark::State& state) {
@@ -225,9 +368,30 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (name.find("LookupMeasuredNearest") != std::string::npos) nearest = ns;
     }
     if (ns_.empty()) return;
-    std::printf("\n%-28s %10s %18s\n", "per direction pair", "ns", "nearest lookup / it");
+    std::printf("\n%-36s %10s %18s\n", "per direction pair", "ns", "nearest lookup / it");
     for (const auto& [name, ns] : ns_)
-      std::printf("%-28s %10.1f %18.2f\n", name.c_str(), ns, nearest > 0 ? nearest / ns : 0.0);
+      std::printf("%-36s %10.1f %18.2f\n", name.c_str(), ns, nearest > 0 ? nearest / ns : 0.0);
+    // The batch paths against their scalar loops (all timed as wall time, in this one run).
+    const std::pair<const char*, const char*> pairs[] = {
+        {"BM_EvalBatch/1/", "BM_EvalModel/"},
+        {"BM_EvalBatch/2/", "BM_EvalModel/"},
+        {"BM_EvalBatch/2/", "BM_EvalBatch/1/"},
+        {"BM_EvalBatch4", "BM_EvalModel4"},
+        {"BM_EvalBatchFloat/1/", "BM_EvalModelFloat/"},
+        {"BM_EvalBatchFloat/2/", "BM_EvalModelFloat/"},
+        {"BM_SampleBatch/1/", "BM_SampleScalar"},
+        {"BM_SampleBatch/2/", "BM_SampleScalar"},
+        {"BM_SampleBatch/2/", "BM_SampleBatch/1/"}};
+    auto find = [&](const char* key) {
+      for (const auto& [name, ns] : ns_)
+        if (name.find(key) != std::string::npos) return ns;
+      return 0.0;
+    };
+    std::printf("\n%-24s %-22s %10s\n", "speed-up of", "over", "ratio");
+    for (const auto& [fast, slow] : pairs) {
+      const double a = find(fast), b = find(slow);
+      if (a > 0 && b > 0) std::printf("%-24s %-22s %10.2f\n", fast, slow, b / a);
+    }
   }
 
  private:

@@ -196,6 +196,15 @@ CBRDF_C_API cbrdf_status cbrdf_model_eval(const cbrdf_model* model, const double
  * rgb is unchanged. */
 CBRDF_C_API cbrdf_status cbrdf_model_eval_batch(const cbrdf_model* model, size_t n,
                                                 const double* wi, const double* wo, double* rgb);
+/* The same in structure-of-arrays form: pair k is wi = (wi_x[k], wi_y[k], wi_z[k]), wo likewise,
+ * and its value goes to (r[k], g[k], b[k]), equal to cbrdf_model_eval bit for bit. Both batch
+ * forms are vectorized and use up to cbrdf_thread_limit() threads; the arrays must not overlap.
+ * Errors as cbrdf_model_eval_batch's (outputs unchanged). */
+CBRDF_C_API cbrdf_status cbrdf_model_eval_batch_soa(const cbrdf_model* model, size_t n,
+                                                    const double* wi_x, const double* wi_y,
+                                                    const double* wi_z, const double* wo_x,
+                                                    const double* wo_y, const double* wo_z,
+                                                    double* r, double* g, double* b);
 
 /* ---- Importance sampling ----------------------------------------------------------------------
  */

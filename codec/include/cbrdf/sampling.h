@@ -29,6 +29,7 @@
 // (23,040 by default); a draw or a pdf is two binary searches and a few square roots.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -67,17 +68,38 @@ class CBRDF_EXPORT BrdfSampler {
   // The density of sample() per unit solid angle of wi; 0 when wo or wi is at or below the horizon.
   double pdf(const Vec3& wo, const Vec3& wi) const;
 
+  // n draws at once, in structure-of-arrays form: for wo = (wo_x[k], wo_y[k], wo_z[k]) and
+  // (u1[k], u2[k]), the direction wi and pdf of sample() (equal to it bit for bit) and the weight
+  // f(wi, wo) cos(theta_i) / pdf in RGB. A rejected draw has wi = (0, 0, 0), pdf = 0 and weight
+  // 0. Chunks of draws go through the library's thread pool on at most `threads` threads (<= 0: the
+  // thread limit). For a sampler of make_model_sampler the weights' evaluations go through
+  // ModelEvaluator::eval_batch, else through f per draw. Outputs must not overlap the inputs.
+  void sample_batch(std::size_t n, const double* wo_x, const double* wo_y, const double* wo_z,
+                    const double* u1, const double* u2, double* wi_x, double* wi_y, double* wi_z,
+                    double* pdf, double* weight_r, double* weight_g, double* weight_b,
+                    int threads = 0) const;
+  // The same with interleaved arrays: wo, wi and weight hold n (x, y, z) / (r, g, b) triples, u
+  // n pairs (u1, u2).
+  void sample_batch(std::size_t n, const double* wo, const double* u, double* wi, double* pdf,
+                    double* weight, int threads = 0) const;
+
   const SamplerSettings& settings() const { return settings_; }
 
  private:
   struct Table;
+  struct BatchIo;
+  friend BrdfSampler make_model_sampler(const ModelEvaluator&, const SamplerSettings&);
+  friend BrdfSampler make_model_sampler(std::shared_ptr<const ModelEvaluator>,
+                                        const SamplerSettings&);
   const Table& table_for(double cos_theta_o) const;
+  void sample_chunk(const BatchIo& io, std::size_t begin, std::size_t end) const;
   double table_pdf(const Table& t, const Vec3& wo, const Vec3& wi) const;
 
   BrdfFn f_;
   SamplerSettings settings_;
   std::vector<double> cos_edges_;  // cos of the theta_h cell edges, theta_h_cells + 1, decreasing
   std::unique_ptr<Table[]> tables_;
+  const ModelEvaluator* evaluator_ = nullptr;  // f_'s evaluator (make_model_sampler), for batches
 };
 
 // The model's eval() as a BrdfFn, and a sampler for the copula model through it. The first forms

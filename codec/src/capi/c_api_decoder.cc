@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <iterator>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -429,10 +430,33 @@ cbrdf_status cbrdf_model_eval_batch(const cbrdf_model* model, size_t n, const do
       CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wi + 3 * k, "wi", k));
       CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo + 3 * k, "wo", k));
     }
-    for (std::size_t k = 0; k < n; ++k) {
-      model->evaluator->eval(cbrdf::capi::to_vec3(wi + 3 * k), cbrdf::capi::to_vec3(wo + 3 * k),
-                             rgb + 3 * k);
+    model->evaluator->eval_batch(n, wi, wo, rgb);  // bit for bit eval's, vectorized and threaded
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_eval_batch_soa(const cbrdf_model* model, size_t n, const double* wi_x,
+                                        const double* wi_y, const double* wi_z, const double* wo_x,
+                                        const double* wo_y, const double* wo_z, double* r,
+                                        double* g, double* b) {
+  return guarded([&] {
+    if (model == nullptr) return invalid_argument("cbrdf_model_eval_batch_soa: model is NULL");
+    if (n == 0) return cbrdf::ok_status();
+    const double* in[6] = {wi_x, wi_y, wi_z, wo_x, wo_y, wo_z};
+    if (std::find(std::begin(in), std::end(in), nullptr) != std::end(in) || r == nullptr ||
+        g == nullptr || b == nullptr) {
+      return invalid_argument("cbrdf_model_eval_batch_soa: an input or output array is NULL");
     }
+    if (n > cbrdf::capi::kMaxTriples * 3) {
+      return invalid_argument("cbrdf_model_eval_batch_soa: n = " + std::to_string(n) +
+                              " is too large");
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      const double i[3] = {wi_x[k], wi_y[k], wi_z[k]}, o[3] = {wo_x[k], wo_y[k], wo_z[k]};
+      CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(i, "wi", k));
+      CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(o, "wo", k));
+    }
+    model->evaluator->eval_batch(n, wi_x, wi_y, wi_z, wo_x, wo_y, wo_z, r, g, b);
     return cbrdf::ok_status();
   });
 }
@@ -457,26 +481,8 @@ cbrdf_status cbrdf_model_sample_batch(const cbrdf_model* model, size_t n, const 
                                 "]) must be finite numbers in [0, 1)");
       }
     }
-    const cbrdf::BrdfSampler& sampler = cbrdf::capi::sampler_of(model);
-    for (std::size_t k = 0; k < n; ++k) {
-      const cbrdf::Vec3 o = cbrdf::capi::to_vec3(wo + 3 * k);
-      const cbrdf::BrdfSample s = sampler.sample(o, u[2 * k], u[2 * k + 1]);
-      double* w = weight + 3 * k;
-      double* i = wi + 3 * k;
-      double f[3] = {0, 0, 0};
-      if (s.valid) model->evaluator->eval(s.wi, o, f);
-      if (!s.valid || !(s.pdf > 0)) {
-        i[0] = i[1] = i[2] = 0.0;
-        pdf[k] = 0.0;
-        w[0] = w[1] = w[2] = 0.0;
-        continue;
-      }
-      i[0] = s.wi.x;
-      i[1] = s.wi.y;
-      i[2] = s.wi.z;
-      pdf[k] = s.pdf;
-      for (int c = 0; c < 3; ++c) w[c] = f[c] * s.wi.z / s.pdf;
-    }
+    // The batch path: the same draws, pdfs and weights as sample() and eval per draw, bit for bit.
+    cbrdf::capi::sampler_of(model).sample_batch(n, wo, u, wi, pdf, weight);
     return cbrdf::ok_status();
   });
 }

@@ -1,4 +1,10 @@
 // SPDX-License-Identifier: MIT
+// This file's functions set no errno (its square roots never see a negative argument) and may
+// evaluate both sides of a select (neither changes a value: no reassociation, no contraction), so
+// that the batch's position loop vectorizes: the build's other flags are kept.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-math-errno", "no-trapping-math")
+#endif
 #include "eval/interp_tables.h"
 
 #include <algorithm>
@@ -6,6 +12,7 @@
 #include <limits>
 #include <numbers>
 
+#include "cbrdf/parallel_for.h"
 #include "density/frank_grid.h"
 #include "density/grid_copula.h"
 
@@ -150,8 +157,63 @@ inline T atan2_first_quadrant(T a, T b) {
   const T num = mid ? a - b : (far ? -b : a);
   const T den = mid ? a + b : (far ? a : b);
   const T base = mid ? kPi4 : (far ? kPi2 : T(0));
-  if (!(den > 0)) return 0;
-  return base + atan_core(num / den);
+  // A select, not an early return, so that loops over blocks of pairs vectorize (eval_batch).
+  const T r = base + atan_core(num / den);
+  return den > 0 ? r : T(0);
+}
+
+// Grid position of a direction pair with wi.z, wo.z > 0 (unit vectors). With H = wi + wo and
+// D = wi - wo: tan theta_h = |H_xy| / H_z, tan theta_d = |D| / |H|, and phi_d the angle of D (so
+// of wi) in the difference frame (grid_position's), its components scaled by |H_xy| |H| > 0:
+//   dx = (D_xy . H_xy) H_z - D_z |H_xy|^2,  dy = (D_y H_x - D_x H_y) |H|,
+// folded to [0, pi) by reciprocity. Swapping wi and wo leaves H and |D| as they are and negates
+// D, bit for bit, so dx and dy change sign exactly and the fold gives the same phi_d.
+// position() in three steps around its square roots, so that a batch can take the roots in loops
+// of their own (a square root that may set errno keeps a loop from vectorizing): the squared
+// lengths; theta_d, phi_d and the argument of theta_h's root; the clamped positions.
+template <class T>
+struct Squares {
+  T rho2, len2, chord2;  // |H_xy|^2, |H|^2, |D|^2
+};
+
+template <class T>
+inline Squares<T> position_squares(T ix, T iy, T iz, T ox, T oy, T oz) {
+  const T hx = ix + ox, hy = iy + oy, hz = iz + oz;
+  const T ex = ix - ox, ey = iy - oy, ez = iz - oz;
+  const T rho2 = hx * hx + hy * hy;
+  return {rho2, rho2 + hz * hz, ex * ex + ey * ey + ez * ez};
+}
+
+// From the roots rho = |H_xy|, len = |H|, chord = |D|: theta_h * 2 / pi (to take the root of),
+// theta_d and phi_d in degrees, clamped (a NaN to 0).
+template <class T>
+inline Position<T> position_angles(T ix, T iy, T iz, T ox, T oy, T oz, T rho2, T rho, T len,
+                                   T chord) {
+  constexpr T kDeg = T(180 / std::numbers::pi), kPi = T(std::numbers::pi);
+  const T hx = ix + ox, hy = iy + oy, hz = iz + oz;
+  const T ex = ix - ox, ey = iy - oy, ez = iz - oz;
+  const T theta_h = atan2_first_quadrant(rho, hz);
+  const T theta_d = atan2_first_quadrant(chord, len);
+  // From D, not wi: D is orthogonal to h (wi and wo have one length), so its azimuth in the frame
+  // is wi's, without the cancellation of wi's large component along h when theta_d is small.
+  // Where h is the normal: the frame of phi_h = 0, as grid_position takes it (selects, as above).
+  const bool tilted = rho2 > std::numeric_limits<T>::min();
+  const T dx = tilted ? (ex * hx + ey * hy) * hz - ez * rho2 : ex;
+  const T dy = tilted ? (ey * hx - ex * hy) * len : ey;
+  const T alpha = atan2_first_quadrant(std::abs(dy), std::abs(dx));
+  // atan2(dy, dx) folded to [0, pi]: alpha where dx and dy have one sign, pi - alpha elsewhere.
+  const T phi = (dx >= 0) == (dy >= 0) ? alpha : kPi - alpha;
+  Position<T> g;
+  g.h = theta_h * T(2 / std::numbers::pi);
+  g.d = std::min(T(kThetaDBins - 1), std::max(T(0), theta_d * kDeg));
+  g.p = std::min(T(kPhiDBins), std::max(T(0), phi * kDeg));
+  return g;
+}
+
+// theta_h's position from the root of position_angles' h: sqrt(theta_h / 90deg) * 90, clamped.
+template <class T>
+inline T position_h(T root) {
+  return std::min(T(kThetaHBins - 1), std::max(T(0), root * T(kThetaHBins)));
 }
 
 // Grid position of a direction pair with wi.z, wo.z > 0 (unit vectors). With H = wi + wo and
@@ -162,31 +224,135 @@ inline T atan2_first_quadrant(T a, T b) {
 // D, bit for bit, so dx and dy change sign exactly and the fold gives the same phi_d.
 template <class T>
 inline Position<T> position(T ix, T iy, T iz, T ox, T oy, T oz) {
-  constexpr T kDeg = T(180 / std::numbers::pi), kPi = T(std::numbers::pi);
-  const T hx = ix + ox, hy = iy + oy, hz = iz + oz;
-  const T ex = ix - ox, ey = iy - oy, ez = iz - oz;
-  const T rho2 = hx * hx + hy * hy;
-  const T rho = std::sqrt(rho2), len = std::sqrt(rho2 + hz * hz);
-  const T chord = std::sqrt(ex * ex + ey * ey + ez * ez);
-  const T theta_h = atan2_first_quadrant(rho, hz);
-  const T theta_d = atan2_first_quadrant(chord, len);
-  // From D, not wi: D is orthogonal to h (wi and wo have one length), so its azimuth in the frame
-  // is wi's, without the cancellation of wi's large component along h when theta_d is small.
-  T dx = (ex * hx + ey * hy) * hz - ez * rho2, dy = (ey * hx - ex * hy) * len;
-  if (!(rho2 > std::numeric_limits<T>::min())) {
-    dx = ex;  // h is the normal: the frame of phi_h = 0, as grid_position takes it
-    dy = ey;
-  }
-  const T alpha = atan2_first_quadrant(std::abs(dy), std::abs(dx));
-  // atan2(dy, dx) folded to [0, pi]: alpha where dx and dy have one sign, pi - alpha elsewhere.
-  const T phi = (dx >= 0) == (dy >= 0) ? alpha : kPi - alpha;
-  Position<T> g;
-  // Positions: sqrt(theta_h / 90deg) * 90, theta_d / 1deg, phi_d / 1deg; clamped (a NaN to 0).
-  g.h = std::min(T(kThetaHBins - 1),
-                 std::max(T(0), std::sqrt(theta_h * T(2 / std::numbers::pi)) * T(kThetaHBins)));
-  g.d = std::min(T(kThetaDBins - 1), std::max(T(0), theta_d * kDeg));
-  g.p = std::min(T(kPhiDBins), std::max(T(0), phi * kDeg));
+  const Squares<T> q = position_squares(ix, iy, iz, ox, oy, oz);
+  Position<T> g = position_angles(ix, iy, iz, ox, oy, oz, q.rho2, std::sqrt(q.rho2),
+                                  std::sqrt(q.len2), std::sqrt(q.chord2));
+  g.h = position_h(std::sqrt(g.h));
   return g;
+}
+
+// ---- Batches (InterpTables::eval_batch) ----------------------------------------------------
+// A chunk of pairs is evaluated in blocks of kBlock: (1) the grid positions of the whole block,
+// branch-free loops (the coordinates, three atan2 polynomials and four square roots per pair)
+// that the compiler vectorizes; (2) per pair, the interpolated per-axis terms gathered from the
+// slice's tables into per-slot arrays: g1 g2 g3, 1 - h and 1 + h (scalar: the table rows differ
+// per pair); (3) the copula ratios and the channel sums across the block, vectorized (the
+// divisions). Every value is formed by the same operations in the same order as eval's, so the
+// results are equal bit for bit: vector lanes round as scalar instructions do, and neither path
+// contracts multiply-adds (x86-64 without -mfma; the AVX2 clones do not enable FMA). Pairs that
+// eval treats apart (below the horizon, across a slice boundary or the phi_d period, slices with
+// generic terms) go through eval's own code.
+constexpr int kBlock = 32;
+
+// One block's inputs and stage (1)'s results, in one object: its arrays provably do not alias, so
+// the stage's loop vectorizes without versioning.
+template <class T>
+struct BlockState {
+  alignas(64) T in[6][kBlock];  // wi x, y, z, wo x, y, z
+  alignas(64) T rho2[kBlock], rho[kBlock], len[kBlock], chord[kBlock];
+  alignas(64) T ph[kBlock], pd[kBlock], pp[kBlock];
+  alignas(64) T fh[kBlock], fd[kBlock], fp[kBlock];
+  alignas(64) int h0[kBlock], d0[kBlock], p0[kBlock];
+};
+
+// Stage (1): positions, bin indices and fractions, as position() and eval_impl form them. The
+// square roots have loops of their own: with -fno-math-errno they vectorize too, without it they
+// stay scalar and the other loops still vectorize.
+template <class T>
+[[gnu::always_inline]] inline void block_positions(BlockState<T>& b) {
+  for (int l = 0; l < kBlock; ++l) {
+    const Squares<T> q =
+        position_squares(b.in[0][l], b.in[1][l], b.in[2][l], b.in[3][l], b.in[4][l], b.in[5][l]);
+    b.rho2[l] = q.rho2;
+    b.len[l] = q.len2;
+    b.chord[l] = q.chord2;
+  }
+  for (int l = 0; l < kBlock; ++l) {
+    b.rho[l] = std::sqrt(b.rho2[l]);
+    b.len[l] = std::sqrt(b.len[l]);
+    b.chord[l] = std::sqrt(b.chord[l]);
+  }
+  for (int l = 0; l < kBlock; ++l) {
+    const Position<T> g =
+        position_angles(b.in[0][l], b.in[1][l], b.in[2][l], b.in[3][l], b.in[4][l], b.in[5][l],
+                        b.rho2[l], b.rho[l], b.len[l], b.chord[l]);
+    b.ph[l] = g.h;
+    b.pd[l] = g.d;
+    b.pp[l] = g.p;
+  }
+  for (int l = 0; l < kBlock; ++l) b.ph[l] = std::sqrt(b.ph[l]);
+  for (int l = 0; l < kBlock; ++l) {
+    const T h = position_h(b.ph[l]), d = b.pd[l], p = b.pp[l];
+    b.ph[l] = h;
+    const int i = std::min(int(h), kThetaHBins - 1);
+    const int j = std::min(int(d), kThetaDBins - 1);
+    const int k = std::min(int(p), kPhiDBins - 1);
+    b.h0[l] = i;
+    b.d0[l] = j;
+    b.p0[l] = k;
+    b.fh[l] = h - T(i);
+    b.fd[l] = d - T(j);
+    b.fp[l] = p - T(k);
+  }
+}
+
+// Stage (3): per channel, the sum over its R slots of k g (1 + h) / (1 - h)^3 (add_slice's order),
+// then eval's `0 + 1 * sum` and saturation. Arrays are slot-major: slot q of lane l at q * kBlock +
+// l.
+template <class T>
+[[gnu::always_inline]] inline void block_ratios(int R, const T* k, const T* g, const T* omh,
+                                                const T* oph, T* out) {
+  for (int c = 0; c < kChannels; ++c) {
+    T sum[kBlock] = {};
+    for (int r = 0; r < R; ++r) {
+      const std::size_t q = std::size_t(c * R + r) * kBlock;
+      for (int l = 0; l < kBlock; ++l) {
+        const T o = omh[q + std::size_t(l)];
+        sum[l] +=
+            k[q + std::size_t(l)] * g[q + std::size_t(l)] * oph[q + std::size_t(l)] / (o * o * o);
+      }
+    }
+    for (int l = 0; l < kBlock; ++l) out[c * kBlock + l] = saturate(T(0) + T(1) * sum[l]);
+  }
+}
+
+// The stages' entry points, compiled for AVX2 and for the baseline and chosen at load time where
+// the toolchain supports it (GCC on x86-64; not under the sanitizers, whose runtimes and ifunc
+// resolvers do not mix).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#define CBRDF_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define CBRDF_VECTOR_CLONES
+#endif
+
+CBRDF_VECTOR_CLONES void block_positions_f64(BlockState<double>& b) {
+  block_positions(b);
+}
+CBRDF_VECTOR_CLONES void block_positions_f32(BlockState<float>& b) {
+  block_positions(b);
+}
+CBRDF_VECTOR_CLONES void block_ratios_f64(int R, const double* k, const double* g,
+                                          const double* omh, const double* oph, double* out) {
+  block_ratios(R, k, g, omh, oph, out);
+}
+CBRDF_VECTOR_CLONES void block_ratios_f32(int R, const float* k, const float* g, const float* omh,
+                                          const float* oph, float* out) {
+  block_ratios(R, k, g, omh, oph, out);
+}
+inline void block_positions_any(BlockState<double>& b) {
+  block_positions_f64(b);
+}
+inline void block_positions_any(BlockState<float>& b) {
+  block_positions_f32(b);
+}
+inline void block_ratios_any(int R, const double* k, const double* g, const double* omh,
+                             const double* oph, double* out) {
+  block_ratios_f64(R, k, g, omh, oph, out);
+}
+inline void block_ratios_any(int R, const float* k, const float* g, const float* omh,
+                             const float* oph, float* out) {
+  block_ratios_f32(R, k, g, omh, oph, out);
 }
 
 }  // namespace
@@ -226,6 +392,7 @@ InterpTables::InterpTables(const Model& model) {
     int R = 1;
     for (const ChannelSlice& cs : slice.channel) R = std::max(R, cs.components());
     st.slots_per_channel = R;
+    max_slots_per_channel_ = std::max(max_slots_per_channel_, R);
     const int n = 3 * R, width = slice.width();
     st.h.assign(std::size_t((kThetaHBins + 1) * n), AxisTerms<double>{0, 0, 0});
     st.d.assign(std::size_t((width + 1) * n), AxisTerms<double>{0, 0, 0});
@@ -343,7 +510,17 @@ void InterpTables::add_generic(int i0, double fh, int j0, double fd, int k0, dou
 void InterpTables::eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const {
   rgb[0] = rgb[1] = rgb[2] = 0.0;
   if (!(wi.z > 0.0) || !(wo.z > 0.0)) return;
-  const Position<double> pos = position(wi.x, wi.y, wi.z, wo.x, wo.y, wo.z);
+  eval_at(position(wi.x, wi.y, wi.z, wo.x, wo.y, wo.z), rgb);
+}
+
+void InterpTables::eval(const float wi[3], const float wo[3], float rgb[3]) const {
+  rgb[0] = rgb[1] = rgb[2] = 0.0f;
+  if (!(wi[2] > 0.0f) || !(wo[2] > 0.0f)) return;
+  eval_at(position(wi[0], wi[1], wi[2], wo[0], wo[1], wo[2]), rgb);
+}
+
+void InterpTables::eval_at(const Position<double>& pos, double rgb[3]) const {
+  rgb[0] = rgb[1] = rgb[2] = 0.0;
   eval_impl(f64_, pos, rgb);
   if (any_generic_) {
     const int h0 = std::min(int(pos.h), kThetaHBins - 1);
@@ -354,10 +531,8 @@ void InterpTables::eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const {
   for (int c = 0; c < kChannels; ++c) rgb[c] = saturate(rgb[c]);
 }
 
-void InterpTables::eval(const float wi[3], const float wo[3], float rgb[3]) const {
+void InterpTables::eval_at(const Position<float>& pos, float rgb[3]) const {
   rgb[0] = rgb[1] = rgb[2] = 0.0f;
-  if (!(wi[2] > 0.0f) || !(wo[2] > 0.0f)) return;
-  const Position<float> pos = position(wi[0], wi[1], wi[2], wo[0], wo[1], wo[2]);
   eval_impl(f32_, pos, rgb);
   if (any_generic_) {
     const int h0 = std::min(int(pos.h), kThetaHBins - 1);
@@ -368,6 +543,131 @@ void InterpTables::eval(const float wi[3], const float wo[3], float rgb[3]) cons
     for (int c = 0; c < kChannels; ++c) rgb[c] += float(g[c]);
   }
   for (int c = 0; c < kChannels; ++c) rgb[c] = saturate(rgb[c]);
+}
+
+template <class T>
+void InterpTables::eval_chunk(const std::vector<SliceTables<T>>& tables, std::size_t begin,
+                              std::size_t end, const BatchArgs<T>& args) const {
+  const int R = max_slots_per_channel_, slots = kChannels * R;
+  // Per block: the inputs, stage (1)'s results, stage (2)'s per-slot terms, stage (3)'s sums.
+  BlockState<T> bs;
+  auto& in = bs.in;
+  const T *ph = bs.ph, *pd = bs.pd, *pp = bs.pp, *fh = bs.fh, *fd = bs.fd, *fp = bs.fp;
+  const int *h0 = bs.h0, *d0 = bs.d0, *p0 = bs.p0;
+  alignas(64) T out[kChannels * kBlock];
+  std::vector<T> terms(std::size_t(4 * slots * kBlock));
+  T* const kk = terms.data();
+  T* const gg = kk + slots * kBlock;
+  T* const om = gg + slots * kBlock;
+  T* const op = om + slots * kBlock;
+  enum : unsigned char { kRegular, kBelow, kApart };
+  unsigned char kind[kBlock];
+  const std::size_t is = args.in_stride, os = args.out_stride;
+  for (std::size_t base = begin; base < end; base += kBlock) {
+    const int m = int(std::min<std::size_t>(kBlock, end - base));
+    for (int a = 0; a < 6; ++a) {
+      const T* src = args.in[a] + base * is;
+      for (int l = 0; l < m; ++l) in[a][l] = src[std::size_t(l) * is];
+      for (int l = m; l < kBlock; ++l) in[a][l] = T(0);
+    }
+    block_positions_any(bs);
+    for (int l = 0; l < kBlock; ++l) {
+      std::size_t q = std::size_t(l);
+      auto neutral = [&] {
+        for (int s = 0; s < slots; ++s, q += kBlock) {
+          kk[q] = gg[q] = T(0);
+          om[q] = op[q] = T(1);
+        }
+      };
+      if (l >= m || !(in[2][l] > 0) || !(in[5][l] > 0)) {
+        kind[l] = kBelow;
+        neutral();
+        continue;
+      }
+      const SliceTables<T>& st = tables[std::size_t(slice_of_bin_[d0[l]])];
+      if (any_generic_ || !(d0[l] + 1 < st.theta_d_end || fd[l] == 0) ||
+          !(p0[l] + 1 < kPhiDBins || fp[l] == 0)) {
+        kind[l] = kApart;
+        neutral();
+        continue;
+      }
+      kind[l] = kRegular;
+      // add_slice's interpolation, slot by slot (R_s of this slice, the rest neutral).
+      const int n = 3 * st.slots_per_channel, Rs = st.slots_per_channel;
+      const AxisTerms<T>* H0 = st.h.data() + std::size_t(h0[l]) * std::size_t(n);
+      const AxisTerms<T>* H1 = H0 + n;
+      const AxisTerms<T>* D0 = st.d.data() + std::size_t(d0[l] - st.theta_d_begin) * std::size_t(n);
+      const AxisTerms<T>* D1 = D0 + n;
+      const AxisTerms<T>* P0 = st.p.data() + std::size_t(p0[l]) * std::size_t(n);
+      const AxisTerms<T>* P1 = P0 + n;
+      const T a1 = fh[l], a2 = fd[l], a3 = fp[l];
+      const T b1 = 1 - a1, b2 = 1 - a2, b3 = 1 - a3;
+      for (int c = 0; c < kChannels; ++c) {
+        for (int r = 0; r < R; ++r, q += kBlock) {
+          if (r >= Rs) {
+            kk[q] = gg[q] = T(0);
+            om[q] = op[q] = T(1);
+            continue;
+          }
+          const int s = c * Rs + r;
+          const T g1 = H0[s].g * b1 + H1[s].g * a1, w1 = H0[s].w * b1 + H1[s].w * a1,
+                  y1 = H0[s].y * b1 + H1[s].y * a1;
+          const T g2 = D0[s].g * b2 + D1[s].g * a2, w2 = D0[s].w * b2 + D1[s].w * a2,
+                  y2 = D0[s].y * b2 + D1[s].y * a2;
+          const T g3 = P0[s].g * b3 + P1[s].g * a3, w3 = P0[s].w * b3 + P1[s].w * a3,
+                  y3 = P0[s].y * b3 + P1[s].y * a3;
+          const SlotConstants<T>& k = st.consts[std::size_t(s)];
+          const T w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
+          kk[q] = k.k;
+          gg[q] = g1 * g2 * g3;
+          om[q] = k.a0 + k.a1 * Y + k.a2 * W;
+          op[q] = k.b0 + k.b1 * Y + k.b2 * W;
+        }
+      }
+    }
+    block_ratios_any(R, kk, gg, om, op, out);
+    for (int l = 0; l < m; ++l) {
+      T rgb[3] = {out[l], out[kBlock + l], out[2 * kBlock + l]};
+      if (kind[l] == kBelow) {
+        rgb[0] = rgb[1] = rgb[2] = T(0);
+      } else if (kind[l] == kApart) {
+        eval_at(Position<T>{ph[l], pd[l], pp[l]}, rgb);
+      }
+      const std::size_t o = (base + std::size_t(l)) * os;
+      for (int c = 0; c < kChannels; ++c) args.out[c][o] = rgb[c];
+    }
+  }
+}
+
+namespace {
+
+// Chunks of pairs handed to the pool: large enough to amortize a task, small enough to balance.
+constexpr std::size_t kChunk = 2048;
+
+template <class Fn>
+void for_chunks(std::size_t n, int threads, const Fn& fn) {
+  if (n == 0) return;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  if (chunks == 1) {
+    fn(std::size_t(0), n);
+    return;
+  }
+  const int tasks = int(std::min<std::size_t>(chunks, 1 << 20));
+  const std::size_t per = (n + std::size_t(tasks) - 1) / std::size_t(tasks);
+  internal::parallel_for(tasks, threads, [&](int t) {
+    const std::size_t b = std::size_t(t) * per;
+    if (b < n) fn(b, std::min(n, b + per));
+  });
+}
+
+}  // namespace
+
+void InterpTables::eval_batch(std::size_t n, const BatchArgs<double>& args, int threads) const {
+  for_chunks(n, threads, [&](std::size_t b, std::size_t e) { eval_chunk(f64_, b, e, args); });
+}
+
+void InterpTables::eval_batch(std::size_t n, const BatchArgs<float>& args, int threads) const {
+  for_chunks(n, threads, [&](std::size_t b, std::size_t e) { eval_chunk(f32_, b, e, args); });
 }
 
 std::size_t InterpTables::footprint_bytes() const {

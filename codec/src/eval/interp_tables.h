@@ -87,6 +87,16 @@ struct Position {
   T h, d, p;
 };
 
+// A batch of direction pairs and its results, each coordinate its own array read (or written) at
+// index k * stride: stride 1 for structure-of-arrays, 3 for interleaved (x, y, z) triples.
+template <class T>
+struct BatchArgs {
+  const T* in[6] = {};  // wi x, y, z, wo x, y, z
+  std::size_t in_stride = 1;
+  T* out[3] = {};  // r, g, b
+  std::size_t out_stride = 1;
+};
+
 class InterpTables {
  public:
   explicit InterpTables(const Model& model);
@@ -95,6 +105,11 @@ class InterpTables {
   // ModelEvaluator::eval and eval_f32: RGB at a direction pair, 0 at or below the horizon.
   void eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const;
   void eval(const float wi[3], const float wo[3], float rgb[3]) const;
+  // n pairs at once, bit for bit equal to eval per pair: blocks of pairs with the grid positions
+  // and the copula ratios computed across the block (vectorized), split into chunks over at most
+  // `threads` threads of the library's pool (internal::parallel_for; <= 0: the thread limit).
+  void eval_batch(std::size_t n, const BatchArgs<double>& args, int threads) const;
+  void eval_batch(std::size_t n, const BatchArgs<float>& args, int threads) const;
 
   // Memory held, in bytes (tables, constants, generic terms' grids).
   std::size_t footprint_bytes() const;
@@ -102,6 +117,12 @@ class InterpTables {
  private:
   template <class T>
   void eval_impl(const std::vector<SliceTables<T>>& tables, const Position<T>& pos, T rgb[3]) const;
+  // eval at a computed position (wi and wo above the horizon), saturated.
+  void eval_at(const Position<double>& pos, double rgb[3]) const;
+  void eval_at(const Position<float>& pos, float rgb[3]) const;
+  template <class T>
+  void eval_chunk(const std::vector<SliceTables<T>>& tables, std::size_t begin, std::size_t end,
+                  const BatchArgs<T>& args) const;
   // The generic terms, trilinear between the 8 bins around the position.
   void add_generic(int i0, double fh, int j0, double fd, int k0, double fp, double rgb[3]) const;
 
@@ -110,6 +131,7 @@ class InterpTables {
   std::vector<std::vector<GenericTerm>> generic_;  // per slice
   bool any_generic_ = false;
   int slice_of_bin_[kThetaDBins] = {};
+  int max_slots_per_channel_ = 1;  // R over all slices
 };
 
 }  // namespace cbrdf::eval
