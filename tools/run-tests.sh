@@ -12,7 +12,7 @@ build=${1:-$root/build}
 start=$(date +%s)
 "$root/tools/install-deps.sh"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCBRDF_WERROR=ON -DCBRDF_TESTS=ON \
-  -DCBRDF_BENCH=ON > /dev/null
+  -DCBRDF_BENCH=ON -DCBRDF_PYTHON=ON > /dev/null
 cmake --build "$build" -j "$(nproc)"
 ctest --test-dir "$build" --no-tests=error --output-on-failure -j "$(nproc)" --timeout 900
 echo "run-tests: release suite passed at $(( $(date +%s) - start )) s"

@@ -1,0 +1,603 @@
+# SPDX-License-Identifier: MIT
+"""cbrdf: a lossy codec for MERL measured BRDFs (the copula model), from Python.
+
+Tables are NumPy arrays of shape (3, 90, 90, 180), float64, indexed
+``[channel, theta_h, theta_d, phi_d]`` (channels R, G, B; the MERL bin order),
+in physical units (1/sr).  Bins that were not measured (below the horizon) are
+NaN in physical arrays.  See ``help(cbrdf.read_merl)`` for the exact rules.
+
+Quick tour::
+
+    import cbrdf, numpy as np
+    table = cbrdf.read_merl("plastic.binary")           # (3, 90, 90, 180), NaN = not measured
+    data = cbrdf.encode(table, bits=10, slices=6)        # bytes of a .cbrdf file
+    model = cbrdf.decode(data)                           # or cbrdf.decode("plastic.cbrdf")
+    model.info                                           # what `cbrdf info --json` prints
+    rgb = model.eval(wi, wo)                             # (N, 3) -> (N, 3), threaded, GIL released
+    wi, pdf, weight = model.sample(wo, u)                # importance sampling
+    cbrdf.sphere_psnr(table, model)                      # the report's tone-mapped sphere PSNR
+
+Errors of the library raise :class:`cbrdf.Error` (a ``ValueError``) carrying the
+stable error code and the message the ``cbrdf`` command prints.
+"""
+
+from __future__ import annotations
+
+import os as _os
+from typing import Any as _Any
+
+import numpy as _np
+
+from . import _cbrdf
+
+__all__ = [
+    "Error",
+    "ErrorCode",
+    "MerlArray",
+    "Model",
+    "Slice",
+    "Channel",
+    "Component",
+    "read_merl",
+    "write_merl",
+    "merl_bytes",
+    "encode",
+    "decode",
+    "info",
+    "sample",
+    "samples",
+    "sphere_psnr",
+    "sphere_metrics",
+    "brdf_metrics",
+    "render_sphere",
+    "nearest_bin",
+    "bin_directions",
+    "set_thread_limit",
+    "thread_limit",
+    "MERL_SCALE",
+    "SHAPE",
+    "__version__",
+]
+
+__version__: str = _cbrdf.__version__
+#: The MERL scale factors (R, G, B): physical value = stored value * scale.
+MERL_SCALE: tuple = tuple(_cbrdf.MERL_SCALE)
+#: The shape of every table: (channel, theta_h, theta_d, phi_d).
+SHAPE = (3, 90, 90, 180)
+#: The .cbrdf container version this library writes (major, minor of the newest).
+CONTAINER_VERSION: tuple = tuple(_cbrdf.CONTAINER_VERSION)
+
+
+class ErrorCode:
+    """The library's stable error codes (``cbrdf/status.h``); ``Error.code`` is one of them."""
+
+    OK = 0
+    IO = 1  #: the operating system refused a read or write
+    NOT_FOUND = 2  #: a named file does not exist
+    TRUNCATED = 3  #: the data ends before its declared content
+    BAD_SIGNATURE = 4  #: not a file of the expected kind
+    UNSUPPORTED = 5  #: a newer version or an unknown critical feature
+    CORRUPT = 6  #: structurally invalid data
+    CHECKSUM = 7  #: a checksum does not match
+    LIMIT = 8  #: a declared size exceeds a documented maximum
+    INVALID_ARGUMENT = 9  #: a caller passed a value outside its domain
+    NUMERIC = 10  #: NaN, Inf or a value outside a parameter's domain in the data
+    INTERNAL = 11  #: a bug in cbrdf
+
+    #: code -> name, as the library names them ("corrupt", "checksum", ...)
+    NAMES: dict = dict(_cbrdf.ERROR_CODES)
+
+
+class Error(ValueError):
+    """An error reported by the cbrdf library.
+
+    ``str(err)`` is the message the ``cbrdf`` command prints after ``cbrdf: ``
+    (naming the file, chunk and byte offset where it applies).
+
+    Attributes:
+        code: the stable numeric code (:class:`ErrorCode`, ``cbrdf::ErrorCode``).
+        code_name: its name, e.g. ``"corrupt"``, ``"checksum"``, ``"not-found"``.
+        exit_code: what the ``cbrdf`` command exits with for the same input:
+            1 (bad data, a failed read or write) or 2 (bad usage: an option out of range).
+        message: the message (the same as ``str(err)``).
+    """
+
+    def __init__(self, message: str, code: int = ErrorCode.INTERNAL,
+                 code_name: str | None = None, exit_code: int = 1) -> None:
+        super().__init__(message)
+        self.message = message
+        self.code = int(code)
+        self.code_name = code_name if code_name is not None else ErrorCode.NAMES.get(code, "unknown")
+        self.exit_code = int(exit_code)
+
+    def __str__(self) -> str:
+        return self.message
+
+    def __repr__(self) -> str:
+        return f"cbrdf.Error({self.message!r}, code={self.code} ({self.code_name}))"
+
+
+_cbrdf._set_error_class(Error)
+
+
+class MerlArray(_np.ndarray):
+    """A physical-units table that remembers the stored values it was made from.
+
+    :func:`read_merl` and :meth:`Model.table` return this ndarray subclass.  Its
+    ``stored`` attribute holds the values exactly as the .binary file stores them
+    (physical / scale, not-measured values bit for bit).  :func:`write_merl` uses
+    them for every bin whose physical value is unchanged, so writing an array that
+    was read (or decoded) reproduces the file byte for byte, although
+    ``stored * scale / scale`` does not give ``stored`` back in the last bit for
+    about one value in seven.  Bins you change are converted as
+    ``value / scale`` (what ``BrdfTable::set_physical`` does).  Arithmetic on a
+    MerlArray gives MerlArrays with the same companion; the per-bin check keeps
+    that correct.  ``np.asarray(a)`` gives a plain ndarray.
+    """
+
+    stored: _np.ndarray | None
+
+    def __new__(cls, physical: _np.ndarray, stored: _np.ndarray | None = None) -> "MerlArray":
+        obj = _np.asarray(physical).view(cls)
+        obj.stored = stored
+        return obj
+
+    def __array_finalize__(self, obj: _Any) -> None:
+        if obj is None:
+            return
+        stored = getattr(obj, "stored", None)
+        self.stored = stored if stored is not None and stored.shape == self.shape else None
+
+    def __reduce__(self):  # pickles as a plain array plus the companion
+        return (MerlArray, (_np.asarray(self), self.stored))
+
+
+def _physical_array(pair) -> MerlArray:
+    physical, stored = pair
+    stored.flags.writeable = False
+    return MerlArray(physical, stored)
+
+
+def _check_units(units: str) -> None:
+    if units not in ("physical", "stored"):
+        raise Error(f"units must be 'physical' or 'stored', not {units!r}",
+                    ErrorCode.INVALID_ARGUMENT, "invalid-argument", 2)
+
+
+def _is_pathlike(x: _Any) -> bool:
+    return isinstance(x, (str, _os.PathLike))
+
+
+def _fspath(x: _Any) -> str:
+    p = _os.fspath(x)
+    return p.decode("utf-8", "surrogateescape") if isinstance(p, bytes) else p
+
+
+def _read_table(source: _Any):
+    if isinstance(source, (bytes, bytearray, memoryview)):
+        return _cbrdf._Table.parse(source, "<bytes>")
+    return _cbrdf._Table.read(_fspath(source))
+
+
+def read_merl(source: _Any, *, units: str = "physical") -> _np.ndarray:
+    """Read a MERL .binary file (a path, or the file's bytes) as a (3, 90, 90, 180) array.
+
+    Args:
+        source: a path (str or os.PathLike) or the file's contents (bytes-like).
+            90x90x360 files are folded to 180 phi_d bins as ``cbrdf`` does.
+        units: ``"physical"`` (default): float64 values in 1/sr
+            (stored * :data:`MERL_SCALE`), **NaN where a bin was not measured**
+            (the mask is ``np.isnan(table)``).  Returned as a :class:`MerlArray`
+            that remembers the stored values, so :func:`write_merl` reproduces the
+            file byte for byte.
+            ``"stored"``: the file's values exactly, bit for bit (physical / scale;
+            negative or NaN where not measured), as a plain read-only array.
+
+    Raises:
+        Error: what ``cbrdf info FILE`` would report (not-found, truncated,
+            corrupt dims, unsupported dims, +Inf values ...).
+    """
+    _check_units(units)
+    physical, stored = _read_table(source).arrays()
+    if units == "stored":
+        return stored
+    return _physical_array((physical, stored))
+
+
+def _mask_array(mask: _Any) -> _np.ndarray | None:
+    if mask is None:
+        return None
+    return _np.ascontiguousarray(mask, dtype=bool)
+
+
+def _to_table(table: _Any, mask: _Any = None, *, units: str = "physical",
+              not_measured_value: float = -1.0):
+    """Any table-like input as the C++ table: arrays, paths, bytes, Models, _Tables."""
+    if isinstance(table, _cbrdf._Table):
+        return table
+    if isinstance(table, _cbrdf._Model):
+        return table._table()
+    if _is_pathlike(table) or isinstance(table, (bytes, bytearray, memoryview)):
+        return _read_table(table)
+    _check_units(units)
+    m = _mask_array(mask)
+    if units == "stored":
+        return _cbrdf._Table.from_stored(_np.asarray(table, dtype=_np.float64), m,
+                                         float(not_measured_value))
+    companion = getattr(table, "stored", None)
+    return _cbrdf._Table.from_physical(_np.asarray(table, dtype=_np.float64), m, companion,
+                                       float(not_measured_value))
+
+
+def write_merl(path: _Any, table: _Any, mask: _Any = None, *, units: str = "physical",
+               not_measured_value: float = -1.0) -> None:
+    """Write a table as a MERL .binary (90x90x180), byte-exact with the ``cbrdf`` command.
+
+    The file is written by the same C++ writer as ``cbrdf decode -o`` (atomically:
+    a temporary beside it, renamed over it).
+
+    Args:
+        path: the output path.
+        table: a (3, 90, 90, 180) array (or a :class:`Model`, written as its table).
+        mask: optional boolean array of the same shape, True where a bin was not
+            measured.  Without it, NaN marks not-measured bins (physical units).
+        units: ``"physical"`` (default; value / scale is stored, except that
+            unchanged bins of a :class:`MerlArray` keep their stored bits) or
+            ``"stored"`` (written verbatim: negative or NaN values are not-measured).
+        not_measured_value: the stored value written for not-measured bins that
+            have no remembered value (negative or NaN; MERL files use -1).
+
+    Raises:
+        Error: a measured value that is negative, NaN (with a mask) or infinite, a
+            wrong shape, or a failed write (naming the file).
+    """
+    _to_table(table, mask, units=units, not_measured_value=not_measured_value).write(_fspath(path))
+
+
+def merl_bytes(table: _Any, mask: _Any = None, *, units: str = "physical",
+               not_measured_value: float = -1.0) -> bytes:
+    """The bytes :func:`write_merl` would write (34,992,012 of them)."""
+    return _to_table(table, mask, units=units, not_measured_value=not_measured_value).serialize()
+
+
+def samples() -> list:
+    """The built-in analytic sample materials, as (name, description) pairs (``cbrdf sample --list``)."""
+    return [tuple(s) for s in _cbrdf.samples()]
+
+
+def sample(name: str, *, units: str = "physical") -> _np.ndarray:
+    """A built-in sample material as a table (what ``cbrdf sample NAME -o FILE`` writes).
+
+    Args:
+        name: one of :func:`samples` (e.g. ``"plastic"``).
+        units: as in :func:`read_merl`.
+    """
+    _check_units(units)
+    physical, stored = _cbrdf._Table.sample(name).arrays()
+    return stored if units == "stored" else _physical_array((physical, stored))
+
+
+def encode(table: _Any, *, bits: int = 12, components: int | str = 1, slices: int | str = 6,
+           family: str = "frank", loss: str = "linear", level: int = 19,
+           placement: str = "uniform", naive_marginals: bool = False, threads: int = 0,
+           target_bytes: float | None = None, target_psnr: float | None = None,
+           mask: _Any = None, source_name: str | None = None) -> bytes:
+    """Fit the copula model to a table and return the bytes of a .cbrdf file.
+
+    With the same input and options the bytes equal those ``cbrdf encode`` writes
+    (the fit does not depend on the thread count).
+
+    Args:
+        table: a path to a MERL .binary (as ``cbrdf encode PATH``), the file's
+            bytes, or a (3, 90, 90, 180) physical array (NaN or ``mask`` = not
+            measured; see :func:`write_merl` for the conversion).
+        bits: bits per quantized marginal value, 6 to 16: the quality knob (``--bits``).
+        components: copula components per slice and channel, 1 (the paper's
+            model) to 8, or ``"auto"`` (``--components``).
+        slices: theta_d slices, 1 to 90, or ``"auto"`` (``--slices``).
+        family: ``"frank"`` (the paper's), ``"clayton"``, ``"gumbel"``, ``"joe"``,
+            ``"independence"`` or ``"auto"`` (``--family``).
+        loss: what the fit minimizes: ``"linear"``, ``"cosine"`` or ``"log"`` (``--loss``).
+        level: zstd level 1 to 22: the effort knob (``--level``).
+        placement: slice boundaries, ``"uniform"`` or ``"adaptive"`` (``--slice-placement``).
+        naive_marginals: the paper's marginals, missing bins as 0 (``--naive-marginals``).
+        threads: fitting threads, 0 = the library's limit (``--threads``).
+        target_bytes: search slices, components and bits for the best tone-mapped
+            sphere PSNR within this many bytes (``--target-bytes``).
+        target_psnr: search for the fewest bytes reaching this tone-mapped PSNR
+            in dB (``--target-psnr``).  Give at most one target.
+        mask: with an array, True where a bin was not measured.
+        source_name: recorded in the file's metadata; defaults to the input file's
+            name (as ``cbrdf encode`` records it), or nothing for arrays.
+
+    Returns:
+        The .cbrdf file's bytes.
+
+    Raises:
+        Error: an option out of range (``exit_code`` 2, the message naming the
+            option and its valid values) or a table the encoder refuses (``exit_code`` 1).
+
+    The GIL is released while fitting.
+    """
+    t = _to_table(table, mask)
+    return _cbrdf._encode(t, bits, components, slices, family, loss, level, placement,
+                          bool(naive_marginals), threads, target_bytes, target_psnr, source_name)
+
+
+class Component:
+    """One copula term of a slice channel: K c(F1, F2, F3; theta) f1 f2 f3.
+
+    Attributes:
+        family: the copula family (``"frank"``, ``"clayton"``, ...).
+        theta: the family's parameter in its own convention.
+        scale: K, the term's sum over the slice's bins (physical units).
+        pdf_h, pdf_d, pdf_p: the marginal probability masses per bin (theta_h: 90,
+            theta_d: the slice's width, phi_d: 180), each summing to 1.
+    """
+
+    __slots__ = ("family", "theta", "scale", "pdf_h", "pdf_d", "pdf_p")
+
+    def __init__(self, d: dict) -> None:
+        for k in self.__slots__:
+            setattr(self, k, d[k])
+
+    def __repr__(self) -> str:
+        return f"Component(family={self.family!r}, theta={self.theta:.6g}, scale={self.scale:.6g})"
+
+
+class Channel:
+    """One colour channel of a slice: a list of :class:`Component` (more than one in a mixture).
+
+    ``family``, ``theta`` and ``scale`` are those of the first component (what
+    ``cbrdf info`` shows).
+    """
+
+    __slots__ = ("components",)
+
+    def __init__(self, comps: list) -> None:
+        self.components = [Component(c) for c in comps]
+
+    family = property(lambda self: self.components[0].family)
+    theta = property(lambda self: self.components[0].theta)
+    scale = property(lambda self: self.components[0].scale)
+
+    def __repr__(self) -> str:
+        extra = f", components={len(self.components)}" if len(self.components) > 1 else ""
+        return f"Channel(family={self.family!r}, theta={self.theta:.6g}, scale={self.scale:.6g}{extra})"
+
+
+class Slice:
+    """A theta_d slice of the model: bins ``theta_d_begin`` to ``theta_d_end - 1``.
+
+    Attributes:
+        theta_d_begin, theta_d_end: the slice's theta_d bins (1 degree each).
+        channels: three :class:`Channel` (R, G, B).
+    """
+
+    __slots__ = ("theta_d_begin", "theta_d_end", "channels")
+
+    def __init__(self, d: dict) -> None:
+        self.theta_d_begin = d["theta_d_begin"]
+        self.theta_d_end = d["theta_d_end"]
+        self.channels = [Channel(c) for c in d["channels"]]
+
+    def __repr__(self) -> str:
+        fams = "/".join(c.family for c in self.channels)
+        return f"Slice(theta_d={self.theta_d_begin}-{self.theta_d_end - 1}, {fams})"
+
+
+class Model(_cbrdf._Model):
+    """A decoded .cbrdf model, ready to evaluate (``cbrdf::ModelEvaluator``).
+
+    Make one with :func:`decode`.  A Model holds a few hundred kilobytes; free it
+    early with :meth:`close` or a ``with`` block.  Every method is thread-safe;
+    the batch methods release the GIL.
+
+    Directions are unit vectors in the local frame (z = the normal), as arrays of
+    shape (N, 3) or a single (3,) vector (broadcast against the other argument).
+
+    Properties: ``info`` (the dict ``cbrdf info --json`` prints), ``slices``
+    (:class:`Slice` list), ``bits``, ``version``, ``nbytes`` (the file's size),
+    ``not_measured_bins``, ``footprint_bytes`` (the evaluator's tables), ``file``
+    (the path, or None), ``closed``.
+    """
+
+    @property
+    def slices(self) -> list:
+        """The slices with their families, parameters, scales and marginals."""
+        return [Slice(s) for s in self._slices]
+
+    def table(self, *, units: str = "physical") -> _np.ndarray:
+        """The full MERL table (as ``cbrdf decode -o`` writes it).
+
+        Model values at measured bins; not-measured bins are NaN (physical) or the
+        source's stored values bit for bit (``units="stored"``).  Returns a
+        :class:`MerlArray`, so ``write_merl(path, model.table())`` writes the same
+        bytes as ``cbrdf decode``.
+        """
+        _check_units(units)
+        physical, stored = self._table_arrays()
+        if units == "stored":
+            return stored
+        return _physical_array((physical, stored))
+
+    def eval(self, wi: _Any, wo: _Any, threads: int = 0) -> _np.ndarray:  # noqa: D401
+        """The BRDF value (physical RGB, 1/sr) at direction pairs.
+
+        Args:
+            wi, wo: (N, 3) arrays of unit vectors (or one (3,) vector, broadcast).
+            threads: at most this many threads (0: the library's limit).  Batches
+                above 8192 pairs are split over the library's thread pool.
+
+        Returns:
+            (N, 3) (or (3,) for two single vectors).  When both inputs are float32
+            the float32 evaluator (``eval_f32``) is used and the result is float32;
+            otherwise float64 from ``ModelEvaluator::eval``, equal to it bit for bit.
+            0 at or below the horizon.
+
+        Raises:
+            Error: a direction that is not a finite unit vector (|w|^2 within 1e-3
+                of 1), naming its index; mismatched lengths or shapes.
+        """
+        return super().eval(wi, wo, threads)
+
+    def eval_pair(self, wi: _Any, wo: _Any) -> tuple:
+        """One pair through ``ModelEvaluator::eval`` directly: an (r, g, b) tuple (a reference
+        for :meth:`eval`, which is equal to it bit for bit)."""
+        return super().eval_pair(wi, wo)
+
+    def sample(self, wo: _Any, u: _Any, threads: int = 0) -> tuple:
+        """Importance-sample incident directions (``cbrdf::BrdfSampler``, default settings).
+
+        Args:
+            wo: (N, 3) outgoing unit vectors (or one (3,) vector).
+            u: (N, 2) uniform numbers in [0, 1) (clamped into it).
+
+        Returns:
+            ``(wi, pdf, weight)``: wi (N, 3) unit vectors, pdf (N,) per unit solid
+            angle, weight (N, 3) = f(wi, wo) * cos(theta_i) / pdf.  A rejected
+            sample (wo at or below the horizon, or wi reflected below it) has
+            wi = 0, pdf = 0 and weight = 0.  As ``cbrdf_model_sample_batch``.
+        """
+        return super().sample(wo, u, threads)
+
+    def pdf(self, wo: _Any, wi: _Any, threads: int = 0) -> _np.ndarray:
+        """The sampler's density of drawing wi given wo (note the order), 0 below the horizon."""
+        return super().pdf(wo, wi, threads)
+
+    def bin_value(self, channel: _Any, theta_h: _Any, theta_d: _Any, phi_d: _Any):
+        """The model's physical value at MERL bins (``ModelEvaluator::bin_value``).
+
+        Arguments are integers or integer arrays (broadcast together): channel
+        0-2, theta_h 0-89, theta_d 0-89, phi_d 0-179.  Ignores the not-measured
+        mask.  Returns a float or a float64 array.
+        """
+        return super().bin_value(channel, theta_h, theta_d, phi_d)
+
+    def write_merl(self, path: _Any) -> None:
+        """Write the model's table as a MERL .binary, byte-identical to ``cbrdf decode -o``."""
+        super().write_merl(_fspath(path))
+
+    def __enter__(self) -> "Model":
+        return self
+
+    def __exit__(self, *exc: _Any) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        if self.closed:
+            return "<cbrdf.Model (closed)>"
+        src = f" {self.file!r}" if self.file is not None else ""
+        return (f"<cbrdf.Model{src}: version {self.version[0]}.{self.version[1]}, "
+                f"{self.nbytes} bytes, {len(self._slices)} slices, {self.bits} bits>")
+
+
+def decode(source: _Any) -> Model:
+    """Decode a .cbrdf file (a path, or its bytes) into a :class:`Model`.
+
+    Runs the library's full validation (signature, version, chunk bounds,
+    checksums, limits, every payload).
+
+    Raises:
+        Error: with the code and message ``cbrdf decode`` reports (e.g. code
+            ``ErrorCode.CHECKSUM``, "x.cbrdf: chunk 'MARG' at offset 64: ...").
+    """
+    if isinstance(source, (bytes, bytearray, memoryview)):
+        return Model(bytes(source))
+    return Model(_fspath(source))
+
+
+def info(source: _Any) -> dict:
+    """What ``cbrdf info --json`` prints for a .cbrdf or MERL .binary (a path or bytes), as a dict.
+
+    ``json.loads(subprocess.check_output(["cbrdf", "info", "--json", path]))``
+    equals ``cbrdf.info(path)`` (for bytes ``file`` is None).
+    """
+    if isinstance(source, (bytes, bytearray, memoryview)):
+        return _cbrdf._info_bytes(source)
+    return _cbrdf._info_path(_fspath(source))
+
+
+def _metric_table(x: _Any):
+    return _to_table(x)
+
+
+def sphere_metrics(reference: _Any, test: _Any, *, size: int = 256,
+                   light_angles: tuple = (10.0, 45.0, 75.0)) -> dict:
+    """Sphere-image PSNRs of ``test`` against ``reference`` (``cbrdf::sphere_psnr``).
+
+    Both are tables (arrays, paths to .binary files) or :class:`Model` objects
+    (measured through their decoded table, as ``cbrdf encode`` and the report
+    do).  The defaults are the report's (256 pixels, lights at 10, 45, 75 deg).
+
+    Returns:
+        ``{"psnr_linear", "psnr_tonemapped", "per_light": [{"light_angle_deg",
+        "psnr_linear": (r, g, b), "psnr_tonemapped": (r, g, b), "exposure"}]}``;
+        means over lights and channels in dB, capped at 100 dB.
+    """
+    return _cbrdf._sphere_metrics(_metric_table(reference), _metric_table(test), int(size),
+                                  [float(a) for a in light_angles])
+
+
+def sphere_psnr(reference: _Any, test: _Any, tonemapped: bool = True, *, size: int = 256,
+                light_angles: tuple = (10.0, 45.0, 75.0)) -> float:
+    """The report's sphere PSNR in dB: tone-mapped (default) or linear.
+
+    What ``cbrdf encode`` prints as "sphere PSNR of the decoded file against the
+    input" and the report's ``psnr_tonemapped`` / ``psnr_linear`` columns.  See
+    :func:`sphere_metrics` for the arguments.
+    """
+    m = sphere_metrics(reference, test, size=size, light_angles=light_angles)
+    return m["psnr_tonemapped"] if tonemapped else m["psnr_linear"]
+
+
+def brdf_metrics(reference: _Any, test: _Any) -> dict:
+    """The report's BRDF-space errors over the reference's measured bins (``cbrdf::brdf_metrics``).
+
+    Returns:
+        ``{"rel_rmse", "log_rmse", "cos_rmse"}`` (means over channels, the
+        report's columns), the per-channel ``"rel_rmse_rgb"``, ``"log_rmse_rgb"``,
+        ``"cos_rmse_rgb"`` and ``"bins"`` (measured bins per channel).
+    """
+    return _cbrdf._brdf_metrics(_metric_table(reference), _metric_table(test))
+
+
+def render_sphere(brdf: _Any, light_angle_deg: float = 45.0, *, size: int = 256) -> _np.ndarray:
+    """The metrics' sphere image: a (size, size, 3) float32 linear radiance image.
+
+    A table (array or path) is looked up at the nearest bin; a :class:`Model` is
+    evaluated continuously (``ModelEvaluator::eval``).  View along -z, one light
+    at ``light_angle_deg`` from the view direction (see ``cbrdf/metrics.h``).
+    """
+    if isinstance(brdf, _cbrdf._Model):
+        return brdf._render(float(light_angle_deg), int(size))
+    return _cbrdf._render_table(_metric_table(brdf), float(light_angle_deg), int(size))
+
+
+def nearest_bin(wi: _Any, wo: _Any) -> tuple:
+    """The MERL bins of direction pairs: ``(theta_h, theta_d, phi_d)`` int64 index arrays.
+
+    The reference MERL reader's nearest-bin lookup (``cbrdf::nearest_bin``), so
+    ``table[:, h, d, p].T`` is the table's value at the pairs.
+    """
+    return _cbrdf.nearest_bin(wi, wo)
+
+
+def bin_directions(theta_h: _Any, theta_d: _Any, phi_d: _Any) -> tuple:
+    """The direction pairs ``(wi, wo)`` at MERL bins' grid angles (phi_h = 0).
+
+    Arguments are integer indices (arrays broadcast together); the results have
+    their shape plus a trailing 3.  theta_h = (i/90)^2 * 90 deg, theta_d = j deg,
+    phi_d = k deg: where ``Model.eval`` equals ``Model.bin_value`` up to rounding.
+    """
+    return _cbrdf.bin_directions(theta_h, theta_d, phi_d)
+
+
+def set_thread_limit(n: int) -> None:
+    """Cap the threads every parallel loop uses (fitting, eval, metrics); 0 = one per core."""
+    _cbrdf.set_thread_limit(int(n))
+
+
+def thread_limit() -> int:
+    """The thread limit in force."""
+    return _cbrdf.thread_limit()

@@ -1,0 +1,223 @@
+# SPDX-License-Identifier: MIT
+# Type stubs for the cbrdf module (docstrings: help(cbrdf.<name>)).
+import os
+from typing import Any, Literal, Sequence, TypedDict, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+MERL_SCALE: tuple[float, float, float]
+SHAPE: tuple[int, int, int, int]
+CONTAINER_VERSION: tuple[int, int]
+
+_Path = Union[str, os.PathLike[str]]
+_Bytes = Union[bytes, bytearray, memoryview]
+_Units = Literal["physical", "stored"]
+_Count = Union[int, Literal["auto"]]
+_Dirs = npt.ArrayLike
+
+class ErrorCode:
+    OK: int
+    IO: int
+    NOT_FOUND: int
+    TRUNCATED: int
+    BAD_SIGNATURE: int
+    UNSUPPORTED: int
+    CORRUPT: int
+    CHECKSUM: int
+    LIMIT: int
+    INVALID_ARGUMENT: int
+    NUMERIC: int
+    INTERNAL: int
+    NAMES: dict[int, str]
+
+class Error(ValueError):
+    message: str
+    code: int
+    code_name: str
+    exit_code: int
+    def __init__(
+        self, message: str, code: int = ..., code_name: str | None = ..., exit_code: int = ...
+    ) -> None: ...
+
+class MerlArray(np.ndarray[Any, np.dtype[np.float64]]):
+    stored: np.ndarray[Any, np.dtype[np.float64]] | None
+    def __new__(
+        cls, physical: npt.ArrayLike, stored: np.ndarray[Any, np.dtype[np.float64]] | None = ...
+    ) -> MerlArray: ...
+
+class _ChunkInfo(TypedDict):
+    tag: str
+    offset: int
+    stored_bytes: int
+    payload_bytes: int
+    compressed: bool
+    critical: bool
+    known: bool
+
+class _ChannelInfo(TypedDict):
+    family: str
+    theta: float
+    scale: float
+    components: int
+
+class _SliceInfo(TypedDict):
+    theta_d_bins: list[int]
+    channels: list[_ChannelInfo]
+
+class ContainerInfo(TypedDict, total=False):
+    file: str | None
+    format: Literal["cbrdf"]
+    version: list[int]
+    bytes: int
+    chunks: list[_ChunkInfo]
+    bits: int
+    colour_scale: list[float]
+    not_measured_bins: int
+    evaluator_bytes: int
+    slices: list[_SliceInfo]
+    metadata: dict[str, str]
+
+class _MerlChannelStats(TypedDict):
+    measured: int
+    not_measured: int
+    zeros: int
+    min: float
+    max: float
+    mean: float
+
+class MerlInfo(TypedDict):
+    file: str | None
+    format: Literal["merl"]
+    dims: list[int]
+    folded_from_360: bool
+    mask_matches_horizon: bool
+    channels: dict[str, _MerlChannelStats]
+
+class _LightMetrics(TypedDict):
+    light_angle_deg: float
+    psnr_linear: tuple[float, float, float]
+    psnr_tonemapped: tuple[float, float, float]
+    exposure: float
+
+class SphereMetrics(TypedDict):
+    psnr_linear: float
+    psnr_tonemapped: float
+    per_light: list[_LightMetrics]
+
+class BrdfMetrics(TypedDict):
+    rel_rmse: float
+    log_rmse: float
+    cos_rmse: float
+    rel_rmse_rgb: tuple[float, float, float]
+    log_rmse_rgb: tuple[float, float, float]
+    cos_rmse_rgb: tuple[float, float, float]
+    bins: tuple[int, int, int]
+
+class Component:
+    family: str
+    theta: float
+    scale: float
+    pdf_h: np.ndarray[Any, np.dtype[np.float64]]
+    pdf_d: np.ndarray[Any, np.dtype[np.float64]]
+    pdf_p: np.ndarray[Any, np.dtype[np.float64]]
+
+class Channel:
+    components: list[Component]
+    @property
+    def family(self) -> str: ...
+    @property
+    def theta(self) -> float: ...
+    @property
+    def scale(self) -> float: ...
+
+class Slice:
+    theta_d_begin: int
+    theta_d_end: int
+    channels: list[Channel]
+
+class Model:
+    def __init__(self, source: _Path | _Bytes) -> None: ...
+    @property
+    def info(self) -> ContainerInfo: ...
+    @property
+    def slices(self) -> list[Slice]: ...
+    @property
+    def file(self) -> str | None: ...
+    @property
+    def closed(self) -> bool: ...
+    @property
+    def bits(self) -> int: ...
+    @property
+    def version(self) -> tuple[int, int]: ...
+    @property
+    def nbytes(self) -> int: ...
+    @property
+    def not_measured_bins(self) -> int: ...
+    @property
+    def footprint_bytes(self) -> int: ...
+    def table(self, *, units: _Units = ...) -> np.ndarray[Any, np.dtype[np.float64]]: ...
+    @overload
+    def eval(
+        self, wi: npt.NDArray[np.float32], wo: npt.NDArray[np.float32], threads: int = ...
+    ) -> npt.NDArray[np.float32]: ...
+    @overload
+    def eval(self, wi: _Dirs, wo: _Dirs, threads: int = ...) -> npt.NDArray[np.float64]: ...
+    def eval_pair(self, wi: _Dirs, wo: _Dirs) -> tuple[float, float, float]: ...
+    def sample(
+        self, wo: _Dirs, u: npt.ArrayLike, threads: int = ...
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+    def pdf(self, wo: _Dirs, wi: _Dirs, threads: int = ...) -> npt.NDArray[np.float64]: ...
+    def bin_value(
+        self, channel: npt.ArrayLike, theta_h: npt.ArrayLike, theta_d: npt.ArrayLike,
+        phi_d: npt.ArrayLike
+    ) -> Any: ...
+    def write_merl(self, path: _Path) -> None: ...
+    def close(self) -> None: ...
+    def __enter__(self) -> Model: ...
+    def __exit__(self, *exc: object) -> None: ...
+
+_TableLike = Union[npt.ArrayLike, _Path, _Bytes, Model]
+
+def read_merl(source: _Path | _Bytes, *, units: _Units = ...) -> np.ndarray[Any, np.dtype[np.float64]]: ...
+def write_merl(
+    path: _Path, table: _TableLike, mask: npt.ArrayLike | None = ..., *, units: _Units = ...,
+    not_measured_value: float = ...
+) -> None: ...
+def merl_bytes(
+    table: _TableLike, mask: npt.ArrayLike | None = ..., *, units: _Units = ...,
+    not_measured_value: float = ...
+) -> bytes: ...
+def samples() -> list[tuple[str, str]]: ...
+def sample(name: str, *, units: _Units = ...) -> np.ndarray[Any, np.dtype[np.float64]]: ...
+def encode(
+    table: _TableLike, *, bits: int = ..., components: _Count = ..., slices: _Count = ...,
+    family: Literal["frank", "clayton", "gumbel", "joe", "independence", "auto"] = ...,
+    loss: Literal["linear", "cosine", "log"] = ..., level: int = ...,
+    placement: Literal["uniform", "adaptive"] = ..., naive_marginals: bool = ...,
+    threads: int = ..., target_bytes: float | None = ..., target_psnr: float | None = ...,
+    mask: npt.ArrayLike | None = ..., source_name: str | None = ...
+) -> bytes: ...
+def decode(source: _Path | _Bytes) -> Model: ...
+def info(source: _Path | _Bytes) -> Union[ContainerInfo, MerlInfo]: ...
+def sphere_metrics(
+    reference: _TableLike, test: _TableLike, *, size: int = ...,
+    light_angles: Sequence[float] = ...
+) -> SphereMetrics: ...
+def sphere_psnr(
+    reference: _TableLike, test: _TableLike, tonemapped: bool = ..., *, size: int = ...,
+    light_angles: Sequence[float] = ...
+) -> float: ...
+def brdf_metrics(reference: _TableLike, test: _TableLike) -> BrdfMetrics: ...
+def render_sphere(
+    brdf: _TableLike, light_angle_deg: float = ..., *, size: int = ...
+) -> npt.NDArray[np.float32]: ...
+def nearest_bin(
+    wi: _Dirs, wo: _Dirs
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.int64]]: ...
+def bin_directions(
+    theta_h: npt.ArrayLike, theta_d: npt.ArrayLike, phi_d: npt.ArrayLike
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def set_thread_limit(n: int) -> None: ...
+def thread_limit() -> int: ...

@@ -1,0 +1,1117 @@
+// SPDX-License-Identifier: MIT
+// The `cbrdf._cbrdf` Python extension: MERL tables as NumPy arrays, encode/decode, the model's
+// evaluation and sampling (vectorized, GIL released, threaded), the report's metrics. The public
+// Python API is tools/python/cbrdf/__init__.py; this file holds the C++ half and raises
+// cbrdf.Error (set by __init__.py through _set_error_class) for every Status the library returns.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cbrdf/codec.h"
+#include "cbrdf/container.h"
+#include "cbrdf/coords.h"
+#include "cbrdf/encoder.h"
+#include "cbrdf/file_io.h"
+#include "cbrdf/merl_io.h"
+#include "cbrdf/metrics.h"
+#include "cbrdf/model.h"
+#include "cbrdf/parallel.h"
+#include "cbrdf/parallel_for.h"
+#include "cbrdf/rate_control.h"
+#include "cbrdf/samples.h"
+#include "cbrdf/sampling.h"
+#include "cbrdf/version.h"
+
+namespace py = pybind11;
+
+namespace cbrdf::python {
+namespace {
+
+// ---- Errors ---------------------------------------------------------------------------------
+
+// cbrdf.Error (a ValueError subclass defined in __init__.py); ValueError until it is set.
+py::object& error_class() {
+  static py::object* cls = new py::object(py::reinterpret_borrow<py::object>(PyExc_ValueError));
+  return *cls;
+}
+
+// Raises cbrdf.Error(message, code, code_name, exit_code): exit_code is what `cbrdf` would exit
+// with (1 bad data, 2 bad usage).
+[[noreturn]] void raise_status(const Status& s, int exit_code = 1) {
+  py::object cls = error_class();
+  py::object inst;
+  if (cls.ptr() == PyExc_ValueError) {
+    inst = cls(s.message());
+  } else {
+    inst = cls(s.message(), int(s.code()), error_code_name(s.code()), exit_code);
+  }
+  PyErr_SetObject(cls.ptr(), inst.ptr());
+  throw py::error_already_set();
+}
+
+[[noreturn]] void raise_invalid(const std::string& message, int exit_code = 1) {
+  raise_status(error(ErrorCode::kInvalidArgument, message), exit_code);
+}
+
+template <typename T>
+T take(Expected<T>&& e, const std::string& context = {}) {
+  if (!e.ok()) raise_status(context.empty() ? e.status() : e.status().with_context(context));
+  return std::move(e).value();
+}
+
+// Text that may hold bytes that are not UTF-8 (file names, metadata of old files): invalid
+// bytes become U+FFFD, as `cbrdf info --json` prints them.
+py::str utf8(const std::string& s) {
+  PyObject* o = PyUnicode_DecodeUTF8(s.data(), Py_ssize_t(s.size()), "replace");
+  if (o == nullptr) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(o);
+}
+
+std::vector<std::uint8_t> bytes_of(const py::buffer& b) {
+  // Any contiguous buffer: its bytes are what count.
+  py::buffer_info info = b.request();
+  const auto* p = static_cast<const std::uint8_t*>(info.ptr);
+  const std::size_t n = std::size_t(info.size) * std::size_t(info.itemsize);
+  return std::vector<std::uint8_t>(p, p + n);
+}
+
+// ---- Tables <-> arrays ----------------------------------------------------------------------
+
+constexpr std::size_t kTableValues = std::size_t(kChannels) * kBinsPerChannel;
+
+using F64Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using F32Array = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using BoolArray = py::array_t<bool, py::array::c_style | py::array::forcecast>;
+
+F64Array new_table_array() {
+  return F64Array(std::vector<py::ssize_t>{kChannels, kThetaHBins, kThetaDBins, kPhiDBins});
+}
+
+void check_table_shape(const py::array& a, const char* what) {
+  const bool ok = a.ndim() == 4 && a.shape(0) == kChannels && a.shape(1) == kThetaHBins &&
+                  a.shape(2) == kThetaDBins && a.shape(3) == kPhiDBins;
+  if (!ok) {
+    std::string shape = "(";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) {
+      shape += (i ? ", " : "") + std::to_string(a.shape(i));
+    }
+    shape += a.ndim() == 1 ? ",)" : ")";
+    raise_invalid(std::string(what) + " must have the shape (3, 90, 90, 180) (channel, theta_h, " +
+                  "theta_d, phi_d), not " + shape);
+  }
+}
+
+std::string bin_name(std::size_t flat) {
+  const int c = int(flat / kBinsPerChannel);
+  const BinIndex b = merl_bin(flat % kBinsPerChannel);
+  return "[" + std::to_string(c) + ", " + std::to_string(b.theta_h) + ", " +
+         std::to_string(b.theta_d) + ", " + std::to_string(b.phi_d) + "]";
+}
+
+void check_not_measured_value(double v) {
+  if (!(v < 0.0) && !std::isnan(v)) {
+    raise_invalid(
+        "not_measured_value must be negative or NaN (what MERL files store for bins "
+        "that were not measured), not " +
+        std::to_string(v));
+  }
+}
+
+// The physical array (NaN where not measured) and the stored one (the file's values, bit for bit).
+std::pair<F64Array, F64Array> table_arrays(const BrdfTable& t) {
+  F64Array physical = new_table_array();
+  F64Array stored = new_table_array();
+  double* p = physical.mutable_data();
+  double* s = stored.mutable_data();
+  const double* src = t.stored_values().data();
+  std::memcpy(s, src, kTableValues * sizeof(double));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int c = 0; c < kChannels; ++c) {
+    const double scale = kMerlScale[std::size_t(c)];
+    const std::size_t o = std::size_t(c) * kBinsPerChannel;
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      const double v = src[o + i];
+      p[o + i] = v >= 0.0 ? v * scale : nan;
+    }
+  }
+  return {std::move(physical), std::move(stored)};
+}
+
+// Physical values (NaN or mask = not measured) back to a table. `companion` holds stored values
+// the array came from (cbrdf.MerlArray.stored): a bin whose physical value is still exactly
+// companion * scale gets the companion's bits back, so an unmodified array is written byte for
+// byte; other bins get value / scale, as BrdfTable::set_physical computes it.
+BrdfTable table_from_physical(const F64Array& physical, const std::optional<BoolArray>& mask,
+                              const std::optional<F64Array>& companion, double not_measured_value) {
+  check_table_shape(physical, "the table");
+  if (mask) check_table_shape(*mask, "the mask");
+  if (companion) check_table_shape(*companion, "the stored companion");
+  check_not_measured_value(not_measured_value);
+  BrdfTable t;
+  double* out = t.stored_values().data();
+  const double* p = physical.data();
+  const bool* m = mask ? mask->data() : nullptr;
+  const double* comp = companion ? companion->data() : nullptr;
+  for (int c = 0; c < kChannels; ++c) {
+    const double scale = kMerlScale[std::size_t(c)];
+    const std::size_t o = std::size_t(c) * kBinsPerChannel;
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      const std::size_t k = o + i;
+      const double v = p[k];
+      const bool not_measured = m ? m[k] : std::isnan(v);
+      if (not_measured) {
+        out[k] = comp && !(comp[k] >= 0.0) ? comp[k] : not_measured_value;
+        continue;
+      }
+      if (std::isnan(v) || std::isinf(v) || v < 0.0) {
+        raise_status(error(ErrorCode::kNumeric,
+                           "the table holds " + std::to_string(v) + " at " + bin_name(k) +
+                               " (a measured value must be finite and >= 0; mark bins that were "
+                               "not measured with NaN or the mask)"));
+      }
+      if (comp && comp[k] >= 0.0 && comp[k] * scale == v &&
+          std::signbit(comp[k]) == std::signbit(v)) {
+        out[k] = comp[k];
+      } else {
+        out[k] = v / scale;
+      }
+    }
+  }
+  return t;
+}
+
+// Stored values as a file holds them (negative or NaN = not measured), mask bins set to
+// not_measured_value.
+BrdfTable table_from_stored(const F64Array& stored, const std::optional<BoolArray>& mask,
+                            double not_measured_value) {
+  check_table_shape(stored, "the table");
+  if (mask) check_table_shape(*mask, "the mask");
+  check_not_measured_value(not_measured_value);
+  BrdfTable t;
+  double* out = t.stored_values().data();
+  const double* s = stored.data();
+  const bool* m = mask ? mask->data() : nullptr;
+  for (std::size_t k = 0; k < kTableValues; ++k) {
+    if (m && m[k]) {
+      out[k] = not_measured_value;
+      continue;
+    }
+    if (std::isinf(s[k]) && s[k] > 0) {
+      raise_status(error(ErrorCode::kNumeric, "the table holds +inf at " + bin_name(k) +
+                                                  " (refused, as read_merl refuses it)"));
+    }
+    out[k] = s[k];
+  }
+  return t;
+}
+
+// An opaque table for the Python layer (cbrdf._Table): what encode, the metrics and write_merl
+// take, made from arrays, a file or a built-in sample.
+struct PyTable {
+  BrdfTable table;
+  std::string source_name;  // the file name `cbrdf encode` records, when read from a file
+  std::string name;         // the path as given, prefixed to encode's errors as the command does
+};
+
+PyTable read_table(const std::string& path) {
+  PyTable t;
+  t.table = take(read_merl(path));
+  t.source_name = std::filesystem::path(path).filename().string();
+  t.name = path;
+  return t;
+}
+
+// ---- Info dictionaries (exactly `cbrdf info --json`) ----------------------------------------
+
+template <typename T>
+py::list list_of(std::initializer_list<T> values) {
+  py::list l;
+  for (const T& v : values) l.append(v);
+  return l;
+}
+
+py::dict container_info_dict(const ContainerInfo& info, std::size_t evaluator_bytes,
+                             const py::object& file) {
+  py::dict j;
+  j["file"] = file;
+  j["format"] = "cbrdf";
+  j["version"] = list_of({info.layout.major, info.layout.minor});
+  j["bytes"] = info.layout.file_bytes;
+  py::list chunks;
+  for (const ChunkInfo& c : info.layout.chunks) {
+    py::dict d;
+    d["tag"] = utf8(c.tag);
+    d["offset"] = c.offset;
+    d["stored_bytes"] = c.stored_bytes;
+    d["payload_bytes"] = c.payload_bytes;
+    d["compressed"] = c.compressed;
+    d["critical"] = c.critical;
+    d["known"] = c.known;
+    chunks.append(d);
+  }
+  if (!chunks.empty()) j["chunks"] = chunks;
+  j["bits"] = info.bits;
+  j["colour_scale"] = list_of({info.colour_scale[0], info.colour_scale[1], info.colour_scale[2]});
+  j["not_measured_bins"] = info.not_measured_bins;
+  j["evaluator_bytes"] = evaluator_bytes;
+  py::list slices;
+  for (const SliceParams& s : info.slices) {
+    py::dict js;
+    js["theta_d_bins"] = list_of({s.theta_d_begin, s.theta_d_end});
+    py::list channels;
+    for (std::size_t c = 0; c < std::size_t(kChannels); ++c) {
+      py::dict jc;
+      jc["family"] = std::string(family_name(s.family[c]));
+      jc["theta"] = s.theta[c];
+      jc["scale"] = s.scale[c];
+      jc["components"] = s.components[c];
+      channels.append(jc);
+    }
+    js["channels"] = channels;
+    slices.append(js);
+  }
+  if (!slices.empty()) j["slices"] = slices;
+  if (!info.metadata.empty()) {
+    py::dict meta;
+    for (const auto& [k, v] : info.metadata) meta[utf8(k)] = utf8(v);
+    j["metadata"] = meta;
+  }
+  return j;
+}
+
+py::dict merl_info_dict(const BrdfTable& table, const MerlInfo& mi, const py::object& file) {
+  const MerlStats st = merl_stats(table);
+  const HorizonMaskCheck hm = check_horizon_mask(table);
+  static const char* kNames[] = {"R", "G", "B"};
+  py::dict j;
+  j["file"] = file;
+  j["format"] = "merl";
+  j["dims"] = list_of({mi.dims[0], mi.dims[1], mi.dims[2]});
+  j["folded_from_360"] = mi.folded_from_360;
+  j["mask_matches_horizon"] = hm.matches();
+  py::dict channels;
+  for (std::size_t c = 0; c < std::size_t(kChannels); ++c) {
+    const MerlChannelStats& s = st.channel[c];
+    py::dict d;
+    d["measured"] = s.measured;
+    d["not_measured"] = s.not_measured;
+    d["zeros"] = s.zeros;
+    d["min"] = s.min;
+    d["max"] = s.max;
+    d["mean"] = s.mean;
+    channels[kNames[c]] = d;
+  }
+  j["channels"] = channels;
+  return j;
+}
+
+bool is_container(const std::vector<std::uint8_t>& bytes) {
+  return bytes.size() >= kContainerSignature.size() &&
+         std::equal(kContainerSignature.begin(), kContainerSignature.end(), bytes.begin());
+}
+
+// `cbrdf info --json` for the bytes of a .cbrdf or a .binary; `name` prefixes error messages.
+py::dict info_of_bytes(const std::vector<std::uint8_t>& bytes, const std::string& name,
+                       const py::object& file) {
+  if (is_container(bytes)) {
+    auto info = take(inspect_container(bytes), name);
+    auto model = take(decode_model(bytes), name);
+    const std::size_t evaluator_bytes = ModelEvaluator(std::move(model)).footprint_bytes();
+    return container_info_dict(info, evaluator_bytes, file);
+  }
+  MerlInfo mi;
+  auto table = take(parse_merl(bytes, name, {}, &mi));
+  return merl_info_dict(table, mi, file);
+}
+
+// ---- Directions -----------------------------------------------------------------------------
+
+// How far a direction's squared length may be from 1 (as the C API: float directions pass).
+constexpr double kUnitTolerance = 1e-3;
+
+// A batch of 3-vectors: (N, 3) or a single (3,) broadcast to every row.
+template <typename T>
+struct Dirs {
+  py::array_t<T, py::array::c_style | py::array::forcecast> array;
+  const T* data = nullptr;
+  std::size_t n = 0;
+  bool single = false;
+  std::size_t width = 3;  // values per row: 3 for directions, 2 for u pairs
+  const T* at(std::size_t k) const { return single ? data : data + width * k; }
+};
+
+template <typename T>
+Dirs<T> dirs_of(const py::handle& obj, const char* name, std::size_t width = 3) {
+  Dirs<T> d;
+  d.array = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(obj);
+  if (!d.array) {
+    PyErr_Clear();
+    raise_invalid(std::string(name) + " must be an array of numbers");
+  }
+  const py::ssize_t w = py::ssize_t(width);
+  d.width = width;
+  if (d.array.ndim() == 1 && d.array.shape(0) == w) {
+    d.single = true;
+    d.n = 1;
+  } else if (d.array.ndim() == 2 && d.array.shape(1) == w) {
+    d.n = std::size_t(d.array.shape(0));
+  } else {
+    raise_invalid(std::string(name) + " must have the shape (N, " + std::to_string(width) +
+                  ") or (" + std::to_string(width) + ",)");
+  }
+  d.data = d.array.data();
+  return d;
+}
+
+// The number of rows of a batch of arguments: equal, or 1 for broadcast singles.
+std::size_t batch_rows(std::initializer_list<std::pair<std::size_t, bool>> parts,
+                       const char* what) {
+  std::size_t n = 0;
+  bool any = false;
+  for (const auto& [rows, single] : parts) {
+    if (single) continue;
+    if (any && rows != n) {
+      raise_invalid(std::string(what) + ": the arrays have different lengths (" +
+                    std::to_string(n) + " and " + std::to_string(rows) + ")");
+    }
+    n = rows;
+    any = true;
+  }
+  return any ? n : 1;
+}
+
+template <typename T>
+void check_directions(const Dirs<T>& d, std::size_t n, const char* name) {
+  const std::size_t rows = d.single ? 1 : n;
+  for (std::size_t k = 0; k < rows; ++k) {
+    const T* w = d.at(k);
+    const double x = double(w[0]), y = double(w[1]), z = double(w[2]);
+    const bool finite = std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
+    if (finite && std::fabs(x * x + y * y + z * z - 1.0) <= kUnitTolerance) continue;
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "(%.9g, %.9g, %.9g)", x, y, z);
+    const std::string what =
+        d.single ? std::string(name) : std::string(name) + "[" + std::to_string(k) + "]";
+    raise_invalid(what + " must be a finite unit vector, not " + buf);
+  }
+}
+
+// body(begin, end) over [0, n) in blocks on the library's threads (inline for small n).
+template <typename Fn>
+void for_blocks(std::size_t n, int max_threads, const Fn& body) {
+  constexpr std::size_t kBlock = 4096;
+  if (n <= 2 * kBlock || max_threads == 1) {
+    body(std::size_t{0}, n);
+    return;
+  }
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  internal::parallel_for(int(std::min<std::size_t>(blocks, std::size_t(INT32_MAX))), max_threads,
+                         [&](int b) {
+                           const std::size_t begin = std::size_t(b) * kBlock;
+                           body(begin, std::min(n, begin + kBlock));
+                         });
+}
+
+Vec3 vec3(const double* w) {
+  return Vec3{w[0], w[1], w[2]};
+}
+
+// The MERL bins of direction pairs (the reference reader's nearest-bin lookup).
+py::tuple nearest_bins(const py::handle& wi_obj, const py::handle& wo_obj) {
+  const Dirs<double> wi = dirs_of<double>(wi_obj, "wi");
+  const Dirs<double> wo = dirs_of<double>(wo_obj, "wo");
+  const std::size_t n = batch_rows({{wi.n, wi.single}, {wo.n, wo.single}}, "nearest_bin");
+  check_directions(wi, n, "wi");
+  check_directions(wo, n, "wo");
+  const bool single = wi.single && wo.single;
+  const std::vector<py::ssize_t> shape =
+      single ? std::vector<py::ssize_t>{} : std::vector<py::ssize_t>{py::ssize_t(n)};
+  py::array_t<std::int64_t> h(shape), d(shape), p(shape);
+  std::int64_t* hp = h.mutable_data();
+  std::int64_t* dp = d.mutable_data();
+  std::int64_t* pp = p.mutable_data();
+  for (std::size_t k = 0; k < n; ++k) {
+    const BinIndex b = merl_bin(nearest_bin(vec3(wi.at(k)), vec3(wo.at(k))));
+    hp[k] = b.theta_h;
+    dp[k] = b.theta_d;
+    pp[k] = b.phi_d;
+  }
+  return py::make_tuple(h, d, p);
+}
+
+// The direction pair (wi, wo) at bins' grid angles (phi_h = 0), as the metrics and the table use.
+py::tuple bin_directions(const py::object& theta_h, const py::object& theta_d,
+                         const py::object& phi_d) {
+  py::module_ np = py::module_::import("numpy");
+  py::tuple b = np.attr("broadcast_arrays")(np.attr("asarray")(theta_h, "int64"),
+                                            np.attr("asarray")(theta_d, "int64"),
+                                            np.attr("asarray")(phi_d, "int64"));
+  using I64 = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+  const I64 h = I64::ensure(b[0]), d = I64::ensure(b[1]), p = I64::ensure(b[2]);
+  std::vector<py::ssize_t> shape(h.shape(), h.shape() + h.ndim());
+  shape.push_back(3);
+  py::array_t<double> wi(shape), wo(shape);
+  double* wip = wi.mutable_data();
+  double* wop = wo.mutable_data();
+  const auto n = std::size_t(h.size());
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::int64_t hh = h.data()[k], dd = d.data()[k], pp = p.data()[k];
+    if (hh < 0 || hh >= kThetaHBins || dd < 0 || dd >= kThetaDBins || pp < 0 || pp >= kPhiDBins) {
+      raise_invalid("bin (" + std::to_string(hh) + ", " + std::to_string(dd) + ", " +
+                    std::to_string(pp) + ") is outside the MERL grid (90, 90, 180)");
+    }
+    HalfDiff hd;
+    hd.theta_h = theta_h_of(double(hh));
+    hd.theta_d = theta_d_of(double(dd));
+    hd.phi_d = phi_d_of(double(pp));
+    Vec3 a, c;
+    from_half_diff(hd, &a, &c);
+    wip[3 * k] = a.x;
+    wip[3 * k + 1] = a.y;
+    wip[3 * k + 2] = a.z;
+    wop[3 * k] = c.x;
+    wop[3 * k + 1] = c.y;
+    wop[3 * k + 2] = c.z;
+  }
+  return py::make_tuple(wi, wo);
+}
+
+// ---- Model ----------------------------------------------------------------------------------
+
+struct PyModel {
+  std::shared_ptr<const ModelEvaluator> evaluator;
+  // The file's bytes (a few kilobytes), inspected on the first use of info, bits or version:
+  // inspect_container validates the whole file again, which costs as much as decoding it.
+  std::vector<std::uint8_t> bytes;
+  std::string name;
+  std::optional<ContainerInfo> info_cache;
+  py::object file = py::none();
+  std::mutex sampler_mutex;
+  std::shared_ptr<const BrdfSampler> sampler;
+
+  const ContainerInfo& info() {
+    if (!info_cache) info_cache = take(inspect_container(bytes), name);
+    return *info_cache;
+  }
+  std::shared_ptr<const ModelEvaluator> ev() const {
+    if (!evaluator) raise_invalid("the model is closed");
+    return evaluator;
+  }
+  std::shared_ptr<const BrdfSampler> get_sampler() {
+    auto e = ev();
+    std::lock_guard<std::mutex> lock(sampler_mutex);
+    if (!sampler) sampler = std::make_shared<const BrdfSampler>(make_model_sampler(e));
+    return sampler;
+  }
+};
+
+std::unique_ptr<PyModel> model_from_bytes(const std::vector<std::uint8_t>& bytes,
+                                          const std::string& name, py::object file) {
+  auto m = std::make_unique<PyModel>();
+  Expected<Model> model = Model{};
+  {
+    py::gil_scoped_release release;
+    model = decode_model(bytes);
+  }
+  m->evaluator = std::make_shared<const ModelEvaluator>(take(std::move(model), name));
+  m->bytes = bytes;
+  m->name = name;
+  m->file = std::move(file);
+  return m;
+}
+
+std::unique_ptr<PyModel> model_from_path(const std::string& path) {
+  auto bytes = take(read_file(path, kMaxContainerBytes));
+  return model_from_bytes(bytes, path, py::str(path));
+}
+
+template <typename T>
+py::array eval_batch(const ModelEvaluator& ev, const py::handle& wi_obj, const py::handle& wo_obj,
+                     int threads) {
+  const Dirs<T> wi = dirs_of<T>(wi_obj, "wi");
+  const Dirs<T> wo = dirs_of<T>(wo_obj, "wo");
+  const std::size_t n = batch_rows({{wi.n, wi.single}, {wo.n, wo.single}}, "eval");
+  check_directions(wi, n, "wi");
+  check_directions(wo, n, "wo");
+  py::array_t<T> out = wi.single && wo.single
+                           ? py::array_t<T>(std::vector<py::ssize_t>{3})
+                           : py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n), 3});
+  T* rgb = out.mutable_data();
+  {
+    py::gil_scoped_release release;
+    // Two (N, 3) float64 batches: the evaluator's batch path (vectorized stages, its own
+    // threads), equal to eval per pair bit for bit. (No Python object is touched here.)
+    bool done = false;
+    if constexpr (std::is_same_v<T, double>) {
+      if (!wi.single && !wo.single) {
+        ev.eval_batch(n, wi.data, wo.data, rgb, threads);
+        done = true;
+      }
+    }
+    if (!done)
+      for_blocks(n, threads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) {
+          if constexpr (std::is_same_v<T, float>) {
+            ev.eval_f32(wi.at(k), wo.at(k), rgb + 3 * k);
+          } else {
+            ev.eval(vec3(wi.at(k)), vec3(wo.at(k)), rgb + 3 * k);
+          }
+        }
+      });
+  }
+  return out;
+}
+
+bool is_float32(const py::handle& obj) {
+  if (!py::isinstance<py::array>(obj)) return false;
+  return py::reinterpret_borrow<py::array>(obj).dtype().is(py::dtype::of<float>());
+}
+
+py::array model_eval(PyModel& m, const py::handle& wi, const py::handle& wo, int threads) {
+  auto ev = m.ev();
+  if (is_float32(wi) && is_float32(wo)) return eval_batch<float>(*ev, wi, wo, threads);
+  return eval_batch<double>(*ev, wi, wo, threads);
+}
+
+py::tuple model_sample(PyModel& m, const py::handle& wo_obj, const py::handle& u_obj, int threads) {
+  auto ev = m.ev();
+  const Dirs<double> wo = dirs_of<double>(wo_obj, "wo");
+  const Dirs<double> u = dirs_of<double>(u_obj, "u", 2);
+  const std::size_t n = batch_rows({{wo.n, wo.single}, {u.n, u.single}}, "sample");
+  check_directions(wo, n, "wo");
+  for (std::size_t k = 0; k < (u.single ? 1 : n); ++k) {
+    const double* uk = u.at(k);
+    if (!std::isfinite(uk[0]) || !std::isfinite(uk[1])) {
+      raise_invalid("u[" + std::to_string(k) + "] must be two finite numbers in [0, 1)");
+    }
+  }
+  auto sampler = m.get_sampler();
+  const bool single = wo.single && u.single;
+  py::array_t<double> wi_out =
+      single ? py::array_t<double>(std::vector<py::ssize_t>{3})
+             : py::array_t<double>(std::vector<py::ssize_t>{py::ssize_t(n), 3});
+  py::array_t<double> pdf_out = single
+                                    ? py::array_t<double>(std::vector<py::ssize_t>{})
+                                    : py::array_t<double>(std::vector<py::ssize_t>{py::ssize_t(n)});
+  py::array_t<double> w_out =
+      single ? py::array_t<double>(std::vector<py::ssize_t>{3})
+             : py::array_t<double>(std::vector<py::ssize_t>{py::ssize_t(n), 3});
+  double* wi_p = wi_out.mutable_data();
+  double* pdf_p = pdf_out.mutable_data();
+  double* w_p = w_out.mutable_data();
+  {
+    py::gil_scoped_release release;
+    // As cbrdf_model_sample_batch: u clamped into [0, 1); a rejected sample is all zeros.
+    const double below_one = std::nextafter(1.0, 0.0);
+    for_blocks(n, threads, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) {
+        const Vec3 o = vec3(wo.at(k));
+        const double u1 = std::clamp(u.at(k)[0], 0.0, below_one);
+        const double u2 = std::clamp(u.at(k)[1], 0.0, below_one);
+        const BrdfSample s = sampler->sample(o, u1, u2);
+        double* i = wi_p + 3 * k;
+        double* w = w_p + 3 * k;
+        double f[3] = {0, 0, 0};
+        if (s.valid) ev->eval(s.wi, o, f);
+        if (!s.valid || !(s.pdf > 0)) {
+          i[0] = i[1] = i[2] = 0.0;
+          pdf_p[k] = 0.0;
+          w[0] = w[1] = w[2] = 0.0;
+          continue;
+        }
+        i[0] = s.wi.x;
+        i[1] = s.wi.y;
+        i[2] = s.wi.z;
+        pdf_p[k] = s.pdf;
+        for (int c = 0; c < 3; ++c) w[c] = f[c] * s.wi.z / s.pdf;
+      }
+    });
+  }
+  return py::make_tuple(wi_out, pdf_out, w_out);
+}
+
+py::array model_pdf(PyModel& m, const py::handle& wo_obj, const py::handle& wi_obj, int threads) {
+  m.ev();
+  const Dirs<double> wo = dirs_of<double>(wo_obj, "wo");
+  const Dirs<double> wi = dirs_of<double>(wi_obj, "wi");
+  const std::size_t n = batch_rows({{wo.n, wo.single}, {wi.n, wi.single}}, "pdf");
+  check_directions(wo, n, "wo");
+  check_directions(wi, n, "wi");
+  auto sampler = m.get_sampler();
+  const bool single = wo.single && wi.single;
+  py::array_t<double> out = single ? py::array_t<double>(std::vector<py::ssize_t>{})
+                                   : py::array_t<double>(std::vector<py::ssize_t>{py::ssize_t(n)});
+  double* p = out.mutable_data();
+  {
+    py::gil_scoped_release release;
+    for_blocks(n, threads, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) {
+        p[k] = sampler->pdf(vec3(wo.at(k)), vec3(wi.at(k)));
+      }
+    });
+  }
+  return out;
+}
+
+py::object model_bin_value(PyModel& m, const py::object& channel, const py::object& theta_h,
+                           const py::object& theta_d, const py::object& phi_d) {
+  auto ev = m.ev();
+  auto f = [ev](std::int64_t c, std::int64_t h, std::int64_t d, std::int64_t p) -> double {
+    auto range = [](const char* name, std::int64_t v, int hi) {
+      if (v < 0 || v >= hi) {
+        raise_invalid(std::string(name) + " must be 0 to " + std::to_string(hi - 1) + ", not " +
+                      std::to_string(v));
+      }
+    };
+    range("channel", c, kChannels);
+    range("theta_h", h, kThetaHBins);
+    range("theta_d", d, kThetaDBins);
+    range("phi_d", p, kPhiDBins);
+    return ev->bin_value(int(c), int(h), int(d), int(p));
+  };
+  return py::vectorize(f)(
+      py::array_t<std::int64_t>::ensure(channel), py::array_t<std::int64_t>::ensure(theta_h),
+      py::array_t<std::int64_t>::ensure(theta_d), py::array_t<std::int64_t>::ensure(phi_d));
+}
+
+py::array_t<double> to_array(const std::vector<double>& v) {
+  py::array_t<double> a(py::ssize_t(v.size()));
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+// Slices as plain Python objects (types.SimpleNamespace-like dicts are built in __init__.py).
+py::list model_slices(PyModel& m) {
+  auto ev = m.ev();
+  py::list out;
+  for (const Slice& s : ev->model().slices) {
+    py::list channels;
+    for (const ChannelSlice& cs : s.channel) {
+      py::list comps;
+      for (int r = 0; r < cs.components(); ++r) {
+        const Component& c = cs.component(r);
+        py::dict d;
+        d["family"] = std::string(family_name(c.family));
+        d["theta"] = c.theta;
+        d["scale"] = c.scale;
+        d["pdf_h"] = to_array(c.pdf_h);
+        d["pdf_d"] = to_array(c.pdf_d);
+        d["pdf_p"] = to_array(c.pdf_p);
+        comps.append(d);
+      }
+      channels.append(comps);
+    }
+    py::dict d;
+    d["theta_d_begin"] = s.theta_d_begin;
+    d["theta_d_end"] = s.theta_d_end;
+    d["channels"] = channels;
+    out.append(d);
+  }
+  return out;
+}
+
+// ---- Encoding -------------------------------------------------------------------------------
+
+std::string count_text(const py::object& v, const char* name) {
+  if (py::isinstance<py::bool_>(v)) {
+    raise_invalid(std::string(name) + " must be an int or 'auto', not a bool", 2);
+  }
+  if (py::isinstance<py::int_>(v)) return std::to_string(v.cast<long long>());
+  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  raise_invalid(
+      std::string(name) + " must be an int or 'auto', not " + std::string(py::str(py::repr(v))), 2);
+}
+
+// As `cbrdf encode --target-bytes/--target-psnr`: a positive finite number up to max.
+double target_value(const py::object& v, const char* name, double max, const char* max_text) {
+  double x = 0;
+  bool ok = false;
+  if (!py::isinstance<py::bool_>(v) &&
+      (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v))) {
+    x = v.cast<double>();
+    ok = std::isfinite(x) && x > 0 && x <= max;
+  }
+  if (!ok) {
+    raise_invalid(std::string(name) + " must be a number above 0 and at most " + max_text +
+                      ", not " + std::string(py::str(py::repr(v))),
+                  2);
+  }
+  return x;
+}
+
+py::bytes encode(const PyTable& t, int bits, const py::object& components, const py::object& slices,
+                 const std::string& family, const std::string& loss, int level,
+                 const std::string& placement, bool naive_marginals, int threads,
+                 const py::object& target_bytes, const py::object& target_psnr,
+                 const py::object& source_name) {
+  EncoderOptions o;
+  o.slices = count_text(slices, "slices");
+  o.components = count_text(components, "components");
+  o.family = family;
+  o.loss = loss;
+  o.bits = bits;
+  o.level = level;
+  o.placement = placement;
+  o.naive_marginals = naive_marginals;
+  o.threads = threads;
+  o.source_name = source_name.is_none() ? t.source_name : source_name.cast<std::string>();
+  RateTarget target;
+  if (!target_bytes.is_none() && !target_psnr.is_none()) {
+    raise_invalid("give target_bytes or target_psnr, not both", 2);
+  }
+  if (!target_bytes.is_none()) {
+    target.max_bytes =
+        target_value(target_bytes, "target_bytes", double(kMaxContainerBytes), "67108864 (64 MiB)");
+  }
+  if (!target_psnr.is_none()) {
+    target.min_psnr = target_value(target_psnr, "target_psnr", 1000.0, "1000");
+  }
+  const bool targeted = target.max_bytes > 0 || target.min_psnr > 0;
+  if (targeted && o.slices == "auto") {
+    raise_invalid(
+        "slices='auto' and a target (target_bytes, target_psnr) both choose the slice "
+        "count; give one of them",
+        2);
+  }
+  auto st = encoder_settings(o);
+  if (!st.ok()) raise_status(st.status(), 2);
+  Expected<std::vector<std::uint8_t>> bytes = std::vector<std::uint8_t>{};
+  {
+    py::gil_scoped_release release;
+    if (!targeted) {
+      auto r = encode_table(t.table, *st);
+      bytes = r.ok() ? Expected<std::vector<std::uint8_t>>(std::move(r->bytes))
+                     : Expected<std::vector<std::uint8_t>>(r.status());
+    } else {
+      // An explicit components=K > 1 caps the search, as in `cbrdf encode`.
+      if (!st->fit.auto_components && st->fit.components > 1) {
+        target.max_components = st->fit.components;
+      }
+      auto r = encode_to_target(t.table, *st, target);
+      bytes = r.ok() ? Expected<std::vector<std::uint8_t>>(std::move(r->encoded.bytes))
+                     : Expected<std::vector<std::uint8_t>>(r.status());
+    }
+  }
+  auto b = take(std::move(bytes), t.name);
+  return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
+}
+
+// ---- Metrics --------------------------------------------------------------------------------
+
+SphereSetup sphere_setup(int size, const std::vector<double>& lights) {
+  if (size < 1 || size > kMaxSphereSize) {
+    raise_invalid("size must be 1 to " + std::to_string(kMaxSphereSize) + ", not " +
+                  std::to_string(size));
+  }
+  if (lights.empty()) raise_invalid("light_angles must name at least one angle");
+  for (double a : lights) {
+    if (!std::isfinite(a)) raise_invalid("light_angles must be finite numbers");
+  }
+  SphereSetup s;
+  s.size = size;
+  s.light_angles_deg = lights;
+  return s;
+}
+
+py::dict image_metrics_dict(const ImageMetrics& im) {
+  py::dict d;
+  d["psnr_linear"] = im.psnr_linear;
+  d["psnr_tonemapped"] = im.psnr_tonemapped;
+  py::list lights;
+  for (const LightMetrics& l : im.per_light) {
+    py::dict ld;
+    ld["light_angle_deg"] = l.light_angle_deg;
+    ld["psnr_linear"] = py::make_tuple(l.psnr_linear[0], l.psnr_linear[1], l.psnr_linear[2]);
+    ld["psnr_tonemapped"] =
+        py::make_tuple(l.psnr_tonemapped[0], l.psnr_tonemapped[1], l.psnr_tonemapped[2]);
+    ld["exposure"] = l.exposure;
+    lights.append(ld);
+  }
+  d["per_light"] = lights;
+  return d;
+}
+
+py::dict sphere_metrics(const PyTable& ref, const PyTable& test, int size,
+                        const std::vector<double>& lights) {
+  const SphereSetup setup = sphere_setup(size, lights);
+  ImageMetrics im;
+  {
+    py::gil_scoped_release release;
+    im = sphere_psnr(ref.table, test.table, setup);
+  }
+  return image_metrics_dict(im);
+}
+
+py::dict brdf_metrics_dict(const PyTable& ref, const PyTable& test) {
+  BrdfMetrics m;
+  {
+    py::gil_scoped_release release;
+    m = brdf_metrics(ref.table, test.table);
+  }
+  auto t3 = [](const std::array<double, 3>& a) { return py::make_tuple(a[0], a[1], a[2]); };
+  py::dict d;
+  d["rel_rmse"] = m.rel_rmse_mean;
+  d["log_rmse"] = m.log_rmse_mean;
+  d["cos_rmse"] = m.cos_rmse_mean;
+  d["rel_rmse_rgb"] = t3(m.rel_rmse);
+  d["log_rmse_rgb"] = t3(m.log_rmse);
+  d["cos_rmse_rgb"] = t3(m.cos_rmse);
+  d["bins"] = py::make_tuple(m.bins[0], m.bins[1], m.bins[2]);
+  return d;
+}
+
+py::array_t<float> image_array(const Image& im) {
+  py::array_t<float> a(std::vector<py::ssize_t>{im.height, im.width, 3});
+  std::copy(im.data.begin(), im.data.end(), a.mutable_data());
+  return a;
+}
+
+py::array_t<float> render_table(const PyTable& t, double light, int size) {
+  sphere_setup(size, {light});
+  Image im;
+  {
+    py::gil_scoped_release release;
+    im = render_sphere(t.table, light, size);
+  }
+  return image_array(im);
+}
+
+py::array_t<float> render_model(PyModel& m, double light, int size) {
+  sphere_setup(size, {light});
+  auto ev = m.ev();
+  Image im;
+  {
+    py::gil_scoped_release release;
+    im = render_sphere(model_brdf_fn(ev), light, size);
+  }
+  return image_array(im);
+}
+
+}  // namespace
+}  // namespace cbrdf::python
+
+PYBIND11_MODULE(_cbrdf, m) {
+  using namespace cbrdf;
+  using namespace cbrdf::python;
+  m.doc() = "The C++ half of the cbrdf module (use `import cbrdf`).";
+
+  m.def(
+      "_set_error_class", [](py::object cls) { error_class() = std::move(cls); },
+      "Sets the exception class raised for library errors (cbrdf.Error).");
+  m.attr("__version__") = version_string();
+  m.attr("CONTAINER_VERSION") =
+      py::make_tuple(CBRDF_CONTAINER_VERSION_MAJOR, CBRDF_CONTAINER_VERSION_MINOR);
+  m.attr("MERL_SCALE") = py::make_tuple(kMerlScale[0], kMerlScale[1], kMerlScale[2]);
+  m.attr("MERL_FILE_BYTES") = kMerlFileBytes;
+  m.attr("MAX_CONTAINER_BYTES") = kMaxContainerBytes;
+  {
+    py::dict codes;
+    for (int c = 0; c <= int(ErrorCode::kInternal); ++c) {
+      codes[py::int_(c)] = error_code_name(ErrorCode(c));
+    }
+    m.attr("ERROR_CODES") = codes;
+  }
+
+  py::class_<PyTable>(m, "_Table", "A MERL table held in C++ (internal).")
+      .def_static(
+          "read", [](const std::string& path) { return read_table(path); }, py::arg("path"))
+      .def_static(
+          "parse",
+          [](const py::buffer& b, const std::string& name) {
+            PyTable t;
+            t.table = take(parse_merl(bytes_of(b), name));
+            return t;
+          },
+          py::arg("data"), py::arg("name"))
+      .def_static(
+          "from_physical",
+          [](const F64Array& a, std::optional<BoolArray> mask, std::optional<F64Array> companion,
+             double nmv) {
+            PyTable t;
+            t.table = table_from_physical(a, mask, companion, nmv);
+            return t;
+          },
+          py::arg("array"), py::arg("mask") = py::none(), py::arg("companion") = py::none(),
+          py::arg("not_measured_value") = -1.0)
+      .def_static(
+          "from_stored",
+          [](const F64Array& a, std::optional<BoolArray> mask, double nmv) {
+            PyTable t;
+            t.table = table_from_stored(a, mask, nmv);
+            return t;
+          },
+          py::arg("array"), py::arg("mask") = py::none(), py::arg("not_measured_value") = -1.0)
+      .def_static(
+          "sample",
+          [](const std::string& name) {
+            PyTable t;
+            t.table = take(make_sample(name));
+            t.source_name = name;
+            return t;
+          },
+          py::arg("name"))
+      .def("arrays", [](const PyTable& t) { return table_arrays(t.table); })
+      .def("write",
+           [](const PyTable& t, const std::string& path) {
+             Status s;
+             {
+               py::gil_scoped_release release;
+               s = write_merl(path, t.table);
+             }
+             if (!s.ok()) raise_status(s);
+           })
+      .def("serialize",
+           [](const PyTable& t) {
+             const auto b = serialize_merl(t.table);
+             return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
+           })
+      .def_readwrite("source_name", &PyTable::source_name);
+
+  m.def(
+      "samples",
+      [] {
+        py::list out;
+        for (const SampleInfo& s : sample_materials()) {
+          out.append(py::make_tuple(std::string(s.name), std::string(s.description)));
+        }
+        return out;
+      },
+      "The built-in sample materials as (name, description) pairs.");
+
+  m.def(
+      "_info_path",
+      [](const std::string& path) {
+        auto bytes =
+            take(read_file(path, std::max<std::uint64_t>(kMaxContainerBytes, 2 * kMerlFileBytes)));
+        return info_of_bytes(bytes, path, py::str(path));
+      },
+      py::arg("path"));
+  m.def(
+      "_info_bytes",
+      [](const py::buffer& b) { return info_of_bytes(bytes_of(b), "<bytes>", py::none()); },
+      py::arg("data"));
+
+  m.def("_encode", &encode, py::arg("table"), py::arg("bits"), py::arg("components"),
+        py::arg("slices"), py::arg("family"), py::arg("loss"), py::arg("level"),
+        py::arg("placement"), py::arg("naive_marginals"), py::arg("threads"),
+        py::arg("target_bytes"), py::arg("target_psnr"), py::arg("source_name"));
+
+  m.def("_sphere_metrics", &sphere_metrics, py::arg("reference"), py::arg("test"), py::arg("size"),
+        py::arg("light_angles"));
+  m.def("_brdf_metrics", &brdf_metrics_dict, py::arg("reference"), py::arg("test"));
+  m.def("_render_table", &render_table, py::arg("table"), py::arg("light_angle_deg"),
+        py::arg("size"));
+
+  m.def("nearest_bin", &nearest_bins, py::arg("wi"), py::arg("wo"),
+        "The MERL bins (theta_h, theta_d, phi_d index arrays) of direction pairs: the reference "
+        "reader's nearest-bin lookup.");
+  m.def("bin_directions", &bin_directions, py::arg("theta_h"), py::arg("theta_d"), py::arg("phi_d"),
+        "The direction pairs (wi, wo), arrays (..., 3), at MERL bins' grid angles (phi_h = 0).");
+  m.def("set_thread_limit", &set_thread_limit, py::arg("n"),
+        "Caps the threads every parallel loop of the library uses (0: one per hardware thread).");
+  m.def("thread_limit", &thread_limit, "The thread limit in force.");
+
+  py::class_<PyModel>(m, "_Model", "A decoded .cbrdf model (internal base of cbrdf.Model).")
+      .def(py::init([](const py::object& source) {
+             if (py::isinstance<py::bytes>(source) || py::isinstance<py::bytearray>(source) ||
+                 py::isinstance<py::memoryview>(source)) {
+               return model_from_bytes(bytes_of(source), "<bytes>", py::none());
+             }
+             if (py::isinstance<py::str>(source))
+               return model_from_path(source.cast<std::string>());
+             py::object fspath = py::module_::import("os").attr("fspath");
+             py::object p = fspath(source);
+             if (!py::isinstance<py::str>(p)) p = p.attr("decode")("utf-8", "surrogateescape");
+             return model_from_path(p.cast<std::string>());
+           }),
+           py::arg("source"))
+      .def_property_readonly("info",
+                             [](PyModel& self) {
+                               auto ev = self.ev();
+                               return container_info_dict(self.info(), ev->footprint_bytes(),
+                                                          self.file);
+                             })
+      .def_property_readonly("file", [](const PyModel& self) { return self.file; })
+      .def_property_readonly("closed", [](const PyModel& self) { return !self.evaluator; })
+      .def_property_readonly("bits", [](PyModel& self) { return self.info().bits; })
+      .def_property_readonly("version",
+                             [](PyModel& self) {
+                               return py::make_tuple(self.info().layout.major,
+                                                     self.info().layout.minor);
+                             })
+      .def_property_readonly("nbytes", [](const PyModel& self) { return self.bytes.size(); })
+      .def_property_readonly("not_measured_bins",
+                             [](PyModel& self) { return self.info().not_measured_bins; })
+      .def_property_readonly("footprint_bytes",
+                             [](PyModel& self) { return self.ev()->footprint_bytes(); })
+      .def_property_readonly("_slices", &model_slices)
+      .def("close",
+           [](PyModel& self) {
+             std::lock_guard<std::mutex> lock(self.sampler_mutex);
+             self.sampler.reset();
+             self.evaluator.reset();
+           })
+      .def("_table_arrays",
+           [](PyModel& self) {
+             auto ev = self.ev();
+             BrdfTable t;
+             {
+               py::gil_scoped_release release;
+               t = ev->table();
+             }
+             return table_arrays(t);
+           })
+      .def("_table",
+           [](PyModel& self) {
+             auto ev = self.ev();
+             PyTable t;
+             py::gil_scoped_release release;
+             t.table = ev->table();
+             return t;
+           })
+      .def(
+          "write_merl",
+          [](PyModel& self, const std::string& path) {
+            auto ev = self.ev();
+            Status s;
+            {
+              py::gil_scoped_release release;
+              s = write_merl(path, ev->table());
+            }
+            if (!s.ok()) raise_status(s);
+          },
+          py::arg("path"))
+      .def("eval", &model_eval, py::arg("wi"), py::arg("wo"), py::arg("threads") = 0)
+      .def(
+          "eval_pair",
+          [](PyModel& self, std::array<double, 3> wi, std::array<double, 3> wo) {
+            auto ev = self.ev();
+            const Dirs<double> a = dirs_of<double>(py::cast(wi), "wi");
+            const Dirs<double> b = dirs_of<double>(py::cast(wo), "wo");
+            check_directions(a, 1, "wi");
+            check_directions(b, 1, "wo");
+            double rgb[3];
+            ev->eval(Vec3{wi[0], wi[1], wi[2]}, Vec3{wo[0], wo[1], wo[2]}, rgb);
+            return py::make_tuple(rgb[0], rgb[1], rgb[2]);
+          },
+          py::arg("wi"), py::arg("wo"))
+      .def("sample", &model_sample, py::arg("wo"), py::arg("u"), py::arg("threads") = 0)
+      .def("pdf", &model_pdf, py::arg("wo"), py::arg("wi"), py::arg("threads") = 0)
+      .def("bin_value", &model_bin_value, py::arg("channel"), py::arg("theta_h"),
+           py::arg("theta_d"), py::arg("phi_d"))
+      .def("_render", &render_model, py::arg("light_angle_deg"), py::arg("size"));
+}
