@@ -18,6 +18,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "cbrdf/brdf_table.h"
@@ -104,6 +105,33 @@ inline constexpr double kMinPeakMeasuredValue = 1e-250;
 // value is outside the supported range above (kNumeric, naming the channel and the value).
 CBRDF_EXPORT Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings,
                                        FitReport* report = nullptr);
+
+// Fits of one table at one slicing with 1, 2, 3, ... components (fixed counts per slice and
+// channel), for searches over the component count (rate control): fit(k) equals fit_model with
+// `components = k` and `auto_components = false` bit for bit, but the one-component fit is done
+// once and each k continues the factorization that k - 1 left (fit/mixture.h: components are
+// added one at a time either way), so fitting 1..K costs about what fitting K alone does instead
+// of their sum. Models are kept: asking again for a count is free. Slicing (auto, adaptive) is
+// resolved once. The table must outlive the ladder.
+class CBRDF_EXPORT FitLadder {
+ public:
+  // Settings are checked by the first fit(), which reports their errors as fit_model does.
+  FitLadder(const BrdfTable& table, const FitSettings& settings);
+  ~FitLadder();
+  FitLadder(FitLadder&&) noexcept;
+  FitLadder& operator=(FitLadder&&) noexcept;
+
+  // The model with `components` (1 to kMaxComponents) per slice and channel.
+  Expected<Model> fit(int components, FitReport* report = nullptr);
+  // Component counts actually fitted so far (each one pass over the table's slices).
+  int fits() const;
+  // HALS sweeps spent so far over all slices and channels (a sweep is never repeated).
+  long long hals_sweeps() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 // The slice boundaries the settings describe, validated.
 CBRDF_EXPORT Expected<std::vector<int>> slice_bounds(const FitSettings& settings);

@@ -29,10 +29,22 @@ struct RateResult {
   RateCandidate chosen;
   std::vector<RateCandidate> tried;  // every setting measured, in search order
   bool met = false;                  // false: no setting met the target; the closest is chosen
+  // The search's work: (slice count, component count) models fitted, and HALS sweeps spent on
+  // their mixtures (each component count continues the one before: FitLadder).
+  int fits = 0;
+  long long hals_sweeps = 0;
 };
 
 // Searches slices in target.slice_counts, components 1..max_components (each a fixed count per
 // slice and channel) and bits 6..16 with the other settings of `base`.
+// The search relies on bytes growing with slices, components and bits, and on PSNR growing with
+// bits: per slice count the components are fitted in turn, each continuing the fit of the count
+// before (FitLadder); per fitted model the bits are bisected (the most bits within the budget,
+// or the fewest reaching the PSNR; 16 bits alone when even they miss it); larger component and
+// slice counts are not fitted once their least possible bytes cannot beat the setting chosen
+// (over the budget, or no fewer bytes than a setting reaching the PSNR). When no setting reaches
+// the PSNR, the closest row is also measured at fewer bits while its PSNR stays saturated (within
+// 0.05 dB of the best), since the last bits can cost a hair of PSNR there.
 // Exactly one of max_bytes, min_psnr must be > 0 (kInvalidArgument otherwise).
 CBRDF_EXPORT Expected<RateResult> encode_to_target(const BrdfTable& table,
                                                    const EncoderSettings& base,

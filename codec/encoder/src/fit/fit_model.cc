@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <string>
 
 #include "cbrdf/fit.h"
@@ -96,10 +97,22 @@ void add_components(const fit::SliceData& s, const FitSettings& st, SliceFitResu
   }
 }
 
-SliceFitResult fit_slice_channel(const BrdfTable& table, int channel, int begin, int end,
-                                 const FitSettings& st) {
+fit::SliceData slice_for_fit(const BrdfTable& table, int channel, int begin, int end,
+                             const FitSettings& st) {
   fit::SliceData s = fit::extract_slice(table, channel, begin, end, st.loss == FitLoss::kCosine);
   fit::normalize_slice(&s);  // the fit in units of s.unit; K back to physical units at the end
+  return s;
+}
+
+// K from the fit's units (s.unit) back to physical ones.
+void to_physical(double unit, SliceFitResult* r) {
+  r->cs.scale *= unit;  // a power of two: exact
+  for (Component& c : r->cs.extra) c.scale *= unit;
+}
+
+// The one-component fit of a slice (in units of s.unit); `zero` is set when nothing is measured
+// or all is zero, and the result is then final (the model is 0 there).
+SliceFitResult fit_single(const fit::SliceData& s, const FitSettings& st, bool* zero) {
   double sum = 0;
   for (double v : s.mv) sum += v;
   if (!(sum > 0)) {
@@ -112,8 +125,10 @@ SliceFitResult fit_slice_channel(const BrdfTable& table, int channel, int begin,
     r.cs.pdf_d.assign(s.nd, 1.0 / s.nd);
     r.cs.pdf_p.assign(s.np, 1.0 / s.np);
     r.report.measured_bins = int(s.measured_count());
+    *zero = true;
     return r;
   }
+  *zero = false;
   SliceFitResult best;
   if (!st.auto_family) {
     best = fit_family(s, st.family, st);
@@ -128,9 +143,17 @@ SliceFitResult fit_slice_channel(const BrdfTable& table, int channel, int begin,
       }
     }
   }
+  return best;
+}
+
+SliceFitResult fit_slice_channel(const BrdfTable& table, int channel, int begin, int end,
+                                 const FitSettings& st) {
+  const fit::SliceData s = slice_for_fit(table, channel, begin, end, st);
+  bool zero = false;
+  SliceFitResult best = fit_single(s, st, &zero);
+  if (zero) return best;
   if (st.components > 1 && best.cs.scale > 0) add_components(s, st, &best);
-  best.cs.scale *= s.unit;  // a power of two: exact
-  for (Component& c : best.cs.extra) c.scale *= s.unit;
+  to_physical(s.unit, &best);
   return best;
 }
 
@@ -181,9 +204,9 @@ Status check_value_range(const BrdfTable& table) {
   return ok_status();
 }
 
-}  // namespace
-
-Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings, FitReport* report) {
+// The settings checked, with the slicing resolved into `bounds`.
+Expected<FitSettings> resolve(const BrdfTable& table, const FitSettings& settings,
+                              std::vector<int>* bounds_out) {
   if (Status s = check_value_range(table); !s.ok()) return s;
   FitSettings st = settings;
   if (st.slice_bounds.empty() && (st.adaptive_slices || st.auto_slices)) {
@@ -212,6 +235,18 @@ Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings, F
   if (!(st.auto_component_gain > 0 && st.auto_component_gain <= 1)) {
     return error(ErrorCode::kInvalidArgument, "auto_component_gain must lie in (0, 1]");
   }
+  *bounds_out = std::move(bounds).value();
+  return st;
+}
+
+}  // namespace
+
+Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings, FitReport* report) {
+  std::vector<int> b;
+  Expected<FitSettings> resolved = resolve(table, settings, &b);
+  if (!resolved.ok()) return resolved.status();
+  const FitSettings& st = *resolved;
+  const std::vector<int>* bounds = &b;
   const int slices = int(bounds->size()) - 1;
   Model model;
   model.slices.resize(slices);
@@ -230,6 +265,152 @@ Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings, F
     model.slices[s].theta_d_begin = (*bounds)[s];
     model.slices[s].theta_d_end = (*bounds)[s + 1];
   }
+  return model;
+}
+
+struct FitLadder::State {
+  const BrdfTable* table = nullptr;
+  FitSettings settings;  // as given
+  bool prepared = false;
+  Status failure = ok_status();  // the settings' error, once prepared
+  FitSettings st;                // resolved, one component
+  std::vector<int> bounds;
+  NotMeasured not_measured;
+  // Per (slice, channel) job: the one-component fit in the fit's units, its unit, whether the
+  // slice is all zero, and the factorization as the last count left it.
+  std::vector<SliceFitResult> single;
+  std::vector<double> unit;
+  std::vector<char> zero;
+  std::vector<fit::MixtureState> mixture;
+  int top = 0;  // the highest count whose factorization `mixture` holds
+  std::map<int, std::pair<Model, FitReport>> done;
+  int fits = 0;
+  long long sweeps = 0;
+
+  Model assemble(const std::vector<SliceFitResult>& results, FitReport* report) const {
+    const int slices = int(bounds.size()) - 1;
+    Model model;
+    model.slices.resize(std::size_t(slices));
+    model.not_measured = not_measured;
+    if (report) report->slices.assign(std::size_t(slices), {});
+    for (int s = 0; s < slices; ++s) {
+      model.slices[std::size_t(s)].theta_d_begin = bounds[std::size_t(s)];
+      model.slices[std::size_t(s)].theta_d_end = bounds[std::size_t(s) + 1];
+      for (int c = 0; c < kChannels; ++c) {
+        const SliceFitResult& r = results[std::size_t(s * kChannels + c)];
+        model.slices[std::size_t(s)].channel[std::size_t(c)] = r.cs;
+        if (report) report->slices[std::size_t(s)][std::size_t(c)] = r.report;
+      }
+    }
+    return model;
+  }
+
+  fit::SliceData slice(int job) const {
+    const int s = job / kChannels, c = job % kChannels;
+    return slice_for_fit(*table, c, bounds[std::size_t(s)], bounds[std::size_t(s) + 1], st);
+  }
+};
+
+FitLadder::FitLadder(const BrdfTable& table, const FitSettings& settings)
+    : state_(std::make_unique<State>()) {
+  state_->table = &table;
+  state_->settings = settings;
+}
+FitLadder::~FitLadder() = default;
+FitLadder::FitLadder(FitLadder&&) noexcept = default;
+FitLadder& FitLadder::operator=(FitLadder&&) noexcept = default;
+
+int FitLadder::fits() const {
+  return state_->fits;
+}
+
+long long FitLadder::hals_sweeps() const {
+  return state_->sweeps;
+}
+
+Expected<Model> FitLadder::fit(int components, FitReport* report) {
+  State& L = *state_;
+  if (!L.prepared) {
+    L.prepared = true;
+    FitSettings one = L.settings;
+    one.components = 1;
+    one.auto_components = false;
+    Expected<FitSettings> r = resolve(*L.table, one, &L.bounds);
+    if (!r.ok()) {
+      L.failure = r.status();
+    } else {
+      L.st = *r;
+      L.not_measured = NotMeasured::from_table(*L.table);
+    }
+  }
+  if (!L.failure.ok()) return L.failure;
+  if (components < 1 || components > kMaxComponents) {
+    return error(ErrorCode::kInvalidArgument, "component count " + std::to_string(components) +
+                                                  " is outside 1 to " +
+                                                  std::to_string(kMaxComponents));
+  }
+  if (const auto it = L.done.find(components); it != L.done.end()) {
+    if (report) *report = it->second.second;
+    return it->second.first;
+  }
+  if (components < L.top) {
+    // Past this count already: fit it on its own (never happens in an increasing search).
+    FitSettings st = L.st;
+    st.components = components;
+    st.slice_bounds = L.bounds;
+    return fit_model(*L.table, st, report);
+  }
+  const int jobs = int(L.bounds.size() - 1) * kChannels;
+  const int threads = L.st.threads;
+  if (L.top == 0) {
+    L.single.assign(std::size_t(jobs), {});
+    L.unit.assign(std::size_t(jobs), 1.0);
+    L.zero.assign(std::size_t(jobs), 0);
+    L.mixture.assign(std::size_t(jobs), {});
+    internal::parallel_for(jobs, threads, [&](int job) {
+      const fit::SliceData s = L.slice(job);
+      bool zero = false;
+      L.single[std::size_t(job)] = fit_single(s, L.st, &zero);
+      L.unit[std::size_t(job)] = s.unit;
+      L.zero[std::size_t(job)] = zero;
+    });
+    L.top = 1;
+    ++L.fits;
+  }
+  std::vector<SliceFitResult> results(L.single);
+  if (components > 1) {
+    // add_components at a fixed count, with the factorization continued.
+    const CopulaFamily family = L.st.auto_family ? CopulaFamily::kFrank : L.st.family;
+    std::vector<long long> sweeps(std::size_t(jobs), 0);
+    internal::parallel_for(jobs, threads, [&](int job) {
+      SliceFitResult* r = &results[std::size_t(job)];
+      if (L.zero[std::size_t(job)] || !(r->cs.scale > 0)) return;
+      const fit::SliceData s = L.slice(job);
+      fit::MixtureState& state = L.mixture[std::size_t(job)];
+      const int before = state.sweeps;
+      fit::MixtureFit m =
+          fit::fit_mixture_continued(s, r->cs, components, family, L.st.loss, &state);
+      sweeps[std::size_t(job)] = state.started ? state.sweeps - before : 0;
+      if (m.objective < r->report.objective) {
+        r->cs = std::move(m.cs);
+        r->report.objective = m.objective;
+      }
+      r->report.hals_sweeps += m.sweeps;
+      r->report.hals_unconverged += m.unconverged;
+      r->report.solver_iterations += m.solver_iterations;
+    });
+    for (long long n : sweeps) L.sweeps += n;
+    L.top = components;
+    ++L.fits;
+  }
+  for (int job = 0; job < jobs; ++job) {
+    if (!L.zero[std::size_t(job)])
+      to_physical(L.unit[std::size_t(job)], &results[std::size_t(job)]);
+  }
+  FitReport rep;
+  Model model = L.assemble(results, &rep);
+  L.done[components] = {model, rep};
+  if (report) *report = std::move(rep);
   return model;
 }
 

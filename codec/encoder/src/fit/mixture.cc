@@ -271,8 +271,33 @@ class MixtureCost final : public ceres::CostFunction {
     const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
     std::vector<std::vector<double>> c(n, std::vector<double>(std::size_t(s_.np))),
         dc(n, std::vector<double>(std::size_t(s_.np)));
+    // J^T J and J^T r are accumulated from blocks of bins' gradients g (kBlock rows of gb): each
+    // element gets the same products added in the same bin order as the rank-1 update per bin
+    // did (jtj(b, a) += g[a] g[b], jtr[a] += g[a] res), so results are unchanged, but the sums
+    // read gradients written long before instead of a vector load of values just stored one by
+    // one (a store-forwarding stall per bin that cost more than the arithmetic), and without
+    // Eigen's dynamic-size overhead at 2 to 16 parameters.
+    constexpr int kBlock = 64;
+    const std::size_t p = std::size_t(p_);
     Eigen::MatrixXd jtj = Eigen::MatrixXd::Zero(p_, p_);
-    Eigen::VectorXd jtr = Eigen::VectorXd::Zero(p_), g(p_);
+    Eigen::VectorXd jtr = Eigen::VectorXd::Zero(p_);
+    std::vector<double> gb(std::size_t(kBlock) * p), rb(kBlock), hd(n), wf(n);
+    int nb = 0;
+    const auto flush = [&] {
+      double* jtj_data = jtj.data();
+      for (std::size_t a = 0; a < p; ++a) {
+        for (std::size_t b = a; b < p; ++b) {
+          double acc = jtj_data[a * p + b];
+          for (int q = 0; q < nb; ++q)
+            acc += gb[std::size_t(q) * p + a] * gb[std::size_t(q) * p + b];
+          jtj_data[a * p + b] = acc;
+        }
+        double acc = jtr[Eigen::Index(a)];
+        for (int q = 0; q < nb; ++q) acc += gb[std::size_t(q) * p + a] * rb[std::size_t(q)];
+        jtr[Eigen::Index(a)] = acc;
+      }
+      nb = 0;
+    };
     double rr = 0;
     const double inv_vbar = 1.0 / vbar_;
     for (int i = 0; i < s_.nh; ++i) {
@@ -282,29 +307,31 @@ class MixtureCost final : public ceres::CostFunction {
         if (begin == end) continue;
         for (std::size_t r = 0; r < n; ++r) {
           terms_[r].copula->row(i, j, c[r].data(), want_jacobian ? dc[r].data() : nullptr);
+          hd[r] = terms_[r].pdf_h[std::size_t(i)] * terms_[r].pdf_d[std::size_t(j)];
         }
         for (std::uint32_t q = begin; q < end; ++q) {
           const std::size_t l = s_.mk[q];
           double model = 0;
           for (std::size_t r = 0; r < n; ++r) {
-            const Term& t = terms_[r];
-            const double f = t.pdf_h[std::size_t(i)] * t.pdf_d[std::size_t(j)] * t.pdf_p[l];
-            const double wf = w[r] * f;
-            model += wf * c[r][l];
-            if (want_jacobian) {
-              g[Eigen::Index(2 * r)] = wf * c[r][l];
-              g[Eigen::Index(2 * r + 1)] = wf * dc[r][l];
-            }
+            const double f = hd[r] * terms_[r].pdf_p[l];
+            wf[r] = w[r] * f;
+            model += wf[r] * c[r][l];
           }
           const auto [res, dr_dm] = loss_residual(loss_, s_, q, model, inv_vbar, vbar_ * s_.unit);
           rr += res * res;
           if (!want_jacobian) continue;
-          g *= dr_dm;
-          jtj.selfadjointView<Eigen::Lower>().rankUpdate(g);
-          jtr += g * res;
+          double* g = gb.data() + std::size_t(nb) * p;
+          for (std::size_t r = 0; r < n; ++r) {
+            const double g0 = wf[r] * c[r][l], g1 = wf[r] * dc[r][l];  // rounded, then scaled
+            g[2 * r] = g0 * dr_dm;
+            g[2 * r + 1] = g1 * dr_dm;
+          }
+          rb[std::size_t(nb)] = res;
+          if (++nb == kBlock) flush();
         }
       }
     }
+    if (nb > 0) flush();
     if (!std::isfinite(rr)) return false;
     std::fill(residuals, residuals + p_ + 1, 0.0);
     if (!want_jacobian) {
@@ -353,18 +380,35 @@ double objective_at(const SliceData& s, std::vector<Term>& terms, double vbar, F
 }
 
 // Stage 1: the factorization, each added component started from the residual of the fit before.
-// Counts HALS sweeps and unconverged factorizations in `out`.
-Factors factorize(const SliceData& s, const ChannelSlice& start, int components, MixtureFit* out) {
+// Counts HALS sweeps and unconverged factorizations in `out`. With a started `state`, continues
+// from its factors instead of `start`'s: y, the measured values with the model's filled in, is a
+// function of the factors (the last sweep's fill, and dropping a vanished component changes no
+// model value), so recomputing it here gives the very y and sse the earlier call ended with.
+Factors factorize(const SliceData& s, const ChannelSlice& start, int components, MixtureFit* out,
+                  MixtureState* state) {
   Factors f;
-  for (int r = 0; r < start.components(); ++r) {
-    if (start.component(r).scale > 0) add(&f, start.component(r));
+  bool exhausted = false;
+  if (state != nullptr && state->started) {
+    f.pdf_h = state->pdf_h;
+    f.pdf_d = state->pdf_d;
+    f.pdf_p = state->pdf_p;
+    out->sweeps = state->sweeps;
+    out->unconverged = state->unconverged;
+    exhausted = state->exhausted;
+  } else {
+    for (int r = 0; r < start.components(); ++r) {
+      if (start.component(r).scale > 0) add(&f, start.component(r));
+    }
   }
   std::vector<double> y = s.value;
   double sse = fill_and_measure(s, f, &y);
-  while (f.rank() < components) {
+  while (!exhausted && f.rank() < components) {
     const int before = f.rank();
     add_residual_component(s, y, &f);
-    if (f.rank() == before) break;  // nothing positive left to explain
+    if (f.rank() == before) {
+      exhausted = true;  // nothing positive left to explain
+      break;
+    }
     bool converged = false;
     for (int sweep = 0; sweep < kMaxSweeps && !converged; ++sweep) {
       hals_sweep(s, y, &f);
@@ -375,6 +419,15 @@ Factors factorize(const SliceData& s, const ChannelSlice& start, int components,
     }
     if (!converged) ++out->unconverged;
     drop_vanished(&f);
+  }
+  if (state != nullptr) {
+    state->pdf_h = f.pdf_h;
+    state->pdf_d = f.pdf_d;
+    state->pdf_p = f.pdf_p;
+    state->started = true;
+    state->exhausted = exhausted;
+    state->sweeps = out->sweeps;
+    state->unconverged = out->unconverged;
   }
   return f;
 }
@@ -464,13 +517,18 @@ ChannelSlice largest_first(std::vector<Term>& terms, const std::vector<double>& 
 
 MixtureFit fit_mixture(const SliceData& s, const ChannelSlice& start, int components,
                        CopulaFamily family, FitLoss loss) {
+  return fit_mixture_continued(s, start, components, family, loss, nullptr);
+}
+
+MixtureFit fit_mixture_continued(const SliceData& s, const ChannelSlice& start, int components,
+                                 CopulaFamily family, FitLoss loss, MixtureState* state) {
   MixtureFit out;
   out.cs = start;
   if (s.mv.empty()) return out;
   const double vbar = std::accumulate(s.mv.begin(), s.mv.end(), 0.0) / double(s.mv.size());
   if (!(vbar > 0)) return out;
 
-  const Factors f = factorize(s, start, components, &out);
+  const Factors f = factorize(s, start, components, &out, state);
   if (f.rank() == 0) return out;
 
   auto probe = make_grid_copula(family);

@@ -12,6 +12,8 @@
 // (independence is inside every fitted family's range and is where stage 2 starts).
 #pragma once
 
+#include <vector>
+
 #include "cbrdf/fit.h"
 #include "cbrdf/model.h"
 #include "fit/slice_data.h"
@@ -37,5 +39,22 @@ struct MixtureFit {
 // overall scale.
 MixtureFit fit_mixture(const SliceData& s, const ChannelSlice& start, int components,
                        CopulaFamily family, FitLoss loss);
+
+// The factorization (stage 1) where a fit_mixture_continued call left it: the unnormalized factors
+// and the sweeps spent so far. Empty (rank 0, started false) before the first call.
+struct MixtureState {
+  std::vector<std::vector<double>> pdf_h, pdf_d, pdf_p;
+  bool started = false;
+  bool exhausted = false;  // nothing positive was left to explain: more components add nothing
+  int sweeps = 0, unconverged = 0;
+};
+
+// fit_mixture with the factorization continued from `state` (the one a call with fewer
+// components on the same slice and start left) instead of restarted from `start`: called with
+// components = 2, 3, ... in turn, each result equals fit_mixture's at that count bit for bit (the
+// factorization adds components one at a time either way), and each call costs only the sweeps
+// of the components it adds and its own stage 2. Counts must not decrease between calls.
+MixtureFit fit_mixture_continued(const SliceData& s, const ChannelSlice& start, int components,
+                                 CopulaFamily family, FitLoss loss, MixtureState* state);
 
 }  // namespace cbrdf::fit

@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: MIT
+// What encoding costs at the CLI's settings: the default encode, rate control (--target-bytes,
+// --target-psnr) and a 4-component encode, each as a ratio to the default encode of the same
+// material in the same run (the speed issue's targets: rate control at most 5x, a 4-component
+// encode under 2 s). Run: build/tests/bench/cbrdf_encode_bench [MATERIAL...] (names from
+// ../shared/data, default blue-metallic-paint and nickel; "sample:NAME" for a built-in one when
+// ../shared is absent). Each figure is one encode of the table in memory (reading it is not
+// timed), on all cores, as `cbrdf encode` runs it.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cbrdf/encoder.h"
+#include "cbrdf/file_io.h"
+#include "cbrdf/merl_io.h"
+#include "cbrdf/parallel.h"
+#include "cbrdf/rate_control.h"
+#include "cbrdf/samples.h"
+
+namespace {
+
+// The table of a material: from ../shared (MERL layout, made into the build tree) or built in.
+cbrdf::BrdfTable load(const std::string& material) {
+  if (material.rfind("sample:", 0) == 0) {
+    auto t = cbrdf::make_sample(material.substr(7));
+    if (!t.ok()) {
+      std::fprintf(stderr, "unknown sample %s\n", material.c_str());
+      std::exit(1);
+    }
+    return std::move(t).value();
+  }
+  const std::filesystem::path out = std::filesystem::path(CBRDF_BUILD_DIR) / "real-materials";
+  const std::filesystem::path path = out / (material + ".binary");
+  if (!std::filesystem::exists(path)) {
+    const std::string cmd = "bash '" CBRDF_SHARED_DIR "/tools/make-merl.sh' '" + out.string() +
+                            "' " + material + " > /dev/null 2>&1";
+    if (std::system(cmd.c_str()) != 0 || !std::filesystem::exists(path)) {
+      std::fprintf(stderr, "cannot make %s from ../shared: using sample:ward\n", material.c_str());
+      return load("sample:ward");
+    }
+  }
+  auto t = cbrdf::read_merl(path);
+  if (!t.ok()) std::exit(1);
+  return std::move(t).value();
+}
+
+std::map<std::string, cbrdf::BrdfTable>& tables() {
+  static std::map<std::string, cbrdf::BrdfTable> t;
+  return t;
+}
+
+// The settings `cbrdf encode` uses by default (all cores).
+cbrdf::EncoderSettings cli_settings(const char* components = "1") {
+  cbrdf::EncoderOptions o;
+  o.components = components;
+  return cbrdf::encoder_settings(o).value();
+}
+
+// The search reports how much it did.
+void count(benchmark::State& state, const cbrdf::RateResult& r) {
+  state.counters["settings"] = double(r.tried.size());
+  state.counters["fits"] = double(r.fits);
+  state.counters["bytes"] = r.chosen.bytes;
+  state.counters["psnr_tm"] = r.chosen.psnr_tonemapped;
+}
+
+void BM_Default(benchmark::State& state, const std::string& m) {
+  const cbrdf::EncoderSettings st = cli_settings();
+  for (auto _ : state) {
+    auto r = cbrdf::encode_table(tables().at(m), st);
+    if (!r.ok()) state.SkipWithError("encode failed");
+    state.counters["bytes"] = double(r->bytes.size());
+  }
+}
+
+void BM_Components4(benchmark::State& state, const std::string& m) {
+  const cbrdf::EncoderSettings st = cli_settings("4");
+  for (auto _ : state) {
+    auto r = cbrdf::encode_table(tables().at(m), st);
+    if (!r.ok()) state.SkipWithError("encode failed");
+    state.counters["bytes"] = double(r->bytes.size());
+  }
+}
+
+// As `cbrdf encode --target-bytes N` / `--target-psnr DB` (up to 4 components).
+void BM_Target(benchmark::State& state, const std::string& m, double bytes, double psnr) {
+  const cbrdf::EncoderSettings st = cli_settings();
+  cbrdf::RateTarget target;
+  target.max_bytes = bytes;
+  target.min_psnr = psnr;
+  for (auto _ : state) {
+    auto r = cbrdf::encode_to_target(tables().at(m), st, target);
+    if (!r.ok()) {
+      state.SkipWithError("rate control failed");
+      break;
+    }
+    count(state, *r);
+  }
+}
+
+// Prints each run's time over the default encode's of its material.
+class RatioReporter : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    ConsoleReporter::ReportRuns(runs);
+    for (const Run& r : runs) {
+      if (r.run_type == Run::RT_Aggregate && r.aggregate_name != "median") continue;
+      seconds_.emplace_back(r.benchmark_name(), r.GetAdjustedRealTime() / 1e3);  // ms -> s
+    }
+  }
+  void Finalize() override {
+    ConsoleReporter::Finalize();
+    std::printf("\n%-64s %10s %12s\n", "encode", "s", "x default");
+    for (const auto& [name, s] : seconds_) {
+      // Names are BM_Kind/material[/...]: the material's default encode is BM_Default/material.
+      const std::size_t slash = name.find('/');
+      std::string material = slash == std::string::npos ? "" : name.substr(slash + 1);
+      material = material.substr(0, material.find('/'));
+      double base = 0;
+      for (const auto& [n, t] : seconds_) {
+        if (n.rfind("BM_Default/" + material, 0) == 0) base = t;
+      }
+      std::printf("%-64s %10.2f %12.2f\n", name.c_str(), s, base > 0 ? s / base : 0.0);
+    }
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>> seconds_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  std::vector<std::string> materials;
+  for (int i = 1; i < argc; ++i) materials.emplace_back(argv[i]);
+  if (materials.empty()) materials = {"blue-metallic-paint", "nickel"};
+  for (const std::string& m : materials) {
+    tables().emplace(m, load(m));
+    const auto reg = [&](const std::string& kind, auto fn) {
+      benchmark::RegisterBenchmark((kind + "/" + m).c_str(), fn)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->Iterations(1);
+    };
+    reg("BM_Default", [m](benchmark::State& s) { BM_Default(s, m); });
+    reg("BM_TargetBytes4000", [m](benchmark::State& s) { BM_Target(s, m, 4000, 0); });
+    reg("BM_TargetBytes12000", [m](benchmark::State& s) { BM_Target(s, m, 12000, 0); });
+    reg("BM_TargetPsnr45", [m](benchmark::State& s) { BM_Target(s, m, 0, 45); });
+    reg("BM_TargetPsnr1000", [m](benchmark::State& s) { BM_Target(s, m, 0, 1000); });
+    reg("BM_Components4", [m](benchmark::State& s) { BM_Components4(s, m); });
+  }
+  RatioReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  benchmark::Shutdown();
+  return 0;
+}
