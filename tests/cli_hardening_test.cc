@@ -29,6 +29,7 @@
 
 namespace cbrdf {
 namespace {
+using testing::contains;
 
 namespace fs = std::filesystem;
 using testing::CommandResult;
@@ -37,10 +38,6 @@ using testing::TempDir;
 
 int lines(const std::string& s) {
   return int(std::count(s.begin(), s.end(), '\n'));
-}
-
-bool contains(const std::string& haystack, const std::string& needle) {
-  return haystack.find(needle) != std::string::npos;
 }
 
 std::string q(const fs::path& p) {

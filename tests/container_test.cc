@@ -11,13 +11,11 @@
 #include "byte_reader.h"
 #include "byte_writer.h"
 #include "quantize.h"
+#include "test_support.h"
 
 namespace cbrdf {
 namespace {
-
-std::vector<std::uint8_t> bytes_of(const std::string& s) {
-  return {s.begin(), s.end()};
-}
+using testing::bytes_of;
 
 // The critical chunks a valid file needs; the chunk layer does not look inside payloads.
 std::vector<ChunkToWrite> minimal_chunks() {

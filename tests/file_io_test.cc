@@ -27,21 +27,15 @@
 
 namespace cbrdf {
 namespace {
+using testing::bytes_of;
+using testing::contains;
 namespace fs = std::filesystem;
 using testing::dir_entries;
 using testing::TempDir;
 
-std::vector<std::uint8_t> bytes_of(const std::string& s) {
-  return {s.begin(), s.end()};
-}
-
 std::string text_of(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-bool contains(const std::string& haystack, const std::string& needle) {
-  return haystack.find(needle) != std::string::npos;
 }
 
 // Makes a device node in a test directory (never in /dev); false where that is not permitted.

@@ -58,13 +58,11 @@ void operator delete[](void* p, std::size_t) noexcept {
 
 namespace cbrdf {
 namespace {
+using testing::bytes_of;
+using testing::contains;
 namespace fs = std::filesystem;
 using testing::dir_entries;
 using testing::TempDir;
-
-std::vector<std::uint8_t> bytes_of(const std::string& s) {
-  return {s.begin(), s.end()};
-}
 
 void write_raw(const fs::path& p, const std::vector<std::uint8_t>& bytes) {
   std::ofstream out(p, std::ios::binary);
@@ -76,10 +74,6 @@ std::vector<std::uint8_t> read_all(const fs::path& p) {
   auto r = read_file(p, std::uint64_t{1} << 32);
   EXPECT_TRUE(r.ok()) << r.status().message();
   return r.ok() ? std::move(r).value() : std::vector<std::uint8_t>{};
-}
-
-bool contains(const std::string& haystack, const std::string& needle) {
-  return haystack.find(needle) != std::string::npos;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -36,8 +36,8 @@ fs::path real_materials_dir() {
     const fs::path script = shared / "tools" / "make-merl.sh";
     if (!fs::exists(shared / "data" / "nbrdf-merl") || !fs::exists(script)) return;
     const fs::path out = fs::path(CBRDF_BUILD_DIR) / "real-materials";
-    const std::string cmd = "bash '" + script.string() + "' '" + out.string() + "' > '" +
-                            out.string() + ".log' 2>&1";
+    const std::string cmd =
+        "bash '" + script.string() + "' '" + out.string() + "' > '" + out.string() + ".log' 2>&1";
     fs::create_directories(out);
     if (std::system(cmd.c_str()) != 0) {
       std::fprintf(stderr, "make-merl.sh failed, see %s.log\n", out.string().c_str());
@@ -84,6 +84,14 @@ std::vector<std::string> dir_entries(const fs::path& dir) {
   for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
+}
+
+std::vector<std::uint8_t> bytes_of(const std::string& s) {
+  return {s.begin(), s.end()};
+}
+
+bool contains(const std::string& haystack, const std::string& needle) {
+  return haystack.find(needle) != std::string::npos;
 }
 
 }  // namespace cbrdf::testing

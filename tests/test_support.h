@@ -2,6 +2,7 @@
 // Helpers shared by the tests: temporary directories, the real-data folder, running the CLI.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -22,8 +23,9 @@ class TempDir {
   std::filesystem::path path_;
 };
 
-// The folder of real MERL-layout materials made from ../shared/data with ../shared/tools/make-merl.sh,
-// built once into the build tree. Empty when ../shared is absent (callers GTEST_SKIP with a message).
+// The folder of real MERL-layout materials made from ../shared/data with
+// ../shared/tools/make-merl.sh, built once into the build tree. Empty when ../shared is absent
+// (callers GTEST_SKIP with a message).
 std::filesystem::path real_materials_dir();
 // Names of the real materials available (empty without ../shared).
 std::vector<std::string> real_material_names();
@@ -37,6 +39,10 @@ struct CommandResult {
 CommandResult run_cli(const std::string& args);
 
 std::string read_text(const std::filesystem::path& p);
+
+// The bytes of a string, and whether a message contains a phrase.
+std::vector<std::uint8_t> bytes_of(const std::string& s);
+bool contains(const std::string& haystack, const std::string& needle);
 
 // The names in a directory, sorted.
 std::vector<std::string> dir_entries(const std::filesystem::path& dir);

@@ -156,11 +156,13 @@ void ModelEvaluator::eval_f32(const float wi[3], const float wo[3], float rgb[3]
   interp_->eval(wi, wo, rgb);
 }
 
-void ModelEvaluator::eval_batch(std::size_t n, const double* wi_x, const double* wi_y,
-                                const double* wi_z, const double* wo_x, const double* wo_y,
-                                const double* wo_z, double* r, double* g, double* b,
-                                int threads) const {
-  eval::BatchArgs<double> a;
+namespace {
+
+// The batch kernel's arguments for structure-of-arrays inputs and outputs.
+template <typename T>
+eval::BatchArgs<T> soa_args(const T* wi_x, const T* wi_y, const T* wi_z, const T* wo_x,
+                            const T* wo_y, const T* wo_z, T* r, T* g, T* b) {
+  eval::BatchArgs<T> a;
   a.in[0] = wi_x;
   a.in[1] = wi_y;
   a.in[2] = wi_z;
@@ -170,7 +172,16 @@ void ModelEvaluator::eval_batch(std::size_t n, const double* wi_x, const double*
   a.out[0] = r;
   a.out[1] = g;
   a.out[2] = b;
-  interp_->eval_batch(n, a, threads);
+  return a;
+}
+
+}  // namespace
+
+void ModelEvaluator::eval_batch(std::size_t n, const double* wi_x, const double* wi_y,
+                                const double* wi_z, const double* wo_x, const double* wo_y,
+                                const double* wo_z, double* r, double* g, double* b,
+                                int threads) const {
+  interp_->eval_batch(n, soa_args(wi_x, wi_y, wi_z, wo_x, wo_y, wo_z, r, g, b), threads);
 }
 
 void ModelEvaluator::eval_batch(std::size_t n, const double* wi, const double* wo, double* rgb,
@@ -190,17 +201,7 @@ void ModelEvaluator::eval_batch_f32(std::size_t n, const float* wi_x, const floa
                                     const float* wi_z, const float* wo_x, const float* wo_y,
                                     const float* wo_z, float* r, float* g, float* b,
                                     int threads) const {
-  eval::BatchArgs<float> a;
-  a.in[0] = wi_x;
-  a.in[1] = wi_y;
-  a.in[2] = wi_z;
-  a.in[3] = wo_x;
-  a.in[4] = wo_y;
-  a.in[5] = wo_z;
-  a.out[0] = r;
-  a.out[1] = g;
-  a.out[2] = b;
-  interp_->eval_batch(n, a, threads);
+  interp_->eval_batch(n, soa_args(wi_x, wi_y, wi_z, wo_x, wo_y, wo_z, r, g, b), threads);
 }
 
 std::size_t ModelEvaluator::footprint_bytes() const {

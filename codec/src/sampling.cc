@@ -247,27 +247,8 @@ void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t
   }
 }
 
-namespace {
-
-// Chunks of draws for the pool (as the evaluator's batches).
-template <class Fn>
-void for_sample_chunks(std::size_t n, int threads, const Fn& fn) {
-  constexpr std::size_t kChunk = 1024;
-  if (n == 0) return;
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  if (chunks == 1) {
-    fn(std::size_t(0), n);
-    return;
-  }
-  const int tasks = int(std::min<std::size_t>(chunks, 1 << 20));
-  const std::size_t per = (n + std::size_t(tasks) - 1) / std::size_t(tasks);
-  internal::parallel_for(tasks, threads, [&](int t) {
-    const std::size_t b = std::size_t(t) * per;
-    if (b < n) fn(b, std::min(n, b + per));
-  });
-}
-
-}  // namespace
+// Chunks of draws handed to the pool (smaller than the evaluator's: a draw costs more).
+constexpr std::size_t kSampleChunk = 1024;
 
 void BrdfSampler::sample_batch(std::size_t n, const double* wo_x, const double* wo_y,
                                const double* wo_z, const double* u1, const double* u2, double* wi_x,
@@ -286,7 +267,8 @@ void BrdfSampler::sample_batch(std::size_t n, const double* wo_x, const double* 
   io.weight[0] = weight_r;
   io.weight[1] = weight_g;
   io.weight[2] = weight_b;
-  for_sample_chunks(n, threads, [&](std::size_t b, std::size_t e) { sample_chunk(io, b, e); });
+  internal::parallel_chunks(n, kSampleChunk, threads,
+                            [&](std::size_t b, std::size_t e) { sample_chunk(io, b, e); });
 }
 
 void BrdfSampler::sample_batch(std::size_t n, const double* wo, const double* u, double* wi,
@@ -303,7 +285,8 @@ void BrdfSampler::sample_batch(std::size_t n, const double* wo, const double* u,
   io.wo_stride = io.wi_stride = io.weight_stride = 3;
   io.u_stride = 2;
   io.pdf = pdf;
-  for_sample_chunks(n, threads, [&](std::size_t b, std::size_t e) { sample_chunk(io, b, e); });
+  internal::parallel_chunks(n, kSampleChunk, threads,
+                            [&](std::size_t b, std::size_t e) { sample_chunk(io, b, e); });
 }
 
 Vec3 sample_cosine_hemisphere(double u1, double u2) {

@@ -3,6 +3,8 @@
 // renderer and the report; not installed and not part of the API.
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 
@@ -34,6 +36,24 @@ void parallel_rows(int rows, int max_threads, const Fn& fn) {
   parallel_for(blocks, blocks, [&](int b) {
     const auto row = [&](int i) { return int(std::int64_t(rows) * i / blocks); };
     fn(row(b), row(b + 1));
+  });
+}
+
+// Splits items [0, n) into chunks of about `chunk` items (batches of direction pairs, draws) and
+// calls fn(begin, end) once per chunk on the pool; one chunk runs on the calling thread.
+template <typename Fn>
+void parallel_chunks(std::size_t n, std::size_t chunk, int max_threads, const Fn& fn) {
+  if (n == 0) return;
+  const std::size_t chunks = (n + chunk - 1) / chunk;
+  if (chunks == 1) {
+    fn(std::size_t(0), n);
+    return;
+  }
+  const int tasks = int(std::min<std::size_t>(chunks, 1 << 20));
+  const std::size_t per = (n + std::size_t(tasks) - 1) / std::size_t(tasks);
+  parallel_for(tasks, max_threads, [&](int t) {
+    const std::size_t b = std::size_t(t) * per;
+    if (b < n) fn(b, std::min(n, b + per));
   });
 }
 

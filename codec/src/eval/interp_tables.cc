@@ -644,30 +644,16 @@ namespace {
 // Chunks of pairs handed to the pool: large enough to amortize a task, small enough to balance.
 constexpr std::size_t kChunk = 2048;
 
-template <class Fn>
-void for_chunks(std::size_t n, int threads, const Fn& fn) {
-  if (n == 0) return;
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  if (chunks == 1) {
-    fn(std::size_t(0), n);
-    return;
-  }
-  const int tasks = int(std::min<std::size_t>(chunks, 1 << 20));
-  const std::size_t per = (n + std::size_t(tasks) - 1) / std::size_t(tasks);
-  internal::parallel_for(tasks, threads, [&](int t) {
-    const std::size_t b = std::size_t(t) * per;
-    if (b < n) fn(b, std::min(n, b + per));
-  });
-}
-
 }  // namespace
 
 void InterpTables::eval_batch(std::size_t n, const BatchArgs<double>& args, int threads) const {
-  for_chunks(n, threads, [&](std::size_t b, std::size_t e) { eval_chunk(f64_, b, e, args); });
+  internal::parallel_chunks(n, kChunk, threads,
+                            [&](std::size_t b, std::size_t e) { eval_chunk(f64_, b, e, args); });
 }
 
 void InterpTables::eval_batch(std::size_t n, const BatchArgs<float>& args, int threads) const {
-  for_chunks(n, threads, [&](std::size_t b, std::size_t e) { eval_chunk(f32_, b, e, args); });
+  internal::parallel_chunks(n, kChunk, threads,
+                            [&](std::size_t b, std::size_t e) { eval_chunk(f32_, b, e, args); });
 }
 
 std::size_t InterpTables::footprint_bytes() const {
