@@ -572,5 +572,25 @@ TEST(CodecIoMeasure, BytesAndErrorPerBitRealMaterials) {
   }
 }
 
+// decode_model with an info gives what inspect_container gives, from the same single pass.
+TEST(CodecIoGolden, DecodeModelDescribesTheFileAsInspectDoes) {
+  const std::filesystem::path dir = std::filesystem::path(CBRDF_TEST_DATA_DIR) / "golden";
+  for (const Golden& g : kGolden) {
+    SCOPED_TRACE(g.name);
+    const std::vector<std::uint8_t> bytes = read_bytes(dir / g.name);
+    Expected<ContainerInfo> inspected = inspect_container(bytes);
+    ContainerInfo info;
+    Expected<Model> model = decode_model(bytes, &info);
+    ASSERT_TRUE(inspected.ok() && model.ok());
+    EXPECT_EQ(info.bits, inspected->bits);
+    EXPECT_EQ(info.layout.file_bytes, inspected->layout.file_bytes);
+    EXPECT_EQ(info.layout.chunks.size(), inspected->layout.chunks.size());
+    EXPECT_EQ(info.slices.size(), inspected->slices.size());
+    EXPECT_EQ(info.not_measured_bins, inspected->not_measured_bins);
+    EXPECT_EQ(info.metadata, inspected->metadata);
+    EXPECT_EQ(model_hash(*model), g.hash);
+  }
+}
+
 }  // namespace
 }  // namespace cbrdf

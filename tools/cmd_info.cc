@@ -31,10 +31,10 @@ bool is_container(const std::vector<std::uint8_t>& bytes) {
 }
 
 int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
-  auto info = inspect_container(bytes);
-  if (!info.ok()) return fail(info.status().with_context(shown(o.input, false)));
-  // What a renderer holds to evaluate the file: the evaluator's tables, against the 35 MB table.
-  auto model = decode_model(bytes);
+  // One validating pass gives the description and the model; the model shows what a renderer
+  // holds to evaluate the file (the evaluator's tables, against the 35 MB table).
+  Expected<ContainerInfo> info = ContainerInfo{};
+  auto model = decode_model(bytes, &*info);
   if (!model.ok()) return fail(model.status().with_context(shown(o.input, false)));
   const std::size_t evaluator_bytes = ModelEvaluator(std::move(model).value()).footprint_bytes();
   if (o.json) {

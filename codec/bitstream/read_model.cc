@@ -76,9 +76,10 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
 
 }  // namespace
 
-Expected<Model> decode_model(std::span<const std::uint8_t> bytes) {
+Expected<Model> decode_model(std::span<const std::uint8_t> bytes, ContainerInfo* info) {
   Expected<Decoded> d = decode_all(bytes);
   if (!d.ok()) return d.status();
+  if (info) *info = std::move(d->info);
   return std::move(d->model);
 }
 

@@ -328,8 +328,8 @@ bool is_container(const std::vector<std::uint8_t>& bytes) {
 py::dict info_of_bytes(const std::vector<std::uint8_t>& bytes, const std::string& name,
                        const py::object& file) {
   if (is_container(bytes)) {
-    auto info = take(inspect_container(bytes), name);
-    auto model = take(decode_model(bytes), name);
+    ContainerInfo info;
+    auto model = take(decode_model(bytes, &info), name);
     const std::size_t evaluator_bytes = ModelEvaluator(std::move(model)).footprint_bytes();
     return container_info_dict(info, evaluator_bytes, file);
   }
@@ -494,19 +494,14 @@ py::tuple bin_directions(const py::object& theta_h, const py::object& theta_d,
 
 struct PyModel {
   std::shared_ptr<const ModelEvaluator> evaluator;
-  // The file's bytes (a few kilobytes), inspected on the first use of info, bits or version:
-  // inspect_container validates the whole file again, which costs as much as decoding it.
-  std::vector<std::uint8_t> bytes;
-  std::string name;
-  std::optional<ContainerInfo> info_cache;
+  // The file's description, from the same validating pass that decoded the model.
+  ContainerInfo info_;
+  std::size_t file_bytes = 0;
   py::object file = py::none();
   std::mutex sampler_mutex;
   std::shared_ptr<const BrdfSampler> sampler;
 
-  const ContainerInfo& info() {
-    if (!info_cache) info_cache = take(inspect_container(bytes), name);
-    return *info_cache;
-  }
+  const ContainerInfo& info() const { return info_; }
   std::shared_ptr<const ModelEvaluator> ev() const {
     if (!evaluator) raise_invalid("the model is closed");
     return evaluator;
@@ -525,11 +520,10 @@ std::unique_ptr<PyModel> model_from_bytes(const std::vector<std::uint8_t>& bytes
   Expected<Model> model = Model{};
   {
     py::gil_scoped_release release;
-    model = decode_model(bytes);
+    model = decode_model(bytes, &m->info_);
   }
   m->evaluator = std::make_shared<const ModelEvaluator>(take(std::move(model), name));
-  m->bytes = bytes;
-  m->name = name;
+  m->file_bytes = bytes.size();
   m->file = std::move(file);
   return m;
 }
@@ -1053,7 +1047,7 @@ PYBIND11_MODULE(_cbrdf, m) {
                                return py::make_tuple(self.info().layout.major,
                                                      self.info().layout.minor);
                              })
-      .def_property_readonly("nbytes", [](const PyModel& self) { return self.bytes.size(); })
+      .def_property_readonly("nbytes", [](const PyModel& self) { return self.file_bytes; })
       .def_property_readonly("not_measured_bins",
                              [](PyModel& self) { return self.info().not_measured_bins; })
       .def_property_readonly("footprint_bytes",

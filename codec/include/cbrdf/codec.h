@@ -37,7 +37,10 @@ CBRDF_EXPORT Expected<std::vector<std::uint8_t>> encode_model(const Model& model
                                                               const ContainerSettings& settings);
 
 // Full validation; errors name the chunk tag and its byte offset.
-CBRDF_EXPORT Expected<Model> decode_model(std::span<const std::uint8_t> bytes);
+struct ContainerInfo;
+// With info, also what inspect_container gives, from the same single pass.
+CBRDF_EXPORT Expected<Model> decode_model(std::span<const std::uint8_t> bytes,
+                                          ContainerInfo* info = nullptr);
 
 // decode_model, then the full MERL-resolution table (Model::table()).
 CBRDF_EXPORT Expected<BrdfTable> decode_table(std::span<const std::uint8_t> bytes);

@@ -134,15 +134,12 @@ Status check_slice_channel(const cbrdf_model* model, int slice, int channel) {
   return ok_status();
 }
 
-// Builds the handle from a file's bytes. Both calls validate the whole file; inspect_container is
-// what keeps the chunk layout, header fields and metadata that Model does not hold.
+// Builds the handle from a file's bytes: one validating pass gives the model and the description
+// (chunk layout, header fields, metadata) that Model does not hold.
 Expected<std::unique_ptr<cbrdf_model>> build_model(std::span<const std::uint8_t> bytes) {
-  auto info = inspect_container(bytes);
-  if (!info.ok()) return info.status();
-  auto decoded = decode_model(bytes);
-  if (!decoded.ok()) return decoded.status();
   auto handle = std::make_unique<cbrdf_model>();
-  handle->info = std::move(info.value());
+  auto decoded = decode_model(bytes, &handle->info);
+  if (!decoded.ok()) return decoded.status();
   handle->model = std::move(decoded.value());
   // The handle owns the model and never moves, so the evaluator shares it without owning it.
   handle->evaluator = std::make_unique<const ModelEvaluator>(
