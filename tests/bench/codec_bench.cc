@@ -358,7 +358,12 @@ class RatioReporter : public benchmark::ConsoleReporter {
       // Single runs, or the median of repetitions; the counter is in seconds per pair.
       if (r.run_type == Run::RT_Aggregate && r.aggregate_name != "median") continue;
       auto it = r.counters.find("ns_per_pair");
-      if (it != r.counters.end()) ns_.emplace_back(r.benchmark_name(), 1e9 * double(it->second));
+      if (it != r.counters.end()) {
+        ns_.emplace_back(r.benchmark_name(), 1e9 * double(it->second));
+        // CPU time of the calling thread per iteration (ms), which a loaded machine disturbs
+        // less than wall time: comparable between runs on one thread only.
+        cpu_.emplace_back(r.benchmark_name(), r.GetAdjustedCPUTime());
+      }
     }
   }
   void Finalize() override {
@@ -387,15 +392,31 @@ class RatioReporter : public benchmark::ConsoleReporter {
         if (name.find(key) != std::string::npos) return ns;
       return 0.0;
     };
-    std::printf("\n%-24s %-22s %10s\n", "speed-up of", "over", "ratio");
+    auto find_cpu = [&](const char* key) {
+      for (const auto& [name, ms] : cpu_)
+        if (name.find(key) != std::string::npos) return ms;
+      return 0.0;
+    };
+    // Both runs on one thread (not /2): the ratio of CPU times too.
+    auto one_thread = [](const char* key) {
+      return std::string(key).find("/2/") == std::string::npos;
+    };
+    std::printf("\n%-24s %-22s %10s %10s\n", "speed-up of", "over", "wall", "cpu");
     for (const auto& [fast, slow] : pairs) {
       const double a = find(fast), b = find(slow);
-      if (a > 0 && b > 0) std::printf("%-24s %-22s %10.2f\n", fast, slow, b / a);
+      if (!(a > 0 && b > 0)) continue;
+      const double ca = find_cpu(fast), cb = find_cpu(slow);
+      if (one_thread(fast) && one_thread(slow) && ca > 0 && cb > 0) {
+        std::printf("%-24s %-22s %10.2f %10.2f\n", fast, slow, b / a, cb / ca);
+      } else {
+        std::printf("%-24s %-22s %10.2f %10s\n", fast, slow, b / a, "-");
+      }
     }
   }
 
  private:
   std::vector<std::pair<std::string, double>> ns_;
+  std::vector<std::pair<std::string, double>> cpu_;  // ms per iteration
 };
 
 }  // namespace

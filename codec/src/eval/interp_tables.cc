@@ -81,45 +81,56 @@ void axis_terms(const ProductForm& f, const std::vector<double>& pdf,
   }
 }
 
-template <class T>
-AxisTerms<T> cast_terms(const AxisTerms<double>& a) {
-  return {T(a.g), T(a.w), T(a.y)};
+// Slot q's constants in a slice's grouped array.
+void set_constants(SliceTables<double>* st, int q, const SlotConstants<double>& k) {
+  double* c = st->consts.data() + constant_offset(q);
+  const double v[7] = {k.k, k.a0, k.a1, k.a2, k.b0, k.b1, k.b2};
+  for (int e = 0; e < 7; ++e) c[e * kGroup] = v[e];
 }
 
-template <class T>
-SlotConstants<T> cast_consts(const SlotConstants<double>& c) {
-  return {T(c.k), T(c.a0), T(c.a1), T(c.a2), T(c.b0), T(c.b1), T(c.b2)};
+// Slot q's terms on one axis into its rows (row length n): bins 0 .. bins, the last repeated.
+void set_rows(const std::vector<AxisTerms<double>>& terms, int bins, std::size_t n, int q,
+              std::vector<double>* rows) {
+  for (int i = 0; i <= bins; ++i) {
+    const AxisTerms<double>& a = terms[std::size_t(std::min(i, bins - 1))];
+    double* t = rows->data() + std::size_t(i) * n + term_offset(q);
+    t[0] = a.g;
+    t[kGroup] = a.w;
+    t[2 * kGroup] = a.y;
+  }
 }
 
-// Adds weight * the slice's value at the interpolated position to rgb. The axis entries of the
-// two bins around the position: h0/h1, d0/d1, p0/p1 (3R entries each), fractions fh, fd, fp.
+// Adds weight * the slice's value at the interpolated position to rgb. The axis rows of the two
+// bins around the position: h0/h1, d0/d1, p0/p1, fractions fh, fd, fp.
 template <class T>
 inline void add_slice(const SliceTables<T>& st, int i0, T fh, int jl0, T fd, int k0, T fp, T weight,
                       T rgb[3]) {
-  const int n = 3 * st.slots_per_channel, R = st.slots_per_channel;
-  const AxisTerms<T>* h0 = st.h.data() + std::size_t(i0) * std::size_t(n);
-  const AxisTerms<T>* h1 = h0 + n;
-  const AxisTerms<T>* d0 = st.d.data() + std::size_t(jl0) * std::size_t(n);
-  const AxisTerms<T>* d1 = d0 + n;
-  const AxisTerms<T>* p0 = st.p.data() + std::size_t(k0) * std::size_t(n);
-  const AxisTerms<T>* p1 = p0 + n;
+  const int R = st.slots_per_channel;
+  const std::size_t n = st.row();
+  const T* h0 = st.h.data() + std::size_t(i0) * n;
+  const T* h1 = h0 + n;
+  const T* d0 = st.d.data() + std::size_t(jl0) * n;
+  const T* d1 = d0 + n;
+  const T* p0 = st.p.data() + std::size_t(k0) * n;
+  const T* p1 = p0 + n;
   const T gh = 1 - fh, gd = 1 - fd, gp = 1 - fp;
-  const SlotConstants<T>* kc = st.consts.data();
+  constexpr int W_ = kGroup, Y_ = 2 * kGroup;
   for (int c = 0; c < kChannels; ++c) {
     T sum = 0;
     for (int r = 0; r < R; ++r) {
       const int q = c * R + r;
-      const T g1 = h0[q].g * gh + h1[q].g * fh, w1 = h0[q].w * gh + h1[q].w * fh,
-              y1 = h0[q].y * gh + h1[q].y * fh;
-      const T g2 = d0[q].g * gd + d1[q].g * fd, w2 = d0[q].w * gd + d1[q].w * fd,
-              y2 = d0[q].y * gd + d1[q].y * fd;
-      const T g3 = p0[q].g * gp + p1[q].g * fp, w3 = p0[q].w * gp + p1[q].w * fp,
-              y3 = p0[q].y * gp + p1[q].y * fp;
-      const SlotConstants<T>& k = kc[q];
+      const std::size_t o = term_offset(q);
+      const T g1 = h0[o] * gh + h1[o] * fh, w1 = h0[o + W_] * gh + h1[o + W_] * fh,
+              y1 = h0[o + Y_] * gh + h1[o + Y_] * fh;
+      const T g2 = d0[o] * gd + d1[o] * fd, w2 = d0[o + W_] * gd + d1[o + W_] * fd,
+              y2 = d0[o + Y_] * gd + d1[o + Y_] * fd;
+      const T g3 = p0[o] * gp + p1[o] * fp, w3 = p0[o + W_] * gp + p1[o + W_] * fp,
+              y3 = p0[o + Y_] * gp + p1[o + Y_] * fp;
+      const T* k = st.consts.data() + constant_offset(q);
       const T w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
-      const T omh = k.a0 + k.a1 * Y + k.a2 * W;
-      const T oph = k.b0 + k.b1 * Y + k.b2 * W;
-      sum += k.k * (g1 * g2 * g3) * oph / (omh * omh * omh);
+      const T omh = k[kGroup] + k[2 * kGroup] * Y + k[3 * kGroup] * W;
+      const T oph = k[4 * kGroup] + k[5 * kGroup] * Y + k[6 * kGroup] * W;
+      sum += k[0] * (g1 * g2 * g3) * oph / (omh * omh * omh);
     }
     rgb[c] += weight * sum;
   }
@@ -234,14 +245,14 @@ inline Position<T> position(T ix, T iy, T iz, T ox, T oy, T oz) {
 // ---- Batches (InterpTables::eval_batch) ----------------------------------------------------
 // A chunk of pairs is evaluated in blocks of kBlock: (1) the grid positions of the whole block,
 // branch-free loops (the coordinates, three atan2 polynomials and four square roots per pair)
-// that the compiler vectorizes; (2) per pair, the interpolated per-axis terms gathered from the
-// slice's tables into per-slot arrays: g1 g2 g3, 1 - h and 1 + h (scalar: the table rows differ
-// per pair); (3) the copula ratios and the channel sums across the block, vectorized (the
-// divisions). Every value is formed by the same operations in the same order as eval's, so the
-// results are equal bit for bit: vector lanes round as scalar instructions do, and neither path
-// contracts multiply-adds (x86-64 without -mfma; the AVX2 clones do not enable FMA). Pairs that
-// eval treats apart (below the horizon, across a slice boundary or the phi_d period, slices with
-// generic terms) go through eval's own code.
+// that the compiler vectorizes across pairs; (2) per pair, the two bins' rows of each axis
+// interpolated and the copula ratios formed, kGroup slots at a time (the slice tables' grouped
+// layout), vectorized across slots. Every value is formed by the same operations in the same
+// order as eval's, so the results are equal bit for bit: vector lanes round as scalar
+// instructions do, and neither path contracts multiply-adds (x86-64 without -mfma; the AVX2
+// clones do not enable FMA). A pair across a slice boundary is two slice evaluations, as in eval;
+// pairs below the horizon are 0; pairs across the phi_d period (1 in 180) and models with generic
+// terms go through eval's own code.
 constexpr int kBlock = 32;
 
 // One block's inputs and stage (1)'s results, in one object: its arrays provably do not alias, so
@@ -296,23 +307,62 @@ template <class T>
   }
 }
 
-// Stage (3): per channel, the sum over its R slots of k g (1 + h) / (1 - h)^3 (add_slice's order),
-// then eval's `0 + 1 * sum` and saturation. Arrays are slot-major: slot q of lane l at q * kBlock +
-// l.
+// The block's slice evaluations (stages 2 and 3): a pair inside a slice is one job (its slice,
+// weight 1); a pair whose theta_d bins lie in two slices is two, in eval_impl's order: the lower
+// slice at fd = 0 with weight 1 - fd, then the upper one at its first bin with weight fd.
 template <class T>
-[[gnu::always_inline]] inline void block_ratios(int R, const T* k, const T* g, const T* omh,
-                                                const T* oph, T* out) {
-  for (int c = 0; c < kChannels; ++c) {
-    T sum[kBlock] = {};
-    for (int r = 0; r < R; ++r) {
-      const std::size_t q = std::size_t(c * R + r) * kBlock;
-      for (int l = 0; l < kBlock; ++l) {
-        const T o = omh[q + std::size_t(l)];
-        sum[l] +=
-            k[q + std::size_t(l)] * g[q + std::size_t(l)] * oph[q + std::size_t(l)] / (o * o * o);
+struct BlockJobs {
+  int count = 0;
+  const SliceTables<T>* slice[2 * kBlock];
+  int lane[2 * kBlock], jl[2 * kBlock];
+  T fd[2 * kBlock], weight[2 * kBlock];
+};
+
+// Per job, per group of kGroup slots, the interpolated terms of the two bins' rows on each axis,
+// g1 g2 g3, 1 - h, 1 + h and the ratio k g (1 + h) / (1 - h)^3, each a kGroup-wide vector
+// operation (the same operations, in the same order, as add_slice's per slot); then per channel
+// the sum over its R slots in add_slice's order, added times the job's weight to the pair's
+// acc[c * kBlock + l] (zero before the first job). `v` holds G kGroup values.
+template <class T>
+[[gnu::always_inline]] inline void block_values(const BlockState<T>& b, const BlockJobs<T>& jobs,
+                                                T* v, T* acc) {
+  for (int j = 0; j < jobs.count; ++j) {
+    const SliceTables<T>* st = jobs.slice[j];
+    const int l = jobs.lane[j];
+    const std::size_t n = st->row();
+    const T* h0 = st->h.data() + std::size_t(b.h0[l]) * n;
+    const T* d0 = st->d.data() + std::size_t(jobs.jl[j]) * n;
+    const T* p0 = st->p.data() + std::size_t(b.p0[l]) * n;
+    const T a1 = b.fh[l], a2 = jobs.fd[j], a3 = b.fp[l];
+    const T b1 = 1 - a1, b2 = 1 - a2, b3 = 1 - a3;
+    const T* kc = st->consts.data();
+    for (int gi = 0; gi < st->groups; ++gi) {
+      const std::size_t o = std::size_t(gi) * kGroupTerms;
+      T t1[kGroupTerms], t2[kGroupTerms], t3[kGroupTerms];
+      for (int e = 0; e < kGroupTerms; ++e) {
+        t1[e] = h0[o + e] * b1 + h0[n + o + e] * a1;
+        t2[e] = d0[o + e] * b2 + d0[n + o + e] * a2;
+        t3[e] = p0[o + e] * b3 + p0[n + o + e] * a3;
       }
+      const T* k = kc + std::size_t(gi) * kGroupConstants;
+      T ratio[kGroup];  // local, so that no store to v can alias the loads
+      for (int q = 0; q < kGroup; ++q) {
+        const T w1 = t1[kGroup + q], w2 = t2[kGroup + q], w3 = t3[kGroup + q];
+        const T y1 = t1[2 * kGroup + q], y2 = t2[2 * kGroup + q], y3 = t3[2 * kGroup + q];
+        const T w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
+        const T omh = k[kGroup + q] + k[2 * kGroup + q] * Y + k[3 * kGroup + q] * W;
+        const T oph = k[4 * kGroup + q] + k[5 * kGroup + q] * Y + k[6 * kGroup + q] * W;
+        ratio[q] = k[q] * (t1[q] * t2[q] * t3[q]) * oph / (omh * omh * omh);
+      }
+      for (int q = 0; q < kGroup; ++q) v[gi * kGroup + q] = ratio[q];
     }
-    for (int l = 0; l < kBlock; ++l) out[c * kBlock + l] = saturate(T(0) + T(1) * sum[l]);
+    const int R = st->slots_per_channel;
+    const T w = jobs.weight[j];
+    for (int c = 0; c < kChannels; ++c) {
+      T sum = 0;
+      for (int r = 0; r < R; ++r) sum += v[c * R + r];
+      acc[c * kBlock + l] += w * sum;
+    }
   }
 }
 
@@ -332,13 +382,13 @@ CBRDF_VECTOR_CLONES void block_positions_f64(BlockState<double>& b) {
 CBRDF_VECTOR_CLONES void block_positions_f32(BlockState<float>& b) {
   block_positions(b);
 }
-CBRDF_VECTOR_CLONES void block_ratios_f64(int R, const double* k, const double* g,
-                                          const double* omh, const double* oph, double* out) {
-  block_ratios(R, k, g, omh, oph, out);
+CBRDF_VECTOR_CLONES void block_values_f64(const BlockState<double>& b,
+                                          const BlockJobs<double>& jobs, double* v, double* acc) {
+  block_values(b, jobs, v, acc);
 }
-CBRDF_VECTOR_CLONES void block_ratios_f32(int R, const float* k, const float* g, const float* omh,
-                                          const float* oph, float* out) {
-  block_ratios(R, k, g, omh, oph, out);
+CBRDF_VECTOR_CLONES void block_values_f32(const BlockState<float>& b, const BlockJobs<float>& jobs,
+                                          float* v, float* acc) {
+  block_values(b, jobs, v, acc);
 }
 inline void block_positions_any(BlockState<double>& b) {
   block_positions_f64(b);
@@ -346,21 +396,21 @@ inline void block_positions_any(BlockState<double>& b) {
 inline void block_positions_any(BlockState<float>& b) {
   block_positions_f32(b);
 }
-inline void block_ratios_any(int R, const double* k, const double* g, const double* omh,
-                             const double* oph, double* out) {
-  block_ratios_f64(R, k, g, omh, oph, out);
+inline void block_values_any(const BlockState<double>& b, const BlockJobs<double>& jobs, double* v,
+                             double* acc) {
+  block_values_f64(b, jobs, v, acc);
 }
-inline void block_ratios_any(int R, const float* k, const float* g, const float* omh,
-                             const float* oph, float* out) {
-  block_ratios_f32(R, k, g, omh, oph, out);
+inline void block_values_any(const BlockState<float>& b, const BlockJobs<float>& jobs, float* v,
+                             float* acc) {
+  block_values_f32(b, jobs, v, acc);
 }
 
 }  // namespace
 
 template <class T>
 std::size_t SliceTables<T>::bytes() const {
-  return sizeof(*this) + (h.capacity() + d.capacity() + p.capacity()) * sizeof(AxisTerms<T>) +
-         consts.capacity() * sizeof(SlotConstants<T>);
+  return sizeof(*this) +
+         (h.capacity() + d.capacity() + p.capacity() + consts.capacity()) * sizeof(T);
 }
 template struct SliceTables<double>;
 template struct SliceTables<float>;
@@ -393,11 +443,15 @@ InterpTables::InterpTables(const Model& model) {
     for (const ChannelSlice& cs : slice.channel) R = std::max(R, cs.components());
     st.slots_per_channel = R;
     max_slots_per_channel_ = std::max(max_slots_per_channel_, R);
-    const int n = 3 * R, width = slice.width();
-    st.h.assign(std::size_t((kThetaHBins + 1) * n), AxisTerms<double>{0, 0, 0});
-    st.d.assign(std::size_t((width + 1) * n), AxisTerms<double>{0, 0, 0});
-    st.p.assign(std::size_t((kPhiDBins + 1) * n), AxisTerms<double>{0, 0, 0});
-    st.consts.assign(std::size_t(n), SlotConstants<double>{0, 1, 0, 0, 1, 0, 0});
+    const int width = slice.width();
+    st.groups = (3 * R + kGroup - 1) / kGroup;
+    const std::size_t n = st.row();
+    st.h.assign(std::size_t(kThetaHBins + 1) * n, 0.0);
+    st.d.assign(std::size_t(width + 1) * n, 0.0);
+    st.p.assign(std::size_t(kPhiDBins + 1) * n, 0.0);
+    st.consts.assign(std::size_t(st.groups) * kGroupConstants, 0.0);
+    // Zero slots (and the padding): k = g = 0 and 1 - h = 1 + h = 1, a value of 0.
+    for (int q = 0; q < st.groups * kGroup; ++q) set_constants(&st, q, {0, 1, 0, 0, 1, 0, 0});
     for (int c = 0; c < kChannels; ++c) {
       const ChannelSlice& cs = slice.channel[std::size_t(c)];
       for (int r = 0; r < cs.components(); ++r) {
@@ -422,33 +476,28 @@ InterpTables::InterpTables(const Model& model) {
           continue;  // its slot stays zero
         }
         if (comp.scale == 0.0) continue;
-        st.consts[std::size_t(q)] = f.k;
+        set_constants(&st, q, f.k);
         axis_terms(f, comp.pdf_h, &th);
         axis_terms(f, comp.pdf_d, &td);
         axis_terms(f, comp.pdf_p, &tp);
-        for (int i = 0; i <= kThetaHBins; ++i)
-          st.h[std::size_t(i * n + q)] = th[std::size_t(std::min(i, kThetaHBins - 1))];
-        for (int j = 0; j <= width; ++j)
-          st.d[std::size_t(j * n + q)] = td[std::size_t(std::min(j, width - 1))];
-        for (int k = 0; k <= kPhiDBins; ++k)
-          st.p[std::size_t(k * n + q)] = tp[std::size_t(std::min(k, kPhiDBins - 1))];
+        set_rows(th, kThetaHBins, n, q, &st.h);
+        set_rows(td, width, n, q, &st.d);
+        set_rows(tp, kPhiDBins, n, q, &st.p);
       }
     }
     SliceTables<float>& sf = f32_[s];
     sf.theta_d_begin = st.theta_d_begin;
     sf.theta_d_end = st.theta_d_end;
     sf.slots_per_channel = R;
-    auto cast_all = [](const std::vector<AxisTerms<double>>& from,
-                       std::vector<AxisTerms<float>>* to) {
+    sf.groups = st.groups;
+    auto cast_all = [](const std::vector<double>& from, std::vector<float>* to) {
       to->resize(from.size());
-      for (std::size_t i = 0; i < from.size(); ++i) (*to)[i] = cast_terms<float>(from[i]);
+      for (std::size_t i = 0; i < from.size(); ++i) (*to)[i] = float(from[i]);
     };
     cast_all(st.h, &sf.h);
     cast_all(st.d, &sf.d);
     cast_all(st.p, &sf.p);
-    sf.consts.resize(st.consts.size());
-    for (std::size_t q = 0; q < st.consts.size(); ++q)
-      sf.consts[q] = cast_consts<float>(st.consts[q]);
+    cast_all(st.consts, &sf.consts);
   }
 }
 
@@ -548,88 +597,64 @@ void InterpTables::eval_at(const Position<float>& pos, float rgb[3]) const {
 template <class T>
 void InterpTables::eval_chunk(const std::vector<SliceTables<T>>& tables, std::size_t begin,
                               std::size_t end, const BatchArgs<T>& args) const {
-  const int R = max_slots_per_channel_, slots = kChannels * R;
-  // Per block: the inputs, stage (1)'s results, stage (2)'s per-slot terms, stage (3)'s sums.
+  // Per block: the inputs and stage (1)'s results, the slice evaluations, the sums.
   BlockState<T> bs;
   auto& in = bs.in;
-  const T *ph = bs.ph, *pd = bs.pd, *pp = bs.pp, *fh = bs.fh, *fd = bs.fd, *fp = bs.fp;
-  const int *h0 = bs.h0, *d0 = bs.d0, *p0 = bs.p0;
-  alignas(64) T out[kChannels * kBlock];
-  std::vector<T> terms(std::size_t(4 * slots * kBlock));
-  T* const kk = terms.data();
-  T* const gg = kk + slots * kBlock;
-  T* const om = gg + slots * kBlock;
-  T* const op = om + slots * kBlock;
-  enum : unsigned char { kRegular, kBelow, kApart };
+  const T *ph = bs.ph, *pd = bs.pd, *pp = bs.pp, *fd = bs.fd, *fp = bs.fp;
+  const int *d0 = bs.d0, *p0 = bs.p0;
+  alignas(64) T acc[kChannels * kBlock];
+  BlockJobs<T> jobs;
+  std::vector<T> values(std::size_t(3 * max_slots_per_channel_ + kGroup));
+  enum : unsigned char { kInside, kBelow, kApart };
   unsigned char kind[kBlock];
   const std::size_t is = args.in_stride, os = args.out_stride;
+  const auto add_job = [&](const SliceTables<T>* st, int l, int jl, T f, T w) {
+    const int j = jobs.count++;
+    jobs.slice[j] = st;
+    jobs.lane[j] = l;
+    jobs.jl[j] = jl;
+    jobs.fd[j] = f;
+    jobs.weight[j] = w;
+  };
   for (std::size_t base = begin; base < end; base += kBlock) {
     const int m = int(std::min<std::size_t>(kBlock, end - base));
     for (int a = 0; a < 6; ++a) {
       const T* src = args.in[a] + base * is;
-      for (int l = 0; l < m; ++l) in[a][l] = src[std::size_t(l) * is];
+      if (is == 1 && m == kBlock) {
+        for (int l = 0; l < kBlock; ++l) in[a][l] = src[l];  // a fixed size: moved inline
+      } else {
+        for (int l = 0; l < m; ++l) in[a][l] = src[std::size_t(l) * is];
+      }
       for (int l = m; l < kBlock; ++l) in[a][l] = T(0);
     }
     block_positions_any(bs);
-    for (int l = 0; l < kBlock; ++l) {
-      std::size_t q = std::size_t(l);
-      auto neutral = [&] {
-        for (int s = 0; s < slots; ++s, q += kBlock) {
-          kk[q] = gg[q] = T(0);
-          om[q] = op[q] = T(1);
-        }
-      };
-      if (l >= m || !(in[2][l] > 0) || !(in[5][l] > 0)) {
+    jobs.count = 0;
+    for (int l = 0; l < m; ++l) {
+      if (!(in[2][l] > 0) || !(in[5][l] > 0)) {
         kind[l] = kBelow;
-        neutral();
         continue;
       }
       const SliceTables<T>& st = tables[std::size_t(slice_of_bin_[d0[l]])];
-      if (any_generic_ || !(d0[l] + 1 < st.theta_d_end || fd[l] == 0) ||
-          !(p0[l] + 1 < kPhiDBins || fp[l] == 0)) {
+      if (any_generic_ || !(p0[l] + 1 < kPhiDBins || fp[l] == 0)) {
         kind[l] = kApart;
-        neutral();
         continue;
       }
-      kind[l] = kRegular;
-      // add_slice's interpolation, slot by slot (R_s of this slice, the rest neutral).
-      const int n = 3 * st.slots_per_channel, Rs = st.slots_per_channel;
-      const AxisTerms<T>* H0 = st.h.data() + std::size_t(h0[l]) * std::size_t(n);
-      const AxisTerms<T>* H1 = H0 + n;
-      const AxisTerms<T>* D0 = st.d.data() + std::size_t(d0[l] - st.theta_d_begin) * std::size_t(n);
-      const AxisTerms<T>* D1 = D0 + n;
-      const AxisTerms<T>* P0 = st.p.data() + std::size_t(p0[l]) * std::size_t(n);
-      const AxisTerms<T>* P1 = P0 + n;
-      const T a1 = fh[l], a2 = fd[l], a3 = fp[l];
-      const T b1 = 1 - a1, b2 = 1 - a2, b3 = 1 - a3;
-      for (int c = 0; c < kChannels; ++c) {
-        for (int r = 0; r < R; ++r, q += kBlock) {
-          if (r >= Rs) {
-            kk[q] = gg[q] = T(0);
-            om[q] = op[q] = T(1);
-            continue;
-          }
-          const int s = c * Rs + r;
-          const T g1 = H0[s].g * b1 + H1[s].g * a1, w1 = H0[s].w * b1 + H1[s].w * a1,
-                  y1 = H0[s].y * b1 + H1[s].y * a1;
-          const T g2 = D0[s].g * b2 + D1[s].g * a2, w2 = D0[s].w * b2 + D1[s].w * a2,
-                  y2 = D0[s].y * b2 + D1[s].y * a2;
-          const T g3 = P0[s].g * b3 + P1[s].g * a3, w3 = P0[s].w * b3 + P1[s].w * a3,
-                  y3 = P0[s].y * b3 + P1[s].y * a3;
-          const SlotConstants<T>& k = st.consts[std::size_t(s)];
-          const T w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
-          kk[q] = k.k;
-          gg[q] = g1 * g2 * g3;
-          om[q] = k.a0 + k.a1 * Y + k.a2 * W;
-          op[q] = k.b0 + k.b1 * Y + k.b2 * W;
-        }
+      kind[l] = kInside;
+      for (int c = 0; c < kChannels; ++c) acc[c * kBlock + l] = T(0);
+      const int jl = d0[l] - st.theta_d_begin;
+      if (d0[l] + 1 < st.theta_d_end || fd[l] == 0) {
+        add_job(&st, l, jl, fd[l], T(1));
+      } else {
+        const SliceTables<T>& next = tables[std::size_t(slice_of_bin_[d0[l] + 1])];
+        add_job(&st, l, jl, T(0), 1 - fd[l]);
+        add_job(&next, l, d0[l] + 1 - next.theta_d_begin, T(0), fd[l]);
       }
     }
-    block_ratios_any(R, kk, gg, om, op, out);
+    block_values_any(bs, jobs, values.data(), acc);
     for (int l = 0; l < m; ++l) {
-      T rgb[3] = {out[l], out[kBlock + l], out[2 * kBlock + l]};
-      if (kind[l] == kBelow) {
-        rgb[0] = rgb[1] = rgb[2] = T(0);
+      T rgb[3] = {T(0), T(0), T(0)};
+      if (kind[l] == kInside) {
+        for (int c = 0; c < kChannels; ++c) rgb[c] = saturate(acc[c * kBlock + l]);
       } else if (kind[l] == kApart) {
         eval_at(Position<T>{ph[l], pd[l], pp[l]}, rgb);
       }

@@ -52,18 +52,36 @@ struct SlotConstants {
   T k, a0, a1, a2, b0, b1, b2;
 };
 
+// Slots are stored in groups of kGroup, each group term-major (all its g, then all w, then all y),
+// so that a group's interpolation and copula ratio are kGroup-wide vector operations for one
+// pair (eval_batch); the last group is padded with zero slots.
+inline constexpr int kGroup = 4;
+inline constexpr int kGroupTerms = 3 * kGroup;      // g, w, y of a group's slots
+inline constexpr int kGroupConstants = 7 * kGroup;  // k, a0, a1, a2, b0, b1, b2 of its slots
+
+// Offset of slot q's g in a bin's row (w at + kGroup, y at + 2 kGroup), and of its k in the
+// constants (a0 at + kGroup, ..., b2 at + 6 kGroup).
+inline std::size_t term_offset(int q) {
+  return std::size_t(q / kGroup) * kGroupTerms + std::size_t(q % kGroup);
+}
+inline std::size_t constant_offset(int q) {
+  return std::size_t(q / kGroup) * kGroupConstants + std::size_t(q % kGroup);
+}
+
 // The tables of one slice in precision T. Slots are (channel c, component r) at c * R + r, R the
 // most components of a channel in the slice; a channel with fewer holds zero slots (k = g = 0).
-// Axis arrays are bin-major: entry (bin, slot) at bin * 3R + slot, so the two bins an evaluation
-// interpolates between are 2 x 3R contiguous entries per axis.
+// Axis arrays are bin-major: bin b's row, G groups of kGroupTerms entries, at b * G kGroupTerms,
+// so the two bins an evaluation interpolates between are two contiguous rows per axis.
 template <class T>
 struct SliceTables {
   int theta_d_begin = 0, theta_d_end = 0;
-  int slots_per_channel = 0;             // R
-  std::vector<AxisTerms<T>> h;           // kThetaHBins + 1 bins (the last repeated)
-  std::vector<AxisTerms<T>> d;           // width + 1 bins (the last repeated)
-  std::vector<AxisTerms<T>> p;           // kPhiDBins + 1 bins (the last repeated)
-  std::vector<SlotConstants<T>> consts;  // 3R
+  int slots_per_channel = 0;  // R
+  int groups = 0;             // G = ceil(3 R / kGroup)
+  std::vector<T> h;           // kThetaHBins + 1 rows (the last repeated)
+  std::vector<T> d;           // width + 1 rows (the last repeated)
+  std::vector<T> p;           // kPhiDBins + 1 rows (the last repeated)
+  std::vector<T> consts;      // G kGroupConstants
+  std::size_t row() const { return std::size_t(groups) * kGroupTerms; }
   std::size_t bytes() const;
 };
 
@@ -106,8 +124,8 @@ class InterpTables {
   void eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const;
   void eval(const float wi[3], const float wo[3], float rgb[3]) const;
   // n pairs at once, bit for bit equal to eval per pair: blocks of pairs with the grid positions
-  // and the copula ratios computed across the block (vectorized), split into chunks over at most
-  // `threads` threads of the library's pool (internal::parallel_for; <= 0: the thread limit).
+  // computed across the block and each pair's slots kGroup at a time (vectorized), split into
+  // chunks over at most `threads` threads of the library's pool (<= 0: the thread limit).
   void eval_batch(std::size_t n, const BatchArgs<double>& args, int threads) const;
   void eval_batch(std::size_t n, const BatchArgs<float>& args, int threads) const;
 

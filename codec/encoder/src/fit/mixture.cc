@@ -20,6 +20,20 @@ namespace {
 // 1e-3 (3.4 s vs 2.1 s); 1e-2 lost 0.14 dB.
 constexpr double kSweepTolerance = 1e-3;
 
+// Stage 2's relative cost change at which Ceres stops (see solve_copulas_and_weights).
+constexpr double kStage2Tolerance = 1e-5;
+
+// The factorization's passes over a slice (fill_and_measure, add_residual_component, hals_sweep)
+// are compiled for AVX2 and for the baseline and chosen at load time (GCC on x86-64, not under
+// the sanitizers). Their loops are element-wise or keep explicit partial sums, and AVX2 alone
+// does not contract multiply-adds, so both versions give the same results bit for bit.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#define CBRDF_FIT_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define CBRDF_FIT_CLONES
+#endif
+
 // Nonnegative rank-K factors of a slice, one per marginal axis (theta_h, theta_d, phi_d), not
 // normalized: value(i, j, k) ~ sum_r pdf_h[r][i] pdf_d[r][j] pdf_p[r][k].
 struct Factors {
@@ -67,7 +81,8 @@ void model_row(const Factors& f, int i, int j, int np, double* row) {
 
 // Fills y's not-measured bins with the model's values and returns the sum of squared residuals
 // over measured bins.
-double fill_and_measure(const SliceData& s, const Factors& f, std::vector<double>* y) {
+CBRDF_FIT_CLONES double fill_and_measure(const SliceData& s, const Factors& f,
+                                         std::vector<double>* y) {
   std::vector<double> row(std::size_t(s.np));
   double sse = 0;
   for (int i = 0; i < s.nh; ++i) {
@@ -93,7 +108,8 @@ double fill_and_measure(const SliceData& s, const Factors& f, std::vector<double
 // recovered an exact two-lobe table better (0.2% vs 0.6% RMS) but cost 2 dB tone-mapped on
 // blue-metallic-paint, because least squares chases the specular peak while the sums keep the broad
 // shape.
-void add_residual_component(const SliceData& s, const std::vector<double>& y, Factors* f) {
+CBRDF_FIT_CLONES void add_residual_component(const SliceData& s, const std::vector<double>& y,
+                                             Factors* f) {
   std::vector<double> pdf_h(std::size_t(s.nh), 0.0), pdf_d(std::size_t(s.nd), 0.0),
       pdf_p(std::size_t(s.np), 0.0), row(std::size_t(s.np));
   double total = 0;
@@ -129,7 +145,9 @@ std::vector<double> gram(const std::vector<std::vector<double>>& x) {
 
 // One HALS update of factor x given M = <y, products of the other two factors> (m[i * n + r]) and
 // the other two factors' Gram matrices: each column in turn is the nonnegative least-squares
-// optimum with every other column fixed.
+// optimum with every other column fixed. (Repeating the column updates with the same M, Gillis
+// and Glineur's accelerated HALS, was tried: 18% fewer sweeps on blue-metallic-paint at 4
+// components but no less time, and 0.28 dB less on nickel.)
 void hals_update(const std::vector<double>& m, const std::vector<double>& g1,
                  const std::vector<double>& g2, std::vector<std::vector<double>>* x) {
   const std::size_t n = x->size(), len = (*x)[0].size();
@@ -151,7 +169,7 @@ void hals_update(const std::vector<double>& m, const std::vector<double>& g1,
 }
 
 // One sweep over the three factors, y holding the measured values and the filled-in model values.
-void hals_sweep(const SliceData& s, const std::vector<double>& y, Factors* f) {
+CBRDF_FIT_CLONES void hals_sweep(const SliceData& s, const std::vector<double>& y, Factors* f) {
   const std::size_t n = std::size_t(f->rank());
   const std::size_t rows = std::size_t(s.nh) * std::size_t(s.nd);
   // t[(i * nd + j) * n + r] = sum_k y(i, j, k) pdf_p_r(k): serves the theta_h and theta_d updates.
@@ -472,7 +490,10 @@ void solve_copulas_and_weights(const SliceData& s, std::vector<Term>& terms, dou
     problem.SetParameterLowerBound(x->data(), int(2 * r + 1), probe.fit_lo());
     problem.SetParameterUpperBound(x->data(), int(2 * r + 1), probe.fit_hi());
   }
-  const ceres::Solver::Options options = small_problem_options();
+  ceres::Solver::Options options = small_problem_options();
+  // The fit's last digits are below what quantization keeps: stopping at a relative change of
+  // kStage2Tolerance instead of 1e-10 saves most late iterations.
+  options.function_tolerance = kStage2Tolerance;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   out->solver_iterations = int(summary.iterations.size());
