@@ -850,7 +850,7 @@ static void test_encode_settings(const double* table) {
   memset(&s, 0x5A, sizeof s);
   cbrdf_encode_settings_init(&s);
   CHECK(s.struct_size == sizeof s);
-  CHECK(s.bits == 12 && s.zstd_level == 19 && s.slices == 6 && s.components == 1);
+  CHECK(s.bits == CBRDF_BITS_AUTO && s.zstd_level == 19 && s.slices == 6 && s.components == 1);
   CHECK(s.family == CBRDF_FAMILY_FRANK && s.threads == 1);
 
   /* Each field out of its range on either side: refused before any work, naming field and

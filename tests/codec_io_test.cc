@@ -362,6 +362,17 @@ std::uint64_t model_hash(const Model& m) {
   }
   add(m.not_measured.bits.data(), m.not_measured.bits.size() * 8);
   add(m.not_measured.values.data(), m.not_measured.values.size() * 8);
+  // The residual (version 1.2) only when present, so that older files' hashes stay.
+  if (m.residual.present()) {
+    add(&m.residual.max_error, 8);
+    add(&m.residual.step, 8);
+    add(&m.residual.knee, 8);
+    add(m.residual.codes.data(), m.residual.codes.size() * 4);
+    for (const ResidualEscape& e : m.residual.escapes) {
+      add(&e.bin, 4);
+      add(&e.stored, 8);
+    }
+  }
   const std::uint64_t h = XXH64_digest(st);
   XXH64_freeState(st);
   return h;
@@ -416,11 +427,33 @@ Model golden_mixture3() {
   return cbrdf::testing::make_mixture_model({0, 20, 50, 90}, 4, 31);
 }
 
+// Version 1.2: golden_frank6 with a residual layer: sparse codes of both signs and one escape.
+Model golden_residual6() {
+  Model m = golden_frank6();
+  Residual& r = m.residual;
+  r.max_error = 0.004;
+  r.step = 0.0079;
+  r.knee = 1e-4;
+  r.codes.assign(std::size_t(kChannels) * kBinsPerChannel, 0);
+  for (int c = 0; c < kChannels; ++c) {
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      if (!m.not_measured.test(c, i) && (i + std::size_t(c)) % 4099 == 0) {
+        r.codes[std::size_t(c) * kBinsPerChannel + i] = std::int32_t(i % 13) - 6;
+      }
+    }
+  }
+  std::size_t first = 0;
+  while (m.not_measured.test(2, first)) ++first;
+  r.escapes = {{std::uint32_t(2 * kBinsPerChannel + first), 0.5}};
+  return m;
+}
+
 const Golden kGolden[] = {
     {"v1.0-frank6-b10.cbrdf", 0x9fe1a1553716af4dull, 10, golden_frank6},
     {"v1.0-mixed2-b16.cbrdf", 0xd135c0c5b1901d9cull, 16, golden_mixed2},
     {"v1.0-tiny1-b6.cbrdf", 0x9f27464498924fe4ull, 6, golden_tiny1},
     {"v1.1-mixture3-b12.cbrdf", 0x1a5a936090db3f8dull, 12, golden_mixture3},
+    {"v1.2-residual-frank6-b10.cbrdf", 0x46a06259c1d7b4a3ull, 10, golden_residual6},
 };
 
 std::vector<std::uint8_t> read_bytes(const std::filesystem::path& p) {
@@ -462,11 +495,14 @@ TEST(CodecIoGolden, CommittedFilesDecodeToRecordedModels) {
     ASSERT_TRUE(again.ok());
     Expected<ParsedContainer> committed = parse_container(bytes), fresh = parse_container(*again);
     ASSERT_TRUE(committed.ok() && fresh.ok());
-    for (std::string_view tag : {kTagHeader, kTagModel, kTagMarginals, kTagMask}) {
+    for (std::string_view tag : {kTagHeader, kTagModel, kTagMarginals, kTagMask, kTagResidual}) {
+      ASSERT_EQ(committed->find(tag) >= 0, fresh->find(tag) >= 0) << tag;
+      if (committed->find(tag) < 0) continue;
       EXPECT_EQ(committed->payloads[std::size_t(committed->find(tag))],
                 fresh->payloads[std::size_t(fresh->find(tag))])
           << "the encoder's " << tag << " payload changed";
     }
+    EXPECT_EQ(decoded->residual.codes, built.residual.codes);
     const std::uint64_t h = model_hash(*decoded);
     if (regenerate) std::printf("%s 0x%016llxull\n", g.name, static_cast<unsigned long long>(h));
     EXPECT_EQ(h, g.hash) << std::hex << "decoded hash 0x" << h

@@ -13,7 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "cbrdf/coords.h"
 #include "cbrdf/parallel.h"
+#include "cbrdf/samples.h"
 #include "render/integrator.h"
 #include "render/material.h"
 #include "render/mesh.h"
@@ -399,6 +401,34 @@ TEST(RenderImage, IdenticalAtAnyThreadCountAndRunner) {
   EXPECT_EQ(render_scene(s, 0).data, one.data);
   set_parallel_runner(nullptr);
   set_thread_limit(0);
+}
+
+// A measured built-in sample has no analytic form: a scene's {"type": "sample"} material looks up
+// its MERL table, as a "merl" material of the same table would.
+TEST(RenderMaterial, MeasuredSampleLooksUpItsTable) {
+  MaterialDesc d;
+  d.name = "metal";
+  d.type = MaterialType::kSample;
+  d.sample_name = "nickel";
+  auto m = Material::create(d);
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  EXPECT_EQ((*m)->description(), "measured sample 'nickel', nearest-bin lookup");
+  const BrdfTable table = make_sample("nickel").value();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 wi = sample_cosine_hemisphere(u(rng), u(rng));
+    const Vec3 wo = sample_cosine_hemisphere(u(rng), u(rng));
+    double got[3], want[3];
+    (*m)->eval(wi, wo, got);
+    lookup_nearest(table, wi, wo, want);
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(got[c], want[c]) << i;
+  }
+  d.sample_name = "gold-leaf";
+  const auto unknown = Material::create(d);
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_TRUE(testing::contains(unknown.status().message(), "material 'metal': unknown sample"))
+      << unknown.status().message();
 }
 
 }  // namespace

@@ -63,6 +63,12 @@ TEST(ReportArgs, OtherUsageErrors) {
   r = run_cli("report");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--builtin"), std::string::npos) << r.err;
+  // --builtin takes a kind; a value that is neither a kind nor a file is an error.
+  r = run_cli("report --builtin metals");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--builtin takes measured (the default), analytic or all, not 'metals'"),
+            std::string::npos)
+      << r.err;
 }
 
 // One material, four settings (K = 1 and 2 mixtures, 6 and 16 bits), the paper's setting as the
@@ -114,6 +120,30 @@ TEST_F(ReportRun, SucceedsWithAProgressBarAndATable) {
   EXPECT_NE(run_->out.find("float16+zstd"), std::string::npos) << run_->out;
 }
 
+TEST_F(ReportRun, StdoutEndsWithTheAnswerAndWhereTheReportIs) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->err;
+  const std::string& out = run_->out;
+  const std::size_t summary = out.rfind("Summary: the paper's setting (frank s6 b12)");
+  ASSERT_NE(summary, std::string::npos) << out;
+  // After the measurement tables: the answer is the last thing printed.
+  EXPECT_GT(summary, out.rfind("Table 4: the sweep"));
+  const std::string tail = "Full report: " + (out_ / "report.html").string() + "\n";
+  ASSERT_GE(out.size(), tail.size());
+  EXPECT_EQ(out.substr(out.size() - tail.size()), tail) << out.substr(summary);
+  // The plastic row: the paper's setting's bytes and dB as report.json has them.
+  const auto json = nlohmann::json::parse(testing::read_text(out_ / "report.json"));
+  const auto paper = row(json["rows"], "frank s6 b12");
+  char expect[96];
+  std::snprintf(expect, sizeof expect, "plastic   %11.0f  %8.2f", paper["bytes"].get<double>(),
+                paper["psnr_tonemapped_db"].get<double>());
+  EXPECT_NE(out.find(expect, summary), std::string::npos) << expect << "\n" << out.substr(summary);
+  // report.md opens with the same answer, then the frontier figure.
+  const std::string md = testing::read_text(out_ / "report.md");
+  EXPECT_LT(md.find("On 1 material, the paper's setting"), md.find("![frontier_mean.svg]"));
+  EXPECT_LT(md.find("![frontier_mean.svg]"), md.find("## Summary: the paper's setting"));
+  EXPECT_LT(md.find("## Summary: the paper's setting"), md.find("## Table 1"));
+}
+
 TEST_F(ReportRun, NoProgressBarWhenStderrIsNotATerminalAndOnlyThePapersSetting) {
   TempDir other;
   // run_cli sends stderr to a file: the default (auto) draws no bar there. The sweep holds only
@@ -124,7 +154,8 @@ TEST_F(ReportRun, NoProgressBarWhenStderrIsNotATerminalAndOnlyThePapersSetting) 
   EXPECT_EQ(r.out.find("Frontier: gain"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("held only the paper's setting"), std::string::npos) << r.out;
   const std::string md = testing::read_text(other / "r" / "report.md");
-  EXPECT_NE(md.find("holds only the paper's setting"), std::string::npos);
+  EXPECT_NE(md.find("held only the paper's setting"), std::string::npos);
+  EXPECT_EQ(md.find("## Frontier"), std::string::npos);
   EXPECT_EQ(md.find("| yes |"), std::string::npos);
   EXPECT_EQ(md.find("| no |"), std::string::npos);
 

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "cbrdf/coords.h"
 #include "cbrdf/merl_io.h"
@@ -44,18 +45,45 @@ double theta_h_fraction(const BrdfTable& t, int channel, int bins) {
   return head / total;
 }
 
+// Only analytic samples have an AnalyticBrdf.
+std::vector<SampleInfo> analytic_samples() {
+  std::vector<SampleInfo> out;
+  for (const SampleInfo& s : sample_materials()) {
+    if (s.kind == SampleKind::kAnalytic) out.push_back(s);
+  }
+  return out;
+}
+
 TEST(Samples, CatalogueNamesTheRequiredMaterials) {
   std::set<std::string> names;
   for (const SampleInfo& s : sample_materials()) {
     EXPECT_FALSE(s.description.empty()) << s.name;
     EXPECT_EQ(s.description.find('\n'), std::string_view::npos) << s.name;
     EXPECT_TRUE(names.insert(std::string(s.name)).second) << "duplicate " << s.name;
-    EXPECT_TRUE(sample_brdf(s.name).ok()) << s.name;
+    EXPECT_EQ(sample_brdf(s.name).ok(), s.kind == SampleKind::kAnalytic) << s.name;
+    EXPECT_EQ(s.source.empty(), s.kind == SampleKind::kAnalytic) << s.name;
   }
   for (const char* required :
-       {"lambertian", "ggx-rough", "ggx-sharp", "ward", "plastic", "near-mirror"}) {
+       {"lambertian", "ggx-rough", "ggx-sharp", "ward", "plastic", "near-mirror",
+        "blue-metallic-paint", "nickel", "yellow-matte-plastic", "pink-felt", "alum-bronze",
+        "red-specular-plastic", "gold-metallic-paint"}) {
     EXPECT_TRUE(names.count(required)) << required;
   }
+}
+
+// The measured samples come first, the copula paper's three materials leading, in a fixed order.
+TEST(Samples, MeasuredSamplesComeFirst) {
+  const std::span<const SampleInfo> all = sample_materials();
+  const std::size_t analytic = analytic_samples().size();
+  ASSERT_EQ(all.size(), analytic + 7);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    EXPECT_EQ(all[i].kind, i < 7 ? SampleKind::kMeasured : SampleKind::kAnalytic) << all[i].name;
+  }
+  EXPECT_EQ(all[0].name, "blue-metallic-paint");
+  EXPECT_EQ(all[1].name, "nickel");
+  EXPECT_EQ(all[2].name, "yellow-matte-plastic");
+  EXPECT_EQ(sample_kind_name(SampleKind::kMeasured), "measured");
+  EXPECT_EQ(sample_kind_name(SampleKind::kAnalytic), "analytic");
 }
 
 TEST(Samples, UnknownNameListsTheValidOnes) {
@@ -78,7 +106,7 @@ TEST(Samples, TabulateRejectsInvalidBrdfs) {
 // The mask exactly where bin_below_horizon() says, stored -1 in every channel; everywhere else
 // finite, non-negative values equal to the analytic BRDF at the bin's grid angles, per channel.
 TEST(Samples, TablesHoldTheBrdfAtGridAnglesAndTheGeneratorMask) {
-  for (const SampleInfo& s : sample_materials()) {
+  for (const SampleInfo& s : analytic_samples()) {
     SCOPED_TRACE(std::string(s.name));
     const BrdfTable& t = sample_table(s.name);
     const AnalyticBrdf brdf = sample_brdf(s.name).value();
@@ -144,7 +172,7 @@ TEST(Samples, MaskMatchesARealFile) {
 TEST(Samples, ChannelsDiffer) {
   const std::size_t specular_peak = merl_index(0, 10, 90);
   const std::size_t off_peak = merl_index(60, 30, 45);
-  for (const SampleInfo& s : sample_materials()) {
+  for (const SampleInfo& s : analytic_samples()) {
     const BrdfTable& t = sample_table(s.name);
     for (const std::size_t idx : {specular_peak, off_peak}) {
       ASSERT_TRUE(t.measured(0, idx));
@@ -198,7 +226,7 @@ TEST(Samples, NearMirrorThetaHMarginalIsExtremelySkewed) {
 
 // Each sample reflects at most what it receives, at every outgoing angle.
 TEST(Samples, SamplesConserveEnergy) {
-  for (const SampleInfo& s : sample_materials()) {
+  for (const SampleInfo& s : analytic_samples()) {
     const AnalyticBrdf brdf = sample_brdf(s.name).value();
     for (double deg : {0.0, 30.0, 60.0, 80.0, 88.0}) {
       const Vec3 wo{std::sin(deg * kPi / 180), 0, std::cos(deg * kPi / 180)};

@@ -24,6 +24,9 @@ struct EncodeOptions {
   EncoderOptions encoder;  // --slices ... --naive-marginals: encoder_settings() checks them
   bool no_metrics = false;
   std::string target_bytes, target_psnr;  // parsed here: CLI11 lets nan through
+  std::string max_error;                  // the residual layer's bound, parsed here
+  bool lossless = false;
+  std::string bits = "auto";  // 6 to 16 or auto, parsed here
 };
 
 // A positive finite number, or nullopt. `what` names the option in the message.
@@ -70,14 +73,18 @@ Expected<EncodeResult> encode(const BrdfTable& table, const EncoderSettings& st,
   if (target.max_bytes <= 0 && target.min_psnr <= 0) return encode_table(table, st);
   // An explicit --components K > 1 caps the search; otherwise it searches up to 4.
   if (!st.fit.auto_components && st.fit.components > 1) target.max_components = st.fit.components;
-  auto rc = encode_to_target(table, st, target);
+  auto rc = encode_to_target_ladder(table, st, target);
   if (!rc.ok()) return rc.status();
   if (!ctx.quiet) {
+    char residual_text[48] = "";
+    if (rc->chosen.max_error > 0) {
+      std::snprintf(residual_text, sizeof residual_text, " --max-error %.3g", rc->chosen.max_error);
+    }
     std::fprintf(info,
-                 "searched %zu settings: chose --slices %d --components %d --bits %d: %.0f bytes, "
-                 "%.2f dB tone-mapped%s\n",
+                 "searched %zu settings: chose --slices %d --components %d --bits %d%s: %.0f "
+                 "bytes, %.2f dB tone-mapped%s\n",
                  rc->tried.size(), rc->chosen.slices, rc->chosen.components, rc->chosen.bits,
-                 rc->chosen.bytes, rc->chosen.psnr_tonemapped,
+                 residual_text, rc->chosen.bytes, rc->chosen.psnr_tonemapped,
                  rc->met ? "" : " (the target could not be met: this is the closest)");
   }
   return std::move(rc->encoded);
@@ -90,9 +97,11 @@ void print_summary(const EncodeOptions& o, const Context& ctx, const EncodeResul
   const double in_bytes = o.input == kStdStream ? double(kMerlFileBytes)
                                                 : double(std::filesystem::file_size(o.input, ec));
   const double out_bytes = double(result.bytes.size());
-  std::fprintf(info, "%s -> %s: %.0f -> %.0f bytes (%.0f:1) in %.2f s\n",
+  const bool auto_bits = o.bits == "auto" && o.target_bytes.empty() && o.target_psnr.empty();
+  std::fprintf(info, "%s -> %s: %.0f -> %.0f bytes (%.0f:1, %d bits%s) in %.2f s\n",
                shown(o.input, false).c_str(), shown(o.output, true).c_str(), in_bytes, out_bytes,
-               in_bytes / out_bytes, seconds);
+               in_bytes / out_bytes, result.bits, auto_bits ? ", chosen by --bits auto" : "",
+               seconds);
   // How much the copula adds over the separable model, in the fit's own objective.
   double obj = 0, obj_sep = 0;
   for (const auto& s : result.report.slices) {
@@ -115,6 +124,24 @@ void print_summary(const EncodeOptions& o, const Context& ctx, const EncodeResul
   }
 }
 
+// The residual layer's bound and size, when the file has one.
+void print_residual(const EncodeResult& result, std::FILE* info) {
+  const Residual& r = result.model.residual;
+  if (!r.present()) return;
+  auto parsed = parse_container(result.bytes);
+  const int at = parsed.ok() ? parsed->find(kTagResidual) : -1;
+  if (at < 0) return;
+  const std::uint32_t bytes = parsed->layout.chunks[std::size_t(at)].stored_bytes;
+  if (r.exact) {
+    std::fprintf(info, "residual layer: exact table (lossless, checked), %u bytes\n", bytes);
+    return;
+  }
+  std::fprintf(info,
+               "residual layer: |log1p(decoded / k) - log1p(source / k)| <= %g on every measured "
+               "bin (k = %g; checked), %u bytes, %zu bins stored exactly\n",
+               r.max_error, r.knee, bytes, r.escapes.size());
+}
+
 int run_encode(const EncodeOptions& o, const Context& ctx) {
   if (o.output.empty()) return usage_error("encode: give the output file with -o OUT.cbrdf");
   const std::vector<PathArg> outputs = {{"-o", o.output}};
@@ -123,7 +150,16 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   RateTarget target;
   if (auto bad = parse_rate_target(o, &target)) return usage_error(*bad);
   EncoderOptions eo = o.encoder;
+  const auto bits = parse_count_or_auto(o.bits, 6, 16, true);
+  if (!bits) return usage_error("encode: --bits must be 6 to 16 or auto, not '" + o.bits + "'");
+  eo.bits = bits->is_auto ? kAutoBits : bits->count;
   eo.source_name = o.input == kStdStream ? "" : std::filesystem::path(o.input).filename().string();
+  if (!o.max_error.empty()) {
+    if (auto bad = parse_target(o.max_error, "--max-error", 16.0, "16", &eo.max_error)) {
+      return usage_error(*bad);
+    }
+  }
+  eo.lossless = o.lossless;
   auto st = encoder_settings(eo);
   if (!st.ok()) return usage_error("encode: " + st.status().message());
 
@@ -137,6 +173,7 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (ctx.quiet) return kExitOk;
   print_summary(o, ctx, *result, seconds, info);
+  print_residual(*result, info);
   if (!o.no_metrics) {
     auto decoded = decode_table(result->bytes);
     if (!decoded.ok()) return fail(decoded.status());
@@ -172,9 +209,11 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
   cmd->add_option("--family", o->encoder.family,
                   "Copula family: frank, clayton, gumbel, joe, independence, auto")
       ->capture_default_str();
-  cmd->add_option("--bits", o->encoder.bits, "Bits per quantized marginal value (6 to 16): quality")
-      ->capture_default_str()
-      ->check(CLI::Range(6, 16));
+  cmd->add_option("--bits", o->bits,
+                  "Bits per quantized marginal value, 6 to 16 (quality), or auto: the fewest bits "
+                  "that cost at most 0.05 dB tone-mapped and 0.5 dB linear sphere PSNR against "
+                  "the unquantized model")
+      ->capture_default_str();
   cmd->add_option("--level", o->encoder.level, "zstd level (1 to 22): effort")
       ->capture_default_str()
       ->check(CLI::Range(1, 22));
@@ -195,6 +234,14 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
                       "Search slices, components and bits for the fewest bytes reaching DB dB "
                       "(tone-mapped sphere PSNR)");
   tb->excludes(tp);
+  auto* me = cmd->add_option(
+      "--max-error", o->max_error,
+      "Add the residual layer: every measured bin decodes within E of the source, "
+      "|log1p(decoded / k) - log1p(source / k)| <= E on the values the .binary stores, k = 1e-4: "
+      "a relative bound (1e-6 to 16; README)");
+  auto* ll = cmd->add_flag("--lossless", o->lossless,
+                           "Add the residual layer that decodes to the source bit for bit");
+  me->excludes(ll);
   cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_encode(*o, ctx); }; });
 }
 

@@ -30,6 +30,14 @@ bool is_container(const std::vector<std::uint8_t>& bytes) {
          std::equal(kContainerSignature.begin(), kContainerSignature.end(), bytes.begin());
 }
 
+// Stored bytes of the residual chunk 'RESD' (0 when absent).
+std::uint32_t residual_bytes(const ContainerInfo& info) {
+  for (const ChunkInfo& c : info.layout.chunks) {
+    if (c.tag == kTagResidual) return c.stored_bytes;
+  }
+  return 0;
+}
+
 int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
   // One validating pass gives the description and the model; the model shows what a renderer
   // holds to evaluate the file (the evaluator's tables, against the 35 MB table).
@@ -55,6 +63,13 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
     j["bits"] = info->bits;
     j["colour_scale"] = info->colour_scale;
     j["not_measured_bins"] = info->not_measured_bins;
+    if (info->residual_mode >= 0) {
+      j["residual"] = {{"mode", info->residual_mode},
+                       {"max_error", info->residual_max_error},
+                       {"knee", info->residual_knee},
+                       {"escapes", info->residual_escapes},
+                       {"stored_bytes", residual_bytes(*info)}};
+    }
     j["evaluator_bytes"] = evaluator_bytes;
     for (const SliceParams& s : info->slices) {
       nlohmann::json js;
@@ -84,6 +99,17 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
   std::printf("marginals: %d bits per value; not-measured bins: %zu%s\n", info->bits,
               info->not_measured_bins,
               info->mask_relative_to_horizon ? " (coded against the horizon mask)" : "");
+  if (info->residual_mode >= 0) {
+    if (info->residual_mode == 1) {
+      std::printf("residual layer: exact table (lossless), %u bytes\n", residual_bytes(*info));
+    } else {
+      std::printf(
+          "residual layer: |log1p(decoded / k) - log1p(source / k)| <= %g on every "
+          "measured bin (k = %g), %u bytes, %zu bins stored exactly\n",
+          info->residual_max_error, info->residual_knee, residual_bytes(*info),
+          info->residual_escapes);
+    }
+  }
   std::printf("evaluator: %zu bytes in memory (the MERL table it replaces: %zu)\n", evaluator_bytes,
               std::size_t(kMerlFileBytes));
   for (const auto& [k, v] : info->metadata) std::printf("%s: %s\n", k.c_str(), v.c_str());

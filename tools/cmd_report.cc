@@ -13,7 +13,10 @@
 #include "cbrdf/samples.h"
 #include "cli.h"
 #include "cli_io.h"
+#include "report/ladder_check.h"
+#include "report/ladder_output.h"
 #include "report/measure.h"
+#include "report/summary.h"
 #include "report/sweep.h"
 #include "report/tables.h"
 #include "report/write.h"
@@ -23,7 +26,8 @@ namespace {
 
 struct ReportOptions {
   std::vector<std::string> inputs;
-  bool builtin = false;
+  // --builtin KIND: measured (bare --builtin), analytic or all; empty when not given.
+  std::string builtin;
   std::string output_dir;
   int jobs = 0;
   std::vector<std::string> sweep;
@@ -32,12 +36,29 @@ struct ReportOptions {
   int analytic_bins = 20000;
   bool quiet = false;  // also accepted after the subcommand, where users type it
   std::string progress = "auto";
+  bool ladder = false;  // issue 18's ladder: base, residual, lossless and baselines
 };
 
-int run_report(const ReportOptions& o, const Context& global) {
+// Whether a built-in sample belongs to `--builtin kind`.
+bool builtin_wanted(const SampleInfo& s, const std::string& kind) {
+  return kind == "all" || (kind == "measured") == (s.kind == SampleKind::kMeasured);
+}
+
+int run_report(ReportOptions o, const Context& global) {
   Context ctx = global;
   ctx.quiet = ctx.quiet || o.quiet;
-  if (o.inputs.empty() && !o.builtin) {
+  if (!o.builtin.empty() && o.builtin != "measured" && o.builtin != "analytic" &&
+      o.builtin != "all") {
+    // `--builtin FILE`, as before --builtin took a value: the file is an input.
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(o.builtin, ec)) {
+      return usage_error("report: --builtin takes measured (the default), analytic or all, not '" +
+                         o.builtin + "'");
+    }
+    o.inputs.insert(o.inputs.begin(), o.builtin);
+    o.builtin = "measured";
+  }
+  if (o.inputs.empty() && o.builtin.empty()) {
     return usage_error("report: give MERL .binary files, --builtin, or both");
   }
   {
@@ -75,6 +96,7 @@ int run_report(const ReportOptions& o, const Context& global) {
     return usage_error("report: --analytic-loss must be cos or log, not '" + o.analytic_loss + "'");
   }
   st.analytic_bins = o.analytic_bins;
+  st.ladder.enabled = o.ladder;
   st.jobs = o.jobs > 0 ? o.jobs : thread_limit();
   // The bar redraws one line with carriage returns: by default only for a terminal, so that logs
   // stay readable.
@@ -90,42 +112,42 @@ int run_report(const ReportOptions& o, const Context& global) {
     names.insert(name);
     materials.push_back({name, path, builtin});
   };
-  if (o.builtin) {
-    for (const SampleInfo& s : sample_materials()) add(std::string(s.name), "", true);
+  if (!o.builtin.empty()) {
+    for (const SampleInfo& s : sample_materials()) {
+      if (builtin_wanted(s, o.builtin)) add(std::string(s.name), "", true);
+    }
   }
   for (const std::string& f : o.inputs) add(std::filesystem::path(f).stem().string(), f, false);
 
-  const bool paper_only = st.sweep.only_paper_setting();
   const auto t0 = std::chrono::steady_clock::now();
   auto results = report::measure_all(materials, st);
   if (!results.ok()) return fail(results.status());
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!ctx.quiet) {
-    for (const report::TextTable& t : report::report_tables(*results, st)) {
-      if (t.id == "gain" && paper_only) continue;
-      if (t.id == "time" || t.id == "psnr" || t.id == "sweep" || t.id == "gain") {
-        std::printf("%s\n", report::to_text(t).c_str());
-      }
-    }
-    std::printf("%s\n", report::run_summary(*results, st, elapsed).c_str());
-    if (paper_only) {
-      std::printf(
-          "The sweep held only the paper's setting; for the rate-distortion frontier and the gain "
-          "over it add e.g. %s.\n",
-          report::kFrontierSweepExample);
-    }
-  }
   if (!o.output_dir.empty()) {
     if (Status s = report::write_report(*results, st, o.output_dir, elapsed); !s.ok()) {
       return fail(s);
     }
-    if (!ctx.quiet) {
-      std::printf(
-          "wrote %s/report.html (with report.md, report.csv, report.json, frontier.csv, SVG "
-          "figures and sphere PNGs)\n",
-          o.output_dir.c_str());
+  }
+  if (!ctx.quiet) {
+    for (const report::TextTable& t : report::report_tables(*results, st)) {
+      if (t.id == "time" || t.id == "psnr" || t.id == "sweep" || t.id == "gain" ||
+          t.id == "paper-psnr" || t.id == "paper-storage") {
+        std::printf("%s\n", report::to_text(t).c_str());
+      }
     }
+    std::printf("%s\n", report::run_summary(*results, st, elapsed).c_str());
+    if (o.ladder)
+      std::printf("%s", report::ladder_check_text(report::ladders_of(*results)).c_str());
+    if (!o.output_dir.empty()) {
+      std::printf(
+          "Wrote report.md, report.csv, report.json, frontier.csv, SVG figures and sphere PNGs "
+          "beside report.html.\n");
+    }
+    // Last, so that it is what a terminal shows: the answer and where the full report is.
+    const std::string html =
+        o.output_dir.empty() ? "" : (std::filesystem::path(o.output_dir) / "report.html").string();
+    std::printf("\n%s", report::closing_summary(*results, st, html).c_str());
   }
   return kExitOk;
 }
@@ -137,7 +159,11 @@ void add_report_command(CLI::App& app, const Context& ctx, Action* action) {
   CLI::App* cmd = app.add_subcommand(
       "report", "Measure storage against PSNR and time per material and setting, with baselines");
   cmd->add_option("inputs", o->inputs, "MERL .binary files")->check(CLI::ExistingFile);
-  cmd->add_flag("--builtin", o->builtin, "Include the built-in sample materials");
+  cmd->add_option("--builtin", o->builtin,
+                  "Include the built-in sample materials: measured (the default when given bare: "
+                  "neural fits of real MERL measurements), analytic, or all")
+      ->expected(0, 1)
+      ->default_str("measured");
   cmd->add_option("-o,--output", o->output_dir,
                   "Write report.md, .csv, .json, .html, SVG figures and PNG renders here");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress bar and no tables on stdout");
@@ -164,6 +190,10 @@ void add_report_command(CLI::App& app, const Context& ctx, Action* action) {
                   std::string("Baselines beside the sweep: all, none, or a list of ") +
                       report::kBaselineNames + " (lossless costs about 25 s per material)")
       ->capture_default_str();
+  cmd->add_flag("--ladder", o->ladder,
+                "Also measure the ladder per material: bytes against PSNR from the base model to "
+                "lossless for cbrdf (base, base + residual, lossless), ZFP on log1p values, "
+                "float16+zstd, zstd -19 and xz -9 (several minutes per material)");
   cmd->add_option("--analytic-loss", o->analytic_loss,
                   "Loss of the analytic fits: cos (cosine-weighted L2, after Ngan et al.) or log")
       ->capture_default_str();

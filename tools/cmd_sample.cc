@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// `cbrdf sample`: the built-in analytic materials, written as MERL tables.
+// `cbrdf sample`: the built-in materials (measured and analytic), written as MERL tables.
 #include <cstdio>
 
 #include "cbrdf/merl_io.h"
@@ -19,7 +19,9 @@ struct SampleOptions {
 int run_sample(const SampleOptions& o, const Context& ctx) {
   if (o.list) {
     for (const SampleInfo& s : sample_materials()) {
-      std::printf("%-18s %s\n", std::string(s.name).c_str(), std::string(s.description).c_str());
+      std::printf("%-21s %-8s  %s\n", std::string(s.name).c_str(),
+                  std::string(sample_kind_name(s.kind)).c_str(),
+                  std::string(s.description).c_str());
     }
     return kExitOk;
   }
@@ -40,9 +42,9 @@ int run_sample(const SampleOptions& o, const Context& ctx) {
 
 void add_sample_command(CLI::App& app, const Context& ctx, Action* action) {
   auto o = std::make_shared<SampleOptions>();
-  CLI::App* cmd =
-      app.add_subcommand("sample", "Write a built-in analytic material as a MERL table");
-  cmd->add_flag("--list", o->list, "List the built-in materials");
+  CLI::App* cmd = app.add_subcommand(
+      "sample", "Write a built-in material (measured or analytic) as a MERL table");
+  cmd->add_flag("--list", o->list, "List the built-in materials: name, kind, description");
   cmd->add_option("name", o->name, "Material name (see --list)");
   cmd->add_option("-o,--output", o->output, "Output MERL .binary file (- for standard output)");
   cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_sample(*o, ctx); }; });

@@ -7,6 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config clang clang-format libclang-rt-14-dev
   libzstd-dev liblzma-dev libxxhash-dev
+  libzfp-dev  # the report's ZFP baseline (cbrdf report --ladder)
   libopenexr-dev libdraco-dev libpng-dev
   libceres-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev

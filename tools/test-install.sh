@@ -16,6 +16,9 @@ cmake --install "$build" --prefix "$prefix" > "$work/install.log"
 echo "test-install: installed into $prefix:"
 (cd "$prefix" && find . -type f -o -type l | sort | sed 's/^\.\//  /')
 libdir=$(ls -d "$prefix"/lib* | head -n 1)
+# The measured samples' weights are compiled into the encoder library; their licence is installed.
+[[ -s $prefix/share/doc/cbrdf/measured/LICENSE-nbrdf.txt ]] || {
+  echo "test-install: FAILED: share/doc/cbrdf/measured/LICENSE-nbrdf.txt not installed" >&2; exit 1; }
 
 # The decoder's closure: nothing beyond zstd, xxhash, the C/C++ runtime, libm and pthread.
 needed=$(readelf -d "$libdir/libcbrdf_decoder.so" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p')

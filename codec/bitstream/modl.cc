@@ -37,6 +37,10 @@ bool has_mixtures(const Model& model) {
   return false;
 }
 
+std::uint16_t container_minor(const Model& model) {
+  return model.residual.present() ? 2 : has_mixtures(model) ? 1 : 0;
+}
+
 Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
                           int slice_count, std::vector<Slice>* slices) {
   ByteReader r = payload_reader(payload);
@@ -104,7 +108,8 @@ std::vector<std::uint8_t> encode_model_chunk(const Model& model) {
     }
   }
   // Version 1.1: the number of further components of every slice and channel, then theirs.
-  if (!has_mixtures(model)) return w.take();
+  // (A file of minor >= 1 holds the counts even when all are 0: a residual file without mixtures.)
+  if (container_minor(model) == 0) return w.take();
   for (const Slice& s : model.slices) {
     for (const ChannelSlice& c : s.channel) w.u8(std::uint8_t(c.extra.size()));
   }

@@ -32,6 +32,7 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
   // parse_container guarantees each critical chunk exactly once.
   const int head = pc.find(kTagHeader), modl = pc.find(kTagModel);
   const int marg = pc.find(kTagMarginals), mask = pc.find(kTagMask), meta = pc.find(kTagMetadata);
+  const int resd = pc.find(kTagResidual);
   auto payload = [&](int i) { return std::span<const std::uint8_t>(pc.payloads[std::size_t(i)]); };
 
   HeaderFields header;
@@ -48,6 +49,21 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
   MaskFields mask_fields;
   st = decode_mask_chunk(payload(mask), minor, &d.model.not_measured, &mask_fields);
   if (!st.ok()) return st.with_context(where(pc, mask));
+
+  if (resd >= 0) {
+    // The chunk is new in 1.2: an older file that holds it was not written by a valid writer.
+    st = minor >= 2
+             ? decode_residual_chunk(payload(resd), minor, d.model.not_measured, &d.model.residual)
+             : error(ErrorCode::kCorrupt,
+                     "'RESD' needs container version 1.2 or later, "
+                     "the file is 1." +
+                         std::to_string(minor));
+    if (!st.ok()) return st.with_context(where(pc, resd));
+    d.info.residual_mode = d.model.residual.exact ? kResidualModeExact : kResidualModeLog;
+    d.info.residual_max_error = d.model.residual.max_error;
+    d.info.residual_knee = d.model.residual.knee;
+    d.info.residual_escapes = d.model.residual.escapes.size();
+  }
 
   if (meta >= 0) {
     st = decode_metadata_chunk(payload(meta), &d.info.metadata);

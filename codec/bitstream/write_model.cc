@@ -31,6 +31,57 @@ Status check_table(const std::vector<double>& t, std::size_t size, const std::st
   return ok_status();
 }
 
+// The residual against what RESD can hold (spec 4.6).
+Status check_residual(const Model& model) {
+  const Residual& r = model.residual;
+  if (!r.present()) return ok_status();
+  if (r.exact) {
+    for (std::size_t b = 0; b < kMaskBits; ++b) {
+      if (!(r.exact->stored_values()[b] >= 0.0) != mask_bit(model.not_measured.bits, b)) {
+        return invalid("the exact table's not-measured bins differ from the model's mask at bin " +
+                       std::to_string(b));
+      }
+    }
+    return ok_status();
+  }
+  if (!(r.max_error >= kMinResidualError && r.max_error <= kMaxResidualError)) {
+    return invalid("residual max error " + number_text(r.max_error) + " is outside " +
+                   number_text(kMinResidualError) + ".." + number_text(kMaxResidualError));
+  }
+  if (!(r.step > 0.0 && r.step <= 2.0 * r.max_error)) {
+    return invalid("residual step " + number_text(r.step) + " is not in (0, 2 x max error]");
+  }
+  if (!(r.knee >= kMinResidualKnee && r.knee <= kMaxResidualKnee)) {
+    return invalid("residual knee " + number_text(r.knee) + " is outside 1e-12..1e12");
+  }
+  if (r.codes.size() != kMaskBits) {
+    return invalid("the residual has " + std::to_string(r.codes.size()) + " codes, expected " +
+                   std::to_string(kMaskBits));
+  }
+  for (std::size_t b = 0; b < kMaskBits; ++b) {
+    const bool masked = mask_bit(model.not_measured.bits, b);
+    if ((masked && r.codes[b] != 0) || r.codes[b] < -kMaxResidualCode ||
+        r.codes[b] > kMaxResidualCode) {
+      return invalid("residual code " + std::to_string(r.codes[b]) + " at bin " +
+                     std::to_string(b) + " is outside -2^28..2^28 or at a not-measured bin");
+    }
+  }
+  if (r.escapes.size() > kMaxResidualEscapes) {
+    return invalid(std::to_string(r.escapes.size()) + " residual escapes; at most " +
+                   std::to_string(kMaxResidualEscapes) + " fit in a file");
+  }
+  std::int64_t prev = -1;
+  for (const ResidualEscape& e : r.escapes) {
+    if (std::int64_t(e.bin) <= prev || e.bin >= kMaskBits ||
+        mask_bit(model.not_measured.bits, e.bin) || !std::isfinite(e.stored) || e.stored < 0.0) {
+      return invalid("residual escape at bin " + std::to_string(e.bin) +
+                     " is out of order, at a not-measured bin or not a finite value >= 0");
+    }
+    prev = e.bin;
+  }
+  return ok_status();
+}
+
 Status check_model(const Model& model) {
   if (model.slices.empty() || model.slices.size() > std::size_t{kThetaDBins}) {
     return invalid("the model has " + std::to_string(model.slices.size()) +
@@ -92,7 +143,7 @@ Status check_model(const Model& model) {
                      " is not negative (it would read as measured)");
     }
   }
-  return ok_status();
+  return check_residual(model);
 }
 
 // Metadata is UTF-8 text without control characters (spec 4.5): a file name from any filesystem
@@ -128,6 +179,11 @@ Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
   // One stored value per not-measured bin makes MASK up to 35 MB; zstd's top levels take minutes
   // on that for a few percent, so the level is capped for this chunk (a uniform value is tiny).
   chunks.push_back({std::string(kTagMask), encode_mask_chunk(model.not_measured), true, 9});
+  if (model.residual.present()) {
+    // The exact table's streams are zstd frames already.
+    chunks.push_back({std::string(kTagResidual), encode_residual_chunk(model),
+                      model.residual.exact == nullptr, kResidualZstdLevel});
+  }
   if (settings.write_metadata) {
     std::vector<std::pair<std::string, std::string>> meta;
     if (!settings.source_name.empty()) meta.emplace_back("source", sanitized(settings.source_name));
@@ -137,7 +193,7 @@ Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
     chunks.push_back({std::string(kTagMetadata), encode_metadata_chunk(meta), true});
   }
   // The lowest version that holds the model: files without mixtures stay readable by 1.0 readers.
-  return write_container(chunks, settings.zstd_level, has_mixtures(model) ? 1 : 0);
+  return write_container(chunks, settings.zstd_level, container_minor(model));
 }
 
 }  // namespace cbrdf

@@ -5,10 +5,13 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
+#include "cbrdf/parallel_for.h"
 #include "density/frank_grid.h"
 #include "density/grid_copula.h"
 #include "eval/interp_tables.h"
+#include "eval/residual_eval.h"
 
 namespace cbrdf {
 namespace {
@@ -138,6 +141,7 @@ ModelEvaluator::ModelEvaluator(std::shared_ptr<const Model> shared) : model_(std
     }
   }
   interp_ = std::make_unique<eval::InterpTables>(model);
+  if (model.residual.present()) residual_ = std::make_unique<eval::ResidualEval>(model);
 }
 
 ModelEvaluator::~ModelEvaluator() = default;
@@ -145,15 +149,19 @@ ModelEvaluator::ModelEvaluator(ModelEvaluator&&) noexcept = default;
 ModelEvaluator& ModelEvaluator::operator=(ModelEvaluator&&) noexcept = default;
 
 double ModelEvaluator::bin_value(int channel, int theta_h, int theta_d, int phi_d) const {
-  return parts_[slice_of_bin_[theta_d]][channel]->value(theta_h, theta_d, phi_d);
+  const double v = parts_[slice_of_bin_[theta_d]][channel]->value(theta_h, theta_d, phi_d);
+  if (!residual_) return v;
+  return residual_->at_bin(channel, merl_index(theta_h, theta_d, phi_d), v);
 }
 
 void ModelEvaluator::eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const {
   interp_->eval(wi, wo, rgb);
+  if (residual_) residual_->apply(wi, wo, rgb);
 }
 
 void ModelEvaluator::eval_f32(const float wi[3], const float wo[3], float rgb[3]) const {
   interp_->eval(wi, wo, rgb);
+  if (residual_) residual_->apply(wi, wo, rgb);
 }
 
 namespace {
@@ -175,13 +183,37 @@ eval::BatchArgs<T> soa_args(const T* wi_x, const T* wi_y, const T* wi_z, const T
   return a;
 }
 
+// The residual stage over a batch the base has evaluated: pair k's coordinates at index
+// k * stride of each array, as in BatchArgs.
+template <class T>
+void apply_residual_batch(const eval::ResidualEval& stage, std::size_t n,
+                          const eval::BatchArgs<T>& a, int threads) {
+  internal::parallel_chunks(n, 2048, threads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::size_t i = k * a.in_stride, o = k * a.out_stride;
+      T rgb[3] = {a.out[0][o], a.out[1][o], a.out[2][o]};
+      if constexpr (std::is_same_v<T, double>) {
+        stage.apply(Vec3{a.in[0][i], a.in[1][i], a.in[2][i]},
+                    Vec3{a.in[3][i], a.in[4][i], a.in[5][i]}, rgb);
+      } else {
+        const float wi[3] = {a.in[0][i], a.in[1][i], a.in[2][i]};
+        const float wo[3] = {a.in[3][i], a.in[4][i], a.in[5][i]};
+        stage.apply(wi, wo, rgb);
+      }
+      for (int c = 0; c < 3; ++c) a.out[c][o] = rgb[c];
+    }
+  });
+}
+
 }  // namespace
 
 void ModelEvaluator::eval_batch(std::size_t n, const double* wi_x, const double* wi_y,
                                 const double* wi_z, const double* wo_x, const double* wo_y,
                                 const double* wo_z, double* r, double* g, double* b,
                                 int threads) const {
-  interp_->eval_batch(n, soa_args(wi_x, wi_y, wi_z, wo_x, wo_y, wo_z, r, g, b), threads);
+  const auto a = soa_args(wi_x, wi_y, wi_z, wo_x, wo_y, wo_z, r, g, b);
+  interp_->eval_batch(n, a, threads);
+  if (residual_) apply_residual_batch(*residual_, n, a, threads);
 }
 
 void ModelEvaluator::eval_batch(std::size_t n, const double* wi, const double* wo, double* rgb,
@@ -195,18 +227,22 @@ void ModelEvaluator::eval_batch(std::size_t n, const double* wi, const double* w
   }
   a.in_stride = a.out_stride = 3;
   interp_->eval_batch(n, a, threads);
+  if (residual_) apply_residual_batch(*residual_, n, a, threads);
 }
 
 void ModelEvaluator::eval_batch_f32(std::size_t n, const float* wi_x, const float* wi_y,
                                     const float* wi_z, const float* wo_x, const float* wo_y,
                                     const float* wo_z, float* r, float* g, float* b,
                                     int threads) const {
-  interp_->eval_batch(n, soa_args(wi_x, wi_y, wi_z, wo_x, wo_y, wo_z, r, g, b), threads);
+  const auto a = soa_args(wi_x, wi_y, wi_z, wo_x, wo_y, wo_z, r, g, b);
+  interp_->eval_batch(n, a, threads);
+  if (residual_) apply_residual_batch(*residual_, n, a, threads);
 }
 
 std::size_t ModelEvaluator::footprint_bytes() const {
   std::size_t n = sizeof(*this) + slice_of_bin_.capacity() * sizeof(int) +
-                  parts_.capacity() * sizeof(parts_[0]) + interp_->footprint_bytes();
+                  parts_.capacity() * sizeof(parts_[0]) + interp_->footprint_bytes() +
+                  (residual_ ? residual_->footprint_bytes() : 0);
   for (const auto& channels : parts_) {
     for (const auto& part : channels) {
       n += sizeof(Part) + part->terms.capacity() * sizeof(Term);
@@ -254,6 +290,7 @@ BrdfTable ModelEvaluator::table() const {
       }
     }
   }
+  eval::apply_residual_to_table(*model_, &t);
   // The source's stored values where it measured nothing, bit for bit: walk the set bits of the
   // mask (bit c * kBinsPerChannel + i) word by word, in bit order, as the values list is.
   const bool uniform = nm.values.size() == 1;

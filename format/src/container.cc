@@ -267,6 +267,7 @@ std::uint32_t max_chunk_payload_bytes(std::string_view tag) {
   if (tag == kTagModel) return 64u << 10;
   if (tag == kTagMarginals) return 2u << 20;  // 1 MiB in version 1.0; mixtures need more
   if (tag == kTagMask) return 36u << 20;
+  if (tag == kTagResidual) return 40u << 20;  // mode 1 holds a whole exact table
   if (tag == kTagMetadata) return 64u << 10;
   return 0;  // the end chunk is empty; unknown chunks are never decompressed
 }

@@ -35,6 +35,17 @@ def test_encode_options_match_the_command(work, tmp_path):
     assert all(len(c.components) == 2 for s in m.slices for c in s.channels)
 
 
+def test_default_bits_are_chosen_from_the_data_as_the_command_does(work, tmp_path):
+    out = tmp_path / "auto.cbrdf"
+    run_cli("encode", work / "plastic.binary", "-o", out, "--no-metrics")
+    data = cbrdf.encode(work / "plastic.binary")
+    assert data == out.read_bytes()
+    assert data == cbrdf.encode(work / "plastic.binary", bits="auto")
+    assert 6 <= cbrdf.decode(data).bits <= 16
+    with pytest.raises(cbrdf.Error, match="bits must be 6 to 16 or 'auto'"):
+        cbrdf.encode(work / "plastic.binary", bits="most")
+
+
 def test_decoded_table_is_byte_identical_to_cbrdf_decode(work, model, tmp_path):
     expected = (work / "back.binary").read_bytes()
     t = model.table()

@@ -29,6 +29,15 @@ def test_read_bytes_and_sample_match_file(work):
     assert ("plastic" in dict(cbrdf.samples()))
 
 
+def test_samples_by_kind():
+    measured, analytic = cbrdf.samples("measured"), cbrdf.samples("analytic")
+    assert cbrdf.samples() == measured + analytic  # measured first
+    assert [n for n, _ in measured[:3]] == ["blue-metallic-paint", "nickel", "yellow-matte-plastic"]
+    assert "plastic" in dict(analytic) and "plastic" not in dict(measured)
+    with pytest.raises(ValueError):
+        cbrdf.samples("neural")
+
+
 @pytest.mark.parametrize("units", ["physical", "stored"])
 def test_round_trip_is_byte_identical(work, tmp_path, units):
     src = work / "plastic.binary"

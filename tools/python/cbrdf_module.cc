@@ -747,9 +747,9 @@ double target_value(const py::object& v, const char* name, double max, const cha
   return x;
 }
 
-py::bytes encode(const PyTable& t, int bits, const py::object& components, const py::object& slices,
-                 const std::string& family, const std::string& loss, int level,
-                 const std::string& placement, bool naive_marginals, int threads,
+py::bytes encode(const PyTable& t, const py::object& bits, const py::object& components,
+                 const py::object& slices, const std::string& family, const std::string& loss,
+                 int level, const std::string& placement, bool naive_marginals, int threads,
                  const py::object& target_bytes, const py::object& target_psnr,
                  const py::object& source_name) {
   EncoderOptions o;
@@ -757,7 +757,10 @@ py::bytes encode(const PyTable& t, int bits, const py::object& components, const
   o.components = count_text(components, "components");
   o.family = family;
   o.loss = loss;
-  o.bits = bits;
+  const std::string bits_text = count_text(bits, "bits");
+  const auto bits_value = parse_count_or_auto(bits_text, 6, 16, true);
+  if (!bits_value) raise_invalid("bits must be 6 to 16 or 'auto', not '" + bits_text + "'", 2);
+  o.bits = bits_value->is_auto ? kAutoBits : bits_value->count;
   o.level = level;
   o.placement = placement;
   o.naive_marginals = naive_marginals;
@@ -980,11 +983,13 @@ PYBIND11_MODULE(_cbrdf, m) {
       [] {
         py::list out;
         for (const SampleInfo& s : sample_materials()) {
-          out.append(py::make_tuple(std::string(s.name), std::string(s.description)));
+          out.append(py::make_tuple(std::string(s.name), std::string(sample_kind_name(s.kind)),
+                                    std::string(s.description)));
         }
         return out;
       },
-      "The built-in sample materials as (name, description) pairs.");
+      "The built-in sample materials as (name, kind, description), kind 'measured' or "
+      "'analytic'.");
 
   m.def(
       "_info_path",

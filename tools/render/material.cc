@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "render/material.h"
 
+#include <algorithm>
 #include <chrono>
 #include <random>
 
@@ -16,22 +17,23 @@ Expected<std::unique_ptr<Material>> Material::create(const MaterialDesc& desc) {
   std::unique_ptr<Material> m(new Material());
   m->name_ = desc.name;
   const std::string file = desc.file.filename().string();
+  const auto use_table = [&m, &desc](BrdfTable table) {
+    m->table_ = std::make_unique<BrdfTable>(std::move(table));
+    const BrdfTable* t = m->table_.get();
+    if (desc.linear_lookup) {
+      m->fn_ = [t](const Vec3& wi, const Vec3& wo, double rgb[3]) {
+        lookup_linear(*t, wi, wo, rgb);
+      };
+    } else {
+      m->fn_ = nearest_lookup_fn(*t);
+    }
+    return std::string(desc.linear_lookup ? "trilinear" : "nearest-bin") + " lookup";
+  };
   switch (desc.type) {
     case MaterialType::kMerl: {
       auto table = read_merl(desc.file);
       if (!table.ok()) return table.status();
-      m->table_ = std::make_unique<BrdfTable>(std::move(*table));
-      const BrdfTable* t = m->table_.get();
-      if (desc.linear_lookup) {
-        m->fn_ = [t](const Vec3& wi, const Vec3& wo, double rgb[3]) {
-          lookup_linear(*t, wi, wo, rgb);
-        };
-      } else {
-        m->fn_ = nearest_lookup_fn(*t);
-      }
-      m->description_ = std::string("measured table, ") +
-                        (desc.linear_lookup ? "trilinear" : "nearest-bin") + " lookup (" + file +
-                        ")";
+      m->description_ = "measured table, " + use_table(std::move(*table)) + " (" + file + ")";
       break;
     }
     case MaterialType::kCbrdf: {
@@ -47,6 +49,17 @@ Expected<std::unique_ptr<Material>> Material::create(const MaterialDesc& desc) {
       break;
     }
     case MaterialType::kSample: {
+      const auto all = sample_materials();
+      if (std::any_of(all.begin(), all.end(), [&desc](const SampleInfo& s) {
+            return s.name == desc.sample_name && s.kind == SampleKind::kMeasured;
+          })) {
+        // No analytic form: the sample's MERL table, looked up as a "merl" material would be.
+        auto table = make_sample(desc.sample_name);
+        if (!table.ok()) return table.status().with_context("material '" + desc.name + "'");
+        m->description_ =
+            "measured sample '" + desc.sample_name + "', " + use_table(std::move(*table));
+        break;
+      }
       auto brdf = sample_brdf(desc.sample_name);
       if (!brdf.ok()) return brdf.status().with_context("material '" + desc.name + "'");
       m->analytic_ = std::move(*brdf);

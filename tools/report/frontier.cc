@@ -32,6 +32,17 @@ std::vector<std::size_t> pareto_frontier(const std::vector<RdPoint>& points) {
   return front;
 }
 
+const RdPoint* best_within(const std::vector<RdPoint>& points, double max_bytes) {
+  const RdPoint* best = nullptr;
+  for (const RdPoint& p : points) {
+    if (!std::isfinite(p.psnr) || !(p.bytes <= max_bytes)) continue;
+    if (!best || p.psnr > best->psnr || (p.psnr == best->psnr && p.bytes < best->bytes)) {
+      best = &p;
+    }
+  }
+  return best;
+}
+
 MaterialGain material_gain(const MaterialPoints& m, double factor) {
   MaterialGain g;
   g.material = m.material;
@@ -39,13 +50,7 @@ MaterialGain material_gain(const MaterialPoints& m, double factor) {
   g.has_paper = true;
   g.paper_bytes = m.paper.bytes;
   g.paper_psnr = m.paper.psnr;
-  const RdPoint* best = nullptr;
-  for (const RdPoint& p : m.sweep) {
-    if (!std::isfinite(p.psnr) || !(p.bytes <= factor * m.paper.bytes)) continue;
-    if (!best || p.psnr > best->psnr || (p.psnr == best->psnr && p.bytes < best->bytes)) {
-      best = &p;
-    }
-  }
+  const RdPoint* best = best_within(m.sweep, factor * m.paper.bytes);
   if (!best) return g;
   g.qualifying = true;
   g.best = best->label;

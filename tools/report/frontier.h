@@ -22,6 +22,10 @@ struct RdPoint {
 // differs in either; of identical points the first is kept. Non-finite points are ignored.
 std::vector<std::size_t> pareto_frontier(const std::vector<RdPoint>& points);
 
+// The point with the highest PSNR among those with at most `max_bytes` (fewer bytes, then the
+// first met, break ties); nullptr when none fits. Non-finite PSNRs never qualify.
+const RdPoint* best_within(const std::vector<RdPoint>& points, double max_bytes);
+
 // One material's codec settings: the sweep's, and the paper's setting (which may be one of them).
 struct MaterialPoints {
   std::string material;

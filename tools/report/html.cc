@@ -12,12 +12,13 @@ constexpr const char* kStyle = R"(
 body { font-family: sans-serif; max-width: 1280px; margin: 1em auto; padding: 0 1em; color: #222; }
 h1 { font-size: 1.6em; } h2 { font-size: 1.2em; margin-top: 1.6em; } h3 { margin-bottom: 0.3em; }
 p.note { color: #555; max-width: 60em; }
+p.answer { max-width: 60em; margin: 0.4em 0; }
 div.scroll { overflow-x: auto; }
 table { border-collapse: collapse; font-size: 0.85em; }
 th, td { border: 1px solid #ccc; padding: 2px 6px; text-align: right; white-space: nowrap; }
 th { background: #f0f0f0; } td.l { text-align: left; }
 figure { display: inline-block; margin: 0.5em 1em 0.5em 0; vertical-align: top; }
-figcaption { font-size: 0.85em; color: #555; max-width: 760px; }
+figcaption { font-size: 0.85em; color: #555; max-width: 900px; }
 .spheres img { width: 200px; height: 200px; image-rendering: pixelated; }
 nav a { margin-right: 1em; }
 )";
@@ -45,12 +46,17 @@ std::string sphere_file(const std::string& material, const char* which) {
 
 std::string report_html(const std::vector<MaterialResult>& results, const Settings& st,
                         const std::vector<TextTable>& tables, const std::vector<Figure>& figures,
-                        const std::string& summary) {
+                        const std::string& summary, const std::string& answer) {
   std::ostringstream out;
   out << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
       << "<title>cbrdf report</title>\n<style>" << kStyle << "</style>\n<script>" << kScript
-      << "</script></head>\n<body>\n<h1>cbrdf report</h1>\n<p class=\"note\">"
-      << xml_escape(summary) << "</p>\n<nav>";
+      << "</script></head>\n<body>\n<h1>cbrdf report</h1>\n";
+  // The answer first: one paragraph and the frontier figure, on the first screen.
+  if (!answer.empty()) out << "<p class=\"answer\">" << xml_escape(answer) << "</p>\n";
+  for (const Figure& f : figures) {
+    if (f.file == kLeadFigure) figure(out, f);
+  }
+  out << "<p class=\"note\">" << xml_escape(summary) << "</p>\n<nav>";
   for (const TextTable& t : tables) {
     out << "<a href=\"#" << t.id << "\">" << xml_escape(t.title.substr(0, t.title.find(':')))
         << "</a>";
@@ -59,7 +65,7 @@ std::string report_html(const std::vector<MaterialResult>& results, const Settin
   for (const TextTable& t : tables) out << to_html(t);
   out << "<h2 id=\"figures\">Figures</h2>\n";
   for (const Figure& f : figures) {
-    if (f.material.empty()) figure(out, f);
+    if (f.material.empty() && f.file != kLeadFigure) figure(out, f);
   }
   out << "<h2 id=\"materials\">Materials</h2>\n<p class=\"note\">Sphere renders lit at "
       << kImageLightDeg << " degrees (paper's Figure 4): the input, the decoded "

@@ -124,6 +124,16 @@ Expected<EncoderSettings> encoder_settings_at(const CodecSetting& s, int threads
   return encoder_settings(o);
 }
 
+// The file at the setting's bits, or at the bits `--bits auto` chooses (named in the row's detail).
+Expected<std::vector<std::uint8_t>> encode_at(const BrdfTable& table, const Model& model,
+                                              const EncoderSettings& es, Row* r) {
+  if (!es.auto_bits.enabled) return encode_model(model, es.container);
+  auto choice = choose_bits(table, model, es.container, es.auto_bits);
+  if (!choice.ok()) return choice.status();
+  r->detail = "chose " + std::to_string(choice->bits) + " bits";
+  return std::move(choice->bytes);
+}
+
 class MaterialRun {
  public:
   MaterialRun(const Material& m, const Settings& st, int threads, Progress* progress)
@@ -140,6 +150,7 @@ class MaterialRun {
     if (st_.baselines.analytic) CBRDF_RETURN_IF_ERROR(analytic_rows());
     if (st_.baselines.float16) CBRDF_RETURN_IF_ERROR(float16_row());
     if (st_.baselines.lossless) CBRDF_RETURN_IF_ERROR(lossless_rows());
+    if (st_.ladder.enabled) CBRDF_RETURN_IF_ERROR(ladder());
     return std::move(result_);
   }
 
@@ -216,7 +227,7 @@ class MaterialRun {
       r.primary = s == primary;
       r.paper = s == paper_setting();
       auto t0 = Clock::now();
-      auto bytes = encode_model(model, es->container);
+      auto bytes = encode_at(table_, model, *es, &r);
       r.encode_s = fit_s + since(t0);
       if (!bytes.ok()) return bytes.status().with_context(m_.name + " (" + s.label() + ")");
       r.bytes = double(bytes->size());
@@ -314,6 +325,17 @@ class MaterialRun {
     return ok_status();
   }
 
+  Status ladder() {
+    LadderSettings ls = st_.ladder;
+    ls.threads = threads_;
+    ls.sphere_size = st_.sphere_size;
+    auto l = measure_ladder(m_.name, table_, ls);
+    if (!l.ok()) return l.status();
+    result_.ladder = std::move(l).value();
+    progress_->step(m_.name + ": ladder");
+    return ok_status();
+  }
+
   Status lossless_rows() {
     const double lookup_ns = eval_ns(
         [&](const Vec3& wi, const Vec3& wo, double* rgb) { lookup_nearest(table_, wi, wo, rgb); });
@@ -352,6 +374,7 @@ std::size_t steps_per_material(const Settings& st) {
   if (st.baselines.analytic) n += analytic_models().size();
   if (st.baselines.float16) ++n;
   if (st.baselines.lossless) n += 2;
+  if (st.ladder.enabled) ++n;
   return n;
 }
 

@@ -9,6 +9,7 @@
 #include "cbrdf/analytic_fit.h"
 #include "cbrdf/image.h"
 #include "cbrdf/status.h"
+#include "report/ladder.h"
 #include "report/sweep.h"
 
 namespace cbrdf::report {
@@ -29,7 +30,8 @@ struct Settings {
   AnalyticLoss analytic_loss = AnalyticLoss::kCosineWeighted;
   int sphere_size = 256;
   int jobs = 1;
-  bool progress = true;  // a progress bar on stderr
+  bool progress = true;   // a progress bar on stderr
+  LadderSettings ladder;  // `--ladder`: measured when ladder.enabled
 };
 
 // Row kinds.
@@ -77,6 +79,7 @@ struct MaterialResult {
   // false-colour difference (viridis, the same scale for every material): paper's Figure 4.
   Image reference, decoded, difference;
   std::string decoded_label;
+  LadderMaterial ladder;  // empty without --ladder
 };
 inline constexpr double kImageLightDeg = 45.0;
 inline constexpr double kDifferenceScale = 0.1;  // display units shown as full yellow

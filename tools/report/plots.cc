@@ -77,8 +77,8 @@ Chart cost_chart(const Settings& st, const std::vector<std::string>& baselines, 
 }
 
 // The rate-distortion frontier: every sweep setting as a point (one colour per family and
-// component count), the Pareto frontier as a black line with its settings named, the paper's
-// setting as a ring and the baselines as diamonds.
+// component count), the Pareto frontier as a kFrontierColour line with its settings named, the
+// paper's setting as a ring and the baselines as diamonds.
 Chart frontier_chart(const std::vector<RdPoint>& sweep, const RdPoint& paper,
                      const std::vector<std::string>& baselines, const Getter& get,
                      const std::string& title) {
@@ -113,7 +113,8 @@ Chart frontier_chart(const std::vector<RdPoint>& sweep, const RdPoint& paper,
     it->x.push_back(p.bytes);
     it->y.push_back(p.psnr);
   }
-  Series front{"Pareto frontier", {}, {}, "#000", true, false};
+  Series front{"Pareto frontier", {}, {}, kFrontierColour, true, false};
+  front.width = 2.5;
   for (std::size_t i : pareto_frontier(sweep)) {
     front.x.push_back(sweep[i].bytes);
     front.y.push_back(sweep[i].psnr);
@@ -192,8 +193,8 @@ Figure polar_figure(const MaterialResult& m) {
   f.file = "polar_" + file_stem(m.name) + ".svg";
   f.caption = m.name +
               ": BRDF in the plane of incidence (mean of R, G, B, cube root) at "
-              "theta_i = 0, 45, 75 degrees; measured black dashed, fitted in colour; the mirror "
-              "direction is on the left.";
+              "theta_i = 0, 45, 75 degrees; measured black dashed, fitted in colour, the mirror "
+              "direction on the left: look for where a fitted curve leaves the measured one.";
   f.svg = render_polar_grid(m.name + " (cube root; measured dashed)", panels,
                             int(std::max<std::size_t>(models.size(), 1)));
   return f;
@@ -218,22 +219,25 @@ std::vector<Figure> report_figures(const std::vector<MaterialResult>& results, c
   const Getter mean = [&](const std::string& l, double Row::*f) { return mean_of(results, l, f); };
 
   const std::string frontier_caption =
-      "bytes against tone-mapped sphere PSNR: every sweep setting, their Pareto frontier (black, "
-      "settings named), the paper's setting (ring) and the baselines (diamonds; lossless "
-      "baselines are bit-exact and left out).";
+      "up and left is better: look at how far the magenta frontier lies above the ring (the "
+      "paper's setting) at or left of its bytes.";
   figs.push_back(
-      {"frontier_mean.svg",
-       "Rate-distortion frontier, mean over the materials: " + frontier_caption,
+      {kLeadFigure,
+       "Sweep settings (dots) and baselines (diamonds), mean over the materials: " +
+           frontier_caption,
        render_chart(frontier_chart(mean_sweep_points(results, st), mean_paper_point(results),
                                    points, mean, "Rate-distortion frontier, mean over materials")),
        ""});
   figs.push_back(
-      {"time_psnr.svg", "What accuracy costs: mean encode time against mean tone-mapped PSNR.",
+      {"time_psnr.svg",
+       "What accuracy costs: mean encode time against mean tone-mapped PSNR; look for the "
+       "settings that buy the most dB per second of encoding (the front of each family).",
        render_chart(cost_chart(st, points, mean, &Row::encode_s,
                                "Encode time vs PSNR, mean over materials", "encode seconds (log)")),
        ""});
   figs.push_back({"eval_psnr.svg",
-                  "Mean evaluation time per RGB sample against mean tone-mapped PSNR.",
+                  "Mean evaluation time per RGB sample against mean tone-mapped PSNR: what a "
+                  "renderer pays per shading call; look for points high up at the left.",
                   render_chart(cost_chart(st, points, mean, &Row::eval_ns,
                                           "Evaluation time vs PSNR, mean over materials",
                                           "ns per evaluation (log)")),
@@ -277,7 +281,9 @@ std::vector<Figure> report_figures(const std::vector<MaterialResult>& results, c
   fig5.height = 520;
   figs.push_back({"psnr_by_material.svg",
                   "Tone-mapped sphere PSNR per material and model, materials sorted by the " +
-                      sort_by + " PSNR (the paper's Figure 5).",
+                      sort_by +
+                      " PSNR (the paper's Figure 5): look for the materials where a model falls "
+                      "below the others.",
                   render_chart(fig5), ""});
 
   for (const MaterialResult& m : results) {
@@ -287,8 +293,7 @@ std::vector<Figure> report_figures(const std::vector<MaterialResult>& results, c
     };
     const MaterialPoints mp = material_points(m);
     const RdPoint paper = mp.has_paper ? mp.paper : RdPoint{paper_setting().label(), NAN, NAN, NAN};
-    figs.push_back({"frontier_" + file_stem(m.name) + ".svg",
-                    m.name + ": rate-distortion frontier, " + frontier_caption,
+    figs.push_back({"frontier_" + file_stem(m.name) + ".svg", m.name + ": " + frontier_caption,
                     render_chart(frontier_chart(mp.sweep, paper, points, one,
                                                 m.name + ": rate-distortion frontier")),
                     m.name});

@@ -17,6 +17,12 @@ struct Figure {
   std::string material;  // empty for figures over all materials
 };
 
+// The figure the report opens with: the rate-distortion frontier averaged over the materials.
+inline constexpr const char* kLeadFigure = "frontier_mean.svg";
+// The frontier line's colour in every frontier figure: used by no other series or page element, so
+// that a screenshot can find the figure.
+inline constexpr const char* kFrontierColour = "#e6007e";
+
 std::vector<Figure> report_figures(const std::vector<MaterialResult>& results, const Settings& st);
 
 // A file-name-safe form of a material name (letters, digits, '-', '_', '.').

@@ -68,8 +68,12 @@ std::string components_name(int components) {
   return components == kAutoComponents ? "auto" : std::to_string(components);
 }
 
+std::string bits_name(int bits) {
+  return bits == kAutoBits ? "auto" : std::to_string(bits);
+}
+
 std::string copula_label(const std::string& model_name, int slices, int bits, int components) {
-  std::string label = model_name + " s" + std::to_string(slices) + " b" + std::to_string(bits);
+  std::string label = model_name + " s" + std::to_string(slices) + " b" + bits_name(bits);
   if (components == kAutoComponents) return label + " k-auto";
   if (components != 1) return label + " k" + std::to_string(components);
   return label;
@@ -149,7 +153,7 @@ Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
         if (!v) return v.status();
         sweep.slices = *v;
       } else if (key == "bits") {
-        auto v = parse_counts(key, values, 6, 16, false);
+        auto v = parse_counts(key, values, 6, 16, true);  // auto: kAutoBits
         if (!v) return v.status();
         sweep.bits = *v;
       } else if (key == "family" || key == "families") {

@@ -15,6 +15,8 @@ inline constexpr int kAutoComponents = 0;
 
 // "1" to "8", or "auto" for kAutoComponents.
 std::string components_name(int components);
+// "6" to "16", or "auto" for kAutoBits (encoder.h).
+std::string bits_name(int bits);
 
 // "frank s6 b10", with " k2" (or " k-auto") appended for mixtures: K = 1 labels are the paper's
 // model and read as they did before mixtures existed.

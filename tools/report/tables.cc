@@ -9,6 +9,7 @@
 
 #include "cbrdf/analytic_fit.h"
 #include "cbrdf/metrics.h"
+#include "report/paper_tables.h"
 #include "report/svg.h"
 
 namespace cbrdf::report {
@@ -131,8 +132,8 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
   std::vector<BudgetGain> gains;
   for (double f : kBudgetFactors) gains.push_back(budget_gain(points, f));
   const std::string paper = paper_setting().label();
-  // With only the paper's setting in the sweep there is no target verdict.
-  const bool paper_only = st.sweep.only_paper_setting();
+  // With only the paper's setting in the sweep there is nothing to compare: no frontier tables.
+  if (st.sweep.only_paper_setting()) return {};
 
   TextTable g;
   g.id = "gain";
@@ -144,18 +145,14 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
       std::to_string(paper_setting().bits) +
       " bits); its PSNR minus the paper setting's, then the mean, min and max over the "
       "materials that have such a setting. Targets (issue): +2 dB at 1x, +6 dB at 4x. "
-      "Ratios are per material, then averaged; encode time includes the fit." +
-      (paper_only ? std::string(" The sweep holds only the paper's setting, so there is nothing "
-                                "to compare: add e.g. ") +
-                        kFrontierSweepExample + "."
-                  : std::string());
+      "Ratios are per material, then averaged; encode time includes the fit.";
   g.header = {
       "budget",    "materials", "mean gain dB",  "min gain dB",         "max gain dB",
       "target dB", "met",       "bytes / paper", "encode time / paper", "most chosen setting"};
   for (const BudgetGain& b : gains) {
     const double target = target_gain_db(b.factor);
     std::string met = "-";
-    if (!std::isnan(target) && !paper_only) {
+    if (!std::isnan(target)) {
       met = b.qualifying == 0 ? "no (no setting)" : (b.mean_gain_db >= target ? "yes" : "no");
     }
     g.rows.push_back({fmt("%gx", b.factor),
@@ -205,6 +202,13 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
   }
   mf.rows.push_back(
       {paper + " (paper)", bytes(p.bytes), db(p.psnr), signed_db(0.0), times(1.0), times(1.0)});
+  // Gain tables whose every entry would print as +0.00 say nothing: leave them out.
+  bool any_gain = false;
+  for (const BudgetGain& b : gains) {
+    for (const MaterialGain& m : b.per_material)
+      any_gain |= m.qualifying && signed_db(m.gain_db) != "+0.00";
+  }
+  if (!any_gain) return {mf};
   return {g, mf, pm};
 }
 
@@ -440,6 +444,7 @@ TextTable analytic_table(const std::vector<MaterialResult>& results) {
 std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
                                      const Settings& st) {
   std::vector<TextTable> tables = frontier_tables(results, st);
+  for (TextTable& t : paper_tables(results)) tables.push_back(std::move(t));
   const std::vector<std::string> compared = compared_labels(results, st);
   std::vector<std::string> lossy;
   for (const std::string& l : compared) {

@@ -41,8 +41,10 @@ std::vector<RdPoint> mean_sweep_points(const std::vector<MaterialResult>& result
 // The paper's setting averaged over the materials.
 RdPoint mean_paper_point(const std::vector<MaterialResult>& results);
 
-// The gain over the paper's setting at 1x, 2x and 4x its bytes, then tables 1 to 3 shaped like the
-// paper's (PSNR, storage, time), the sweep, and what accuracy costs in time.
+// The gain over the paper's setting at 1x, 2x and 4x its bytes (only when some gain is not zero)
+// and the sweep's frontier (only when the sweep holds more than the paper's setting), the paper's
+// Tables 1 and 2 beside ours (paper_tables.h), then tables 1 to 3 shaped like the paper's (PSNR,
+// storage, time), the sweep, and what accuracy costs in time.
 std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
                                      const Settings& st);
 

@@ -11,7 +11,9 @@
 #include "cbrdf/image_io.h"
 #include "report/export.h"
 #include "report/html.h"
+#include "report/ladder_output.h"
 #include "report/plots.h"
+#include "report/summary.h"
 #include "report/tables.h"
 
 namespace cbrdf::report {
@@ -36,7 +38,7 @@ std::string run_summary(const std::vector<MaterialResult>& results, const Settin
   out << "; slices";
   for (int s : st.sweep.slices) out << " " << s;
   out << "; bits";
-  for (int b : st.sweep.bits) out << " " << b;
+  for (int b : st.sweep.bits) out << " " << bits_name(b);
   out << "; components";
   for (int k : st.sweep.components) out << " " << components_name(k);
   out << "), primary setting " << st.sweep.primary().label() << ", paper's setting "
@@ -59,11 +61,20 @@ Status write_report(const std::vector<MaterialResult>& results, const Settings& 
   std::filesystem::create_directories(root, ec);
   if (ec) return error(ErrorCode::kIo, dir + ": cannot create the directory: " + ec.message());
   const std::string summary = run_summary(results, st, elapsed_s);
-  const std::vector<TextTable> tables = report_tables(results, st);
-  const std::vector<Figure> figures = report_figures(results, st);
+  const std::string answer = answer_paragraph(results, st);
+  // The answer's table first, then the measurements.
+  std::vector<TextTable> tables = report_tables(results, st);
+  tables.insert(tables.begin(), answer_table(results));
+  std::vector<Figure> figures = report_figures(results, st);
+  // The ladder (--ladder): its tables after the others, its figures with them.
+  const std::vector<LadderMaterial> ladders = ladders_of(results);
+  for (TextTable& t : ladder_tables(ladders)) tables.push_back(std::move(t));
+  for (Figure& f : ladder_figures(ladders)) figures.push_back(std::move(f));
 
   std::ostringstream md;
-  md << "# cbrdf report\n\n" << summary << "\n\n";
+  md << "# cbrdf report\n\n"
+     << answer << "\n\n![" << kLeadFigure << "](" << kLeadFigure << ")\n\n"
+     << summary << "\n\n";
   for (const TextTable& t : tables) md << to_markdown(t);
   md << "## Figures\n\n";
   md << "- [frontier.csv](frontier.csv): the Pareto frontier of the sweep per material and of "
@@ -76,13 +87,18 @@ Status write_report(const std::vector<MaterialResult>& results, const Settings& 
   CBRDF_RETURN_IF_ERROR(write_text(root / "report.csv", to_csv(results)));
   CBRDF_RETURN_IF_ERROR(write_text(root / "report.json", to_json(results, st, elapsed_s)));
   CBRDF_RETURN_IF_ERROR(write_text(root / "frontier.csv", frontier_csv(results, st)));
+  if (!ladders.empty()) {
+    CBRDF_RETURN_IF_ERROR(write_text(root / "ladder.csv", ladder_csv(ladders)));
+    CBRDF_RETURN_IF_ERROR(write_text(root / "ladder.json", ladder_json(ladders)));
+  }
   for (const Figure& f : figures) CBRDF_RETURN_IF_ERROR(write_text(root / f.file, f.svg));
   for (const MaterialResult& m : results) {
     CBRDF_RETURN_IF_ERROR(write_png(root / sphere_file(m.name, "reference"), m.reference));
     CBRDF_RETURN_IF_ERROR(write_png(root / sphere_file(m.name, "decoded"), m.decoded));
     CBRDF_RETURN_IF_ERROR(write_png(root / sphere_file(m.name, "difference"), m.difference));
   }
-  return write_text(root / "report.html", report_html(results, st, tables, figures, summary));
+  return write_text(root / "report.html",
+                    report_html(results, st, tables, figures, summary, answer));
 }
 
 }  // namespace cbrdf::report

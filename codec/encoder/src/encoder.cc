@@ -1,16 +1,29 @@
 // SPDX-License-Identifier: MIT
 #include "cbrdf/encoder.h"
 
+#include "residual_encode.h"
+
 namespace cbrdf {
 
 Expected<EncodeResult> encode_table(const BrdfTable& table, const EncoderSettings& settings) {
   EncodeResult r;
   auto model = fit_model(table, settings.fit, &r.report);
   if (!model.ok()) return model.status();
-  auto bytes = encode_model(*model, settings.container);
-  if (!bytes.ok()) return bytes.status();
+  if (settings.auto_bits.enabled) {
+    auto choice = choose_bits(table, *model, settings.container, settings.auto_bits);
+    if (!choice.ok()) return choice.status();
+    r.bits = choice->bits;
+    r.bytes = std::move(choice->bytes);
+  } else {
+    auto bytes = encode_model(*model, settings.container);
+    if (!bytes.ok()) return bytes.status();
+    r.bits = settings.container.bits;
+    r.bytes = std::move(bytes).value();
+  }
   r.model = std::move(model).value();
-  r.bytes = std::move(bytes).value();
+  if (settings.residual.max_error > 0 || settings.residual.lossless) {
+    CBRDF_RETURN_IF_ERROR(internal::add_residual(table, settings, &r));
+  }
   return r;
 }
 

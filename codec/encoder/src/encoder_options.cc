@@ -3,6 +3,7 @@
 // EncoderSettings: one place for their parsing, their defaults and their error messages.
 #include <algorithm>
 #include <charconv>
+#include <cstdio>
 #include <thread>
 
 #include "cbrdf/encoder.h"
@@ -72,8 +73,8 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
   } else {
     return invalid("unknown --loss '" + o.loss + "' (linear, cosine or log)");
   }
-  if (o.bits < 6 || o.bits > 16) {
-    return invalid("--bits must be 6 to 16, not " + std::to_string(o.bits));
+  if (o.bits != kAutoBits && (o.bits < 6 || o.bits > 16)) {
+    return invalid("--bits must be 6 to 16 or auto, not " + std::to_string(o.bits));
   }
   if (o.level < 1 || o.level > 22) {
     return invalid("--level must be 1 to 22, not " + std::to_string(o.level));
@@ -81,9 +82,21 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
   if (o.threads < 0) {
     return invalid("--threads must be 0 (one per core) or more, not " + std::to_string(o.threads));
   }
+  if (o.lossless && o.max_error != 0) {
+    return invalid("--max-error and --lossless exclude each other (lossless has no error)");
+  }
+  if (o.max_error != 0 && !(o.max_error >= 1e-6 && o.max_error <= 16)) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", o.max_error);
+    return invalid(std::string("--max-error must be 1e-06 to 16 (or 0: no residual layer), not ") +
+                   text);
+  }
+  st.residual.max_error = o.max_error;
+  st.residual.lossless = o.lossless;
   st.fit.impute_missing = !o.naive_marginals;
   st.fit.threads = o.threads > 0 ? o.threads : thread_limit();
-  st.container.bits = o.bits;
+  st.auto_bits.enabled = o.bits == kAutoBits;
+  if (!st.auto_bits.enabled) st.container.bits = o.bits;
   st.container.zstd_level = o.level;
   st.container.source_name = o.source_name;
   return st;

@@ -42,6 +42,7 @@ class Search {
       result_.encoded.bytes = std::move(bytes).value();
       result_.encoded.model = model;
       result_.encoded.report = report;
+      result_.encoded.bits = bits;
       have_ = true;
     }
     return c;

@@ -1,11 +1,34 @@
 // SPDX-License-Identifier: MIT
 #include "cbrdf/samples.h"
 
+#include <algorithm>
 #include <array>
 #include <string>
 
+#include "embedded_files.h"
+#include "nbrdf.h"
+
 namespace cbrdf {
 namespace {
+
+constexpr std::string_view kMerlSource =
+    "MERL BRDF database (Matusik et al. 2003), neural fit by Sztrajman et al. 2021 (MIT licence)";
+
+// The measured samples (data/measured/NAME.nbrdf, compiled in): the copula paper's three
+// materials, then a fabric, a metal, a plastic and a paint.
+const std::array<SampleInfo, 7> kMeasured = {{
+    {"blue-metallic-paint", "MERL blue metallic car paint (the copula paper's Table 1)",
+     SampleKind::kMeasured, kMerlSource},
+    {"nickel", "MERL nickel, a bright grey metal (the copula paper's Table 1)",
+     SampleKind::kMeasured, kMerlSource},
+    {"yellow-matte-plastic", "MERL yellow matte plastic (the copula paper's Table 1)",
+     SampleKind::kMeasured, kMerlSource},
+    {"pink-felt", "MERL pink felt, a fabric", SampleKind::kMeasured, kMerlSource},
+    {"alum-bronze", "MERL aluminium bronze, a coloured metal", SampleKind::kMeasured, kMerlSource},
+    {"red-specular-plastic", "MERL red plastic with a white highlight", SampleKind::kMeasured,
+     kMerlSource},
+    {"gold-metallic-paint", "MERL gold metallic car paint", SampleKind::kMeasured, kMerlSource},
+}};
 
 struct SampleDef {
   SampleInfo info;
@@ -48,9 +71,10 @@ const std::array<SampleDef, 7> kSamples = {{
      }},
 }};
 
-const std::array<SampleInfo, kSamples.size()> kInfos = [] {
-  std::array<SampleInfo, kSamples.size()> infos{};
-  for (std::size_t i = 0; i < kSamples.size(); ++i) infos[i] = kSamples[i].info;
+const std::array<SampleInfo, kMeasured.size() + kSamples.size()> kInfos = [] {
+  std::array<SampleInfo, kMeasured.size() + kSamples.size()> infos{};
+  std::copy(kMeasured.begin(), kMeasured.end(), infos.begin());
+  for (std::size_t i = 0; i < kSamples.size(); ++i) infos[kMeasured.size() + i] = kSamples[i].info;
   return infos;
 }();
 
@@ -63,6 +87,28 @@ std::string valid_names() {
   return names;
 }
 
+bool is_measured(std::string_view name) {
+  return std::any_of(kMeasured.begin(), kMeasured.end(),
+                     [name](const SampleInfo& info) { return info.name == name; });
+}
+
+Status unknown_sample(std::string_view name) {
+  return error(ErrorCode::kInvalidArgument, "unknown sample material '" + std::string(name) +
+                                                "'; valid names: " + valid_names());
+}
+
+Expected<BrdfTable> make_measured(std::string_view name) {
+  for (const internal::EmbeddedFile& f : internal::embedded_nbrdf_files()) {
+    if (f.name != name) continue;
+    Expected<internal::NbrdfNet> net = internal::parse_nbrdf(f.bytes, name);
+    if (!net) return net.status();
+    return internal::tabulate_nbrdf(*net);
+  }
+  return error(ErrorCode::kInternal, "measured sample '" + std::string(name) +
+                                         "' has no embedded weights (data/measured/" +
+                                         std::string(name) + ".nbrdf was not compiled in)");
+}
+
 }  // namespace
 
 std::span<const SampleInfo> sample_materials() {
@@ -73,16 +119,23 @@ Expected<AnalyticBrdf> sample_brdf(std::string_view name) {
   for (const SampleDef& def : kSamples) {
     if (def.info.name == name) return AnalyticBrdf{def.lobes()};
   }
-  return error(ErrorCode::kInvalidArgument, "unknown sample material '" + std::string(name) +
-                                                "'; valid names: " + valid_names());
+  if (is_measured(name)) {
+    return error(ErrorCode::kInvalidArgument,
+                 std::string(name) +
+                     " is a measured sample (neural fit of MERL data); it has no analytic form");
+  }
+  return unknown_sample(name);
 }
 
 Expected<BrdfTable> make_sample(std::string_view name) {
+  const auto named = [name](Expected<BrdfTable> table) -> Expected<BrdfTable> {
+    if (!table) return table.status().with_context("sample '" + std::string(name) + "'");
+    return table;
+  };
+  if (is_measured(name)) return named(make_measured(name));
   Expected<AnalyticBrdf> brdf = sample_brdf(name);
-  if (!brdf) return brdf.status();
-  Expected<BrdfTable> table = tabulate(*brdf);
-  if (!table) return table.status().with_context("sample '" + std::string(name) + "'");
-  return table;
+  if (!brdf) return brdf.status();  // an unknown name: the message lists the valid ones
+  return named(tabulate(*brdf));
 }
 
 }  // namespace cbrdf

@@ -69,10 +69,32 @@ struct CBRDF_EXPORT NotMeasured {
   static NotMeasured from_table(const BrdfTable& table);
 };
 
+// The error-bounded residual layer (container 1.2, chunk 'RESD', spec/container.md 4.6): per
+// measured bin, the decoded value is k expm1(log1p(base / k) + code * step) in stored (MERL
+// file) units, with base the copula model's value (Model::table() without the residual) and k
+// the knee, so that |log1p(decoded / k) - log1p(source / k)| <= max_error on every measured bin:
+// a relative bound above the knee, an absolute one (about max_error k) below.
+struct ResidualEscape {
+  std::uint32_t bin = 0;  // c * kBinsPerChannel + i
+  double stored = 0.0;    // the bin's decoded (stored-unit) value, exactly
+};
+// The lossless mode (RESD mode 1) holds the exact table instead: the decoded table is it, bit for
+// bit, and continuous evaluation interpolates it.
+struct CBRDF_EXPORT Residual {
+  double max_error = 0.0;                  // mode 0's bound; 0 with neither mode
+  double step = 0.0;                       // quantizer step, at most 2 max_error
+  double knee = 0.0;                       // k, stored units (1e-12 to 1e12)
+  std::vector<std::int32_t> codes;         // kChannels * kBinsPerChannel; 0 at not-measured bins
+  std::vector<ResidualEscape> escapes;     // bins whose value is stored exactly, increasing
+  std::shared_ptr<const BrdfTable> exact;  // mode 1: the source table itself
+  bool present() const { return max_error > 0.0 || exact != nullptr; }
+};
+
 // Pure data: what a .cbrdf file holds. Evaluate it through a ModelEvaluator.
 struct CBRDF_EXPORT Model {
   std::vector<Slice> slices;  // contiguous, covering theta_d bins [0, 90)
   NotMeasured not_measured;
+  Residual residual;  // absent (max_error 0) in files of version 1.0 and 1.1
 
   // Index of the slice holding theta_d bin j.
   int slice_of(int theta_d_bin) const;
@@ -85,7 +107,8 @@ class GridCopula;
 }
 namespace eval {
 class InterpTables;
-}
+class ResidualEval;
+}  // namespace eval
 
 // A model prepared for evaluation: per slice and channel, CDFs and the copula's per-axis terms.
 // Building one costs microseconds; keep it for as long as the model is evaluated. The evaluator
@@ -117,10 +140,11 @@ class CBRDF_EXPORT ModelEvaluator {
   void eval_f32(const float wi[3], const float wo[3], float rgb[3]) const;
   // n direction pairs at once, in structure-of-arrays form: pair k is wi = (wi_x[k], wi_y[k],
   // wi_z[k]), wo likewise, and its value goes to (r[k], g[k], b[k]). Equal bit for bit to eval per
-  // pair (tests/model_eval_test.cc), several times faster per pair: blocks of pairs go through
-  // vectorized stages (positions, copula ratios), and chunks of 2048 pairs through the library's
-  // thread pool (cbrdf/parallel.h) on at most `threads` threads (<= 0: the thread limit). Inputs
-  // and outputs must not overlap. Thread-safe.
+  // pair (tests/model_eval_test.cc), 2.5 to 3 times faster per pair on one core (tests/bench):
+  // blocks of pairs go through vectorized stages (the positions across pairs, then each pair's
+  // interpolation and copula ratios across its slots), and chunks of 2048 pairs through the
+  // library's thread pool (cbrdf/parallel.h) on at most `threads` threads (<= 0: the thread
+  // limit). Inputs and outputs must not overlap. Thread-safe.
   void eval_batch(std::size_t n, const double* wi_x, const double* wi_y, const double* wi_z,
                   const double* wo_x, const double* wo_y, const double* wo_z, double* r, double* g,
                   double* b, int threads = 0) const;
@@ -146,7 +170,8 @@ class CBRDF_EXPORT ModelEvaluator {
   std::shared_ptr<const Model> model_;
   std::vector<int> slice_of_bin_;  // theta_d bin -> slice
   std::vector<std::array<std::unique_ptr<Part>, kChannels>> parts_;
-  std::unique_ptr<eval::InterpTables> interp_;  // eval's tables
+  std::unique_ptr<eval::InterpTables> interp_;    // eval's tables
+  std::unique_ptr<eval::ResidualEval> residual_;  // the residual stage; null without one
 };
 
 }  // namespace cbrdf

@@ -23,9 +23,10 @@ namespace cbrdf {
 inline constexpr std::array<std::uint8_t, 8> kContainerSignature = {0x8B, 'C',  'B',  'R',
                                                                     '\r', '\n', 0x1A, '\n'};
 inline constexpr std::uint16_t kContainerMajorVersion = 1;
-// 1.1 added mixtures (several components per slice and channel); the writer writes 1.0 when the
-// model has none, so that such files stay readable by 1.0 readers.
-inline constexpr std::uint16_t kContainerMinorVersion = 1;
+// 1.1 added mixtures (several components per slice and channel), 1.2 the residual layer (the
+// critical chunk 'RESD'); the writer writes the lowest version that holds the model, so that
+// files without them stay readable by older readers.
+inline constexpr std::uint16_t kContainerMinorVersion = 2;
 
 inline constexpr std::size_t kContainerHeaderBytes = 12;  // signature, u16 major, u16 minor
 inline constexpr std::size_t kChunkHeaderBytes = 16;   // tag, stored length, flags, payload length
@@ -45,6 +46,7 @@ inline constexpr std::string_view kTagHeader = "HEAD";
 inline constexpr std::string_view kTagModel = "MODL";
 inline constexpr std::string_view kTagMarginals = "MARG";
 inline constexpr std::string_view kTagMask = "MASK";
+inline constexpr std::string_view kTagResidual = "RESD";  // optional; version 1.2
 inline constexpr std::string_view kTagMetadata = "mETA";
 inline constexpr std::string_view kTagEnd = "CEND";
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Encodes a built-in sample with the installed library, decodes it, and checks the result.
+// Encodes a built-in sample with the installed library, decodes it, and checks the result; makes a
+// measured sample from the weights compiled into the library.
 #include <cbrdf/cbrdf.h>
 
 #include <cmath>
@@ -43,8 +44,16 @@ int main() {
       "%zu bytes; eval at the mirror direction %.4g %.4g %.4g; %.1f%% of %zu bins within 5%%\n",
       encoded->bytes.size(), rgb[0], rgb[1], rgb[2], 100.0 * double(close) / double(measured),
       measured);
+  // A measured sample comes from weights compiled into the library: no data folder is read.
+  auto nickel = cbrdf::make_sample("nickel");
+  if (!nickel.ok()) {
+    std::fprintf(stderr, "make_sample(nickel): %s\n", nickel.status().message().c_str());
+    return 1;
+  }
+  const std::size_t index = cbrdf::merl_index(10, 20, 90);
+  std::printf("measured sample nickel: %.4g at bin (10, 20, 90)\n", nickel->physical(0, index));
   const bool ok = encoded->bytes.size() < 16384 && rgb[0] > 0 && std::isfinite(rgb[0]) &&
-                  double(close) > 0.5 * double(measured);
+                  double(close) > 0.5 * double(measured) && nickel->physical(0, index) > 0;
   std::printf("consumer_cpp: %s\n", ok ? "ok" : "FAILED");
   return ok ? 0 : 1;
 }

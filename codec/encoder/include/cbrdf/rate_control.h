@@ -22,6 +22,7 @@ struct RateTarget {
 struct RateCandidate {
   int slices = 0, bits = 0, components = 1;
   double bytes = 0, psnr_tonemapped = 0, psnr_linear = 0;
+  double max_error = 0;  // the residual layer's bound (encode_to_target_ladder); 0: none
 };
 
 struct RateResult {
@@ -49,5 +50,14 @@ struct RateResult {
 CBRDF_EXPORT Expected<RateResult> encode_to_target(const BrdfTable& table,
                                                    const EncoderSettings& base,
                                                    const RateTarget& target);
+
+// The whole ladder (residual_rate.cc): encode_to_target, then, when the model alone misses the
+// PSNR (or a budget leaves room beyond it), the chosen model plus the residual layer with its
+// bound E bisected in log scale over 1e-5..1: the largest E reaching the PSNR, or the smallest
+// whose file fits the budget (kept only when it beats the model alone). chosen.max_error > 0
+// names the layer chosen.
+CBRDF_EXPORT Expected<RateResult> encode_to_target_ladder(const BrdfTable& table,
+                                                          const EncoderSettings& base,
+                                                          const RateTarget& target);
 
 }  // namespace cbrdf

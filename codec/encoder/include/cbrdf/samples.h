@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Built-in sample materials: analytic BRDFs written out as MERL tables, for tests, demos and
-// benchmarks that must run without the measured database.
+// Built-in sample materials written out as MERL tables: measured ones (neural fits of real MERL
+// measurements, data/measured/README.md) for demos and reports that must run without the measured
+// database, and analytic ones (exact BRDFs) for tests and benchmarks.
 #pragma once
 
 #include <span>
@@ -13,19 +14,34 @@
 
 namespace cbrdf {
 
+enum class SampleKind {
+  kAnalytic,  // an AnalyticBrdf (sample_brdf()), tabulated exactly
+  kMeasured,  // a neural fit of a real MERL measurement, evaluated on the grid; no analytic form
+};
+
+// "analytic" or "measured".
+constexpr std::string_view sample_kind_name(SampleKind kind) {
+  return kind == SampleKind::kMeasured ? "measured" : "analytic";
+}
+
 struct SampleInfo {
   std::string_view name;
   std::string_view description;  // one line
+  SampleKind kind = SampleKind::kAnalytic;
+  std::string_view source = {};  // measured samples: where the data comes from; else empty
 };
 
-// The built-in samples, in a stable order.
+// The built-in samples in a stable order: the measured ones first, then the analytic ones.
 CBRDF_EXPORT std::span<const SampleInfo> sample_materials();
 
-// The analytic BRDF behind a sample. Unknown names fail with kInvalidArgument listing the valid
+// The analytic BRDF behind an analytic sample. A measured sample fails with kInvalidArgument
+// saying it has no analytic form; an unknown name fails with kInvalidArgument listing the valid
 // ones.
 CBRDF_EXPORT Expected<AnalyticBrdf> sample_brdf(std::string_view name);
 
-// The sample as a MERL table (see tabulate()).
+// Any sample as a MERL table: an analytic one through tabulate(); a measured one by evaluating
+// its embedded network at the same grid angles, with the same not-measured bins (stored -1). The
+// values are bit-for-bit the same for any thread count. Unknown names fail as in sample_brdf().
 CBRDF_EXPORT Expected<BrdfTable> make_sample(std::string_view name);
 
 // An analytic BRDF at every MERL bin's grid angles (theta_h = (i/90)^2 90 deg, theta_d = j deg,

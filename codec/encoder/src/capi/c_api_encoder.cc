@@ -34,7 +34,7 @@ cbrdf_encode_settings default_settings() {
   const EncoderSettings d;
   cbrdf_encode_settings s{};
   s.struct_size = sizeof s;
-  s.bits = d.container.bits;
+  s.bits = CBRDF_BITS_AUTO;  // as `cbrdf encode`: the bit depth from the data
   s.zstd_level = d.container.zstd_level;
   s.slices = d.fit.slices;
   s.components = d.fit.components;
@@ -63,7 +63,11 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
     // A newer caller's struct may be longer: read what this version knows.
     std::memcpy(&s, in, std::min<std::size_t>(in->struct_size, sizeof s));
   }
-  CBRDF_RETURN_IF_ERROR(check_range("bits", s.bits, 6, 16));
+  if (s.bits != CBRDF_BITS_AUTO && (s.bits < 6 || s.bits > 16)) {
+    return invalid_argument(
+        "cbrdf_encode_settings.bits must be 6 to 16 or CBRDF_BITS_AUTO (0), not " +
+        std::to_string(s.bits));
+  }
   CBRDF_RETURN_IF_ERROR(check_range("zstd_level", s.zstd_level, 1, 22));
   CBRDF_RETURN_IF_ERROR(check_range("slices", s.slices, 1, kThetaDBins));
   CBRDF_RETURN_IF_ERROR(check_range("components", s.components, 1, kMaxComponents));
@@ -72,7 +76,8 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   CBRDF_RETURN_IF_ERROR(check_range("threads", s.threads, 0, 256));
 
   EncoderSettings out;
-  out.container.bits = s.bits;
+  out.auto_bits.enabled = s.bits == CBRDF_BITS_AUTO;
+  if (!out.auto_bits.enabled) out.container.bits = s.bits;
   out.container.zstd_level = s.zstd_level;
   out.fit.slices = s.slices;
   out.fit.components = s.components;

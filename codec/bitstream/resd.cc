@@ -1,0 +1,236 @@
+// SPDX-License-Identifier: MIT
+// RESD (spec 4.6): the error-bounded residual layer of container 1.2. Reader and writer.
+//
+// Mode 0 holds one integer code per measured bin (channel, then MERL index order), each coded as
+// the zigzag of its difference from a prediction out of codes already decoded, as an unsigned
+// LEB128 varint; the chunk's zstd frame does the entropy coding.
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "byte_reader.h"
+#include "byte_writer.h"
+#include "chunks.h"
+#include "exact_table.h"
+
+namespace cbrdf {
+namespace {
+
+// The prediction of code (c, i) from codes already decoded: 0 (predictor 0), or the previous
+// phi_d bin's code of the same channel (predictor 1; 0 at phi_d = 0). Not-measured bins hold
+// code 0. i is a MERL index, phi_d = i mod 180. (Measured on real materials: the previous
+// phi_d bin wins where the residual is quantized finely, no prediction where it is coarse and
+// mostly 0; the channel before, Lorenzo across theta_d and both lost to these.)
+inline std::int64_t predict(const std::int32_t* q, int c, std::size_t i, std::uint8_t predictor) {
+  if (predictor == kResidualPredictorNone || i % kPhiDBins == 0) return 0;
+  return q[std::size_t(c) * kBinsPerChannel + i - 1];
+}
+
+// The zigzag varints of the measured bins' codes under a predictor.
+std::vector<std::uint8_t> code_stream(const Model& model, std::uint8_t predictor) {
+  ByteWriter w;
+  const std::int32_t* q = model.residual.codes.data();
+  for (int c = 0; c < kChannels; ++c) {
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      if (model.not_measured.test(c, i)) continue;
+      const std::int64_t d = q[std::size_t(c) * kBinsPerChannel + i] - predict(q, c, i, predictor);
+      w.varint32(zigzag(std::int32_t(d)));
+    }
+  }
+  return w.take();
+}
+
+// Order-0 entropy of a byte stream, in bits: what zstd's literal coding approaches.
+double entropy_bits(const std::vector<std::uint8_t>& s) {
+  std::array<std::size_t, 256> n{};
+  for (std::uint8_t b : s) ++n[b];
+  double bits = 0;
+  for (std::size_t k : n) {
+    if (k > 0) bits -= double(k) * std::log2(double(k) / double(s.size()));
+  }
+  return bits;
+}
+
+Status check_header(std::uint8_t predictor, std::uint16_t reserved, double max_error, double step,
+                    double knee, std::uint32_t escapes) {
+  if (predictor > kResidualPredictorPhi || reserved != 0) {
+    return error(ErrorCode::kCorrupt, "predictor " + std::to_string(predictor) + " / reserved " +
+                                          std::to_string(reserved) +
+                                          ": the predictor must be 0 or 1 and the reserved "
+                                          "field 0");
+  }
+  if (!(max_error >= kMinResidualError && max_error <= kMaxResidualError)) {
+    return error(ErrorCode::kNumeric, "max error " + number_text(max_error) + " is outside " +
+                                          number_text(kMinResidualError) + ".." +
+                                          number_text(kMaxResidualError));
+  }
+  if (!(step > 0.0 && step <= 2.0 * max_error)) {
+    return error(ErrorCode::kNumeric,
+                 "step " + number_text(step) + " is not in (0, 2 x max error]");
+  }
+  if (!(knee >= kMinResidualKnee && knee <= kMaxResidualKnee)) {
+    return error(ErrorCode::kNumeric, "knee " + number_text(knee) + " is outside 1e-12..1e12");
+  }
+  if (escapes > kMaxResidualEscapes) {
+    return error(ErrorCode::kLimit, "escape count " + std::to_string(escapes) + " exceeds " +
+                                        std::to_string(kMaxResidualEscapes));
+  }
+  return ok_status();
+}
+
+// The codes of the measured bins, read straight from the payload (a checked read per varint
+// made the largest payloads slow under the sanitizers). Returns the bytes consumed.
+Expected<std::size_t> read_codes(std::span<const std::uint8_t> in, std::size_t base,
+                                 const NotMeasured& mask, std::uint8_t predictor, std::int32_t* q) {
+  std::size_t pos = 0;
+  for (int c = 0; c < kChannels; ++c) {
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      if (mask.test(c, i)) continue;
+      std::uint64_t z = 0;
+      const std::size_t start = pos;
+      for (int k = 0;; ++k) {
+        if (pos == in.size()) {
+          return error(ErrorCode::kTruncated, "the codes end at payload offset " +
+                                                  std::to_string(base + pos) +
+                                                  " before the last measured bin");
+        }
+        const std::uint8_t b = in[pos++];
+        z |= std::uint64_t(b & 0x7F) << (7 * k);
+        if ((b & 0x80) == 0) {
+          if ((k > 0 && b == 0) || z > 0xFFFFFFFFu || k >= 5) {
+            return error(ErrorCode::kCorrupt, "code varint at payload offset " +
+                                                  std::to_string(base + start) +
+                                                  " is overlong or exceeds 2^32-1");
+          }
+          break;
+        }
+        if (k == 4) {
+          return error(ErrorCode::kCorrupt, "code varint at payload offset " +
+                                                std::to_string(base + start) +
+                                                " is longer than 5 bytes");
+        }
+      }
+      const std::int64_t code = predict(q, c, i, predictor) + unzigzag(std::uint32_t(z));
+      if (code < -kMaxResidualCode || code > kMaxResidualCode) {
+        return error(ErrorCode::kCorrupt, "code " + std::to_string(code) + " of channel " +
+                                              kChannelNames[c] + " bin " + std::to_string(i) +
+                                              " (payload offset " + std::to_string(base + start) +
+                                              ") is outside -2^28..2^28");
+      }
+      q[std::size_t(c) * kBinsPerChannel + i] = std::int32_t(code);
+    }
+  }
+  return pos;
+}
+
+Status read_escapes(ByteReader& r, std::uint32_t count, const NotMeasured& mask,
+                    std::vector<ResidualEscape>* out) {
+  out->resize(count);
+  std::uint64_t next = 0;  // the smallest bin the next escape may name
+  for (ResidualEscape& e : *out) {
+    std::uint32_t gap = 0;
+    const std::uint64_t at = r.offset();
+    CBRDF_RETURN_IF_ERROR(r.varint32(&gap, "escape gap"));
+    CBRDF_RETURN_IF_ERROR(r.f64(&e.stored, "escape value"));
+    const std::uint64_t bin = next + gap;
+    if (bin >= kMaskBits || mask_bit(mask.bits, std::size_t(bin))) {
+      return error(ErrorCode::kCorrupt, "escape at payload offset " + std::to_string(at) +
+                                            " names bin " + std::to_string(bin) +
+                                            ", which is past the table or not measured");
+    }
+    if (!std::isfinite(e.stored) || e.stored < 0.0) {
+      return error(ErrorCode::kNumeric, "escape value " + number_text(e.stored) +
+                                            " at payload offset " + std::to_string(at) +
+                                            " is not a finite value >= 0");
+    }
+    e.bin = std::uint32_t(bin);
+    next = bin + 1;
+  }
+  return ok_status();
+}
+
+// Mode 1: the exact table, whose not-measured bins must be MASK's.
+Status read_exact(std::span<const std::uint8_t> rest, const NotMeasured& mask, Residual* out) {
+  Expected<BrdfTable> t = internal::decode_exact_table(rest);
+  if (!t.ok()) return t.status().with_context("exact table");
+  for (int c = 0; c < kChannels; ++c) {
+    const double* v = t->channel_data(c);
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      if (!(v[i] >= 0.0) != mask.test(c, i)) {
+        return error(ErrorCode::kCorrupt, std::string("exact table: channel ") + kChannelNames[c] +
+                                              " bin " + std::to_string(i) + " is " +
+                                              (mask.test(c, i) ? "" : "not ") +
+                                              "measured, MASK says the opposite");
+      }
+    }
+  }
+  out->exact = std::make_shared<const BrdfTable>(std::move(t).value());
+  return ok_status();
+}
+
+}  // namespace
+
+Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                             const NotMeasured& mask, Residual* out) {
+  ByteReader r = payload_reader(payload);
+  std::uint8_t mode = 0, predictor = 0;
+  std::uint16_t reserved = 0;
+  std::uint32_t escapes = 0;
+  CBRDF_RETURN_IF_ERROR(r.u8(&mode, "residual mode"));
+  if (mode == kResidualModeExact) return read_exact(payload.subspan(1), mask, out);
+  if (mode != kResidualModeLog) {
+    return error(ErrorCode::kUnsupported,
+                 "residual mode " + std::to_string(mode) +
+                     " is not known to this reader (0 = bounded log residual, 1 = exact table)");
+  }
+  CBRDF_RETURN_IF_ERROR(r.u8(&predictor, "predictor"));
+  CBRDF_RETURN_IF_ERROR(r.u16(&reserved, "reserved field"));
+  CBRDF_RETURN_IF_ERROR(r.f64(&out->max_error, "max error"));
+  CBRDF_RETURN_IF_ERROR(r.f64(&out->step, "step"));
+  CBRDF_RETURN_IF_ERROR(r.f64(&out->knee, "knee"));
+  CBRDF_RETURN_IF_ERROR(r.u32(&escapes, "escape count"));
+  CBRDF_RETURN_IF_ERROR(
+      check_header(predictor, reserved, out->max_error, out->step, out->knee, escapes));
+  out->codes.assign(kMaskBits, 0);
+  std::span<const std::uint8_t> rest;
+  const std::uint64_t codes_at = r.offset();
+  CBRDF_RETURN_IF_ERROR(r.bytes(r.remaining(), &rest, "codes"));
+  Expected<std::size_t> used = read_codes(rest, codes_at, mask, predictor, out->codes.data());
+  if (!used.ok()) return used.status();
+  ByteReader tail(rest.subspan(*used), codes_at + *used, "payload offset");
+  CBRDF_RETURN_IF_ERROR(read_escapes(tail, escapes, mask, &out->escapes));
+  return check_trailing(tail.remaining(), file_minor);
+}
+
+std::vector<std::uint8_t> encode_residual_chunk(const Model& model) {
+  const Residual& res = model.residual;
+  ByteWriter w;
+  if (res.exact) {
+    w.u8(kResidualModeExact);
+    w.bytes(internal::encode_exact_table(*res.exact));
+    return w.take();
+  }
+  // The predictor whose stream has the lower order-0 entropy (ties: none).
+  std::vector<std::uint8_t> none = code_stream(model, kResidualPredictorNone);
+  std::vector<std::uint8_t> phi = code_stream(model, kResidualPredictorPhi);
+  const bool use_phi = entropy_bits(phi) < entropy_bits(none);
+  w.u8(kResidualModeLog);
+  w.u8(use_phi ? kResidualPredictorPhi : kResidualPredictorNone);
+  w.u16(0);
+  w.f64(res.max_error);
+  w.f64(res.step);
+  w.f64(res.knee);
+  w.u32(std::uint32_t(res.escapes.size()));
+  w.bytes(use_phi ? phi : none);
+  std::uint64_t next = 0;
+  for (const ResidualEscape& e : res.escapes) {
+    w.varint32(std::uint32_t(e.bin - next));
+    w.f64(e.stored);
+    next = std::uint64_t(e.bin) + 1;
+  }
+  return w.take();
+}
+
+}  // namespace cbrdf

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT
+#include <map>
+#include <utility>
+
+#include "cbrdf/codec.h"
+#include "cbrdf/encoder.h"
+#include "cbrdf/metrics.h"
+
+namespace cbrdf {
+namespace {
+
+// ContainerSettings::bits' range.
+constexpr int kFewestBits = 6, kMostBits = 16;
+
+struct Probe {
+  bool passes = false;
+  std::vector<std::uint8_t> bytes;
+};
+
+// Within the allowed loss of the reference (NaN never is; -inf passes only against -inf).
+bool within(double test_db, double reference_db, double max_loss_db) {
+  return test_db >= reference_db - max_loss_db;
+}
+
+}  // namespace
+
+Expected<AutoBitsChoice> choose_bits(const BrdfTable& source, const Model& model,
+                                     const ContainerSettings& container,
+                                     const AutoBitsSettings& settings) {
+  const ImageMetrics reference = sphere_psnr(source, model.table());
+  std::map<int, Probe> probes;
+  auto probe = [&](int bits) -> Expected<const Probe*> {
+    ContainerSettings c = container;
+    c.bits = bits;
+    auto bytes = encode_model(model, c);
+    if (!bytes.ok()) return bytes.status();
+    auto decoded = decode_model(*bytes);
+    if (!decoded.ok()) return decoded.status();
+    const ImageMetrics m = sphere_psnr(source, decoded->table());
+    Probe p{within(m.psnr_tonemapped, reference.psnr_tonemapped, settings.max_tonemapped_loss_db) &&
+                within(m.psnr_linear, reference.psnr_linear, settings.max_linear_loss_db),
+            std::move(bytes).value()};
+    return &(probes[bits] = std::move(p));
+  };
+  // The fewest passing bits in [lo, hi]; hi is taken without a probe when nothing below passes
+  // (16 bits is as close to the unquantized model as a file gets).
+  int lo = kFewestBits, hi = kMostBits;
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    auto p = probe(mid);
+    if (!p.ok()) return p.status();
+    if ((*p)->passes) {
+      hi = mid;
+    } else {
+      lo = mid + 1;
+    }
+  }
+  if (!probes.count(hi)) {
+    auto p = probe(hi);
+    if (!p.ok()) return p.status();
+  }
+  return AutoBitsChoice{hi, std::move(probes[hi].bytes)};
+}
+
+}  // namespace cbrdf

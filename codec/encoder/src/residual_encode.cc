@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: MIT
+#include "residual_encode.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include "chunks.h"
+
+namespace cbrdf::internal {
+namespace {
+
+// Just under 2E: rounding to the nearest code then errs by at most step/2 < E, and the margin
+// (about 1e-6 E) absorbs the reconstruction's rounding; the decode check catches the rest.
+constexpr double kStepFraction = 1.0 - 1.0 / 1024.0 / 1024.0;
+
+// The codes of the source against the decoded base table: round((log1p(src) - log1p(base)) /
+// step) per measured bin, clamped to the format's range (a clamped bin becomes an escape).
+std::vector<std::int32_t> quantize_residual(const BrdfTable& source, const BrdfTable& base,
+                                            const NotMeasured& mask, double step, double knee) {
+  std::vector<std::int32_t> codes(kMaskBits, 0);
+  const double top = double(kMaxResidualCode);
+  for (int c = 0; c < kChannels; ++c) {
+    const double* s = source.channel_data(c);
+    const double* b = base.channel_data(c);
+    std::int32_t* q = codes.data() + std::size_t(c) * kBinsPerChannel;
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      if (mask.test(c, i)) continue;
+      const double r = std::log1p(s[i] / knee) - std::log1p(b[i] / knee);
+      q[i] = std::int32_t(std::clamp(std::nearbyint(r / step), -top, top));
+    }
+  }
+  return codes;
+}
+
+}  // namespace
+
+double max_log_error(const BrdfTable& source, const BrdfTable& decoded, double knee, double bound,
+                     std::vector<std::uint32_t>* violations) {
+  double worst = 0;
+  for (int c = 0; c < kChannels; ++c) {
+    const double* s = source.channel_data(c);
+    const double* d = decoded.channel_data(c);
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      if (!(s[i] >= 0.0)) continue;  // not measured
+      const double e = std::abs(std::log1p(d[i] / knee) - std::log1p(s[i] / knee));
+      // A NaN error (never expected) counts as a violation.
+      if (violations && !(e <= bound)) {
+        violations->push_back(std::uint32_t(std::size_t(c) * kBinsPerChannel + i));
+      }
+      if (!(e <= worst)) worst = e;
+    }
+  }
+  return worst;
+}
+
+namespace {
+
+// Mode 1: the source itself, checked bit for bit after decoding.
+Status add_exact(const BrdfTable& source, const ContainerSettings& container,
+                 EncodeResult* result) {
+  result->model.residual = Residual{};
+  result->model.residual.exact = std::make_shared<const BrdfTable>(source);
+  Expected<std::vector<std::uint8_t>> bytes = encode_model(result->model, container);
+  if (!bytes.ok()) return bytes.status();
+  Expected<BrdfTable> decoded = decode_table(*bytes);
+  if (!decoded.ok()) return decoded.status();
+  const std::vector<double>&a = source.stored_values(), &b = decoded->stored_values();
+  if (a.size() != b.size() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) != 0) {
+    return error(ErrorCode::kInternal, "the lossless file does not decode to the source");
+  }
+  result->bytes = std::move(bytes).value();
+  return ok_status();
+}
+
+}  // namespace
+
+Status add_residual(const BrdfTable& source, const EncoderSettings& settings,
+                    EncodeResult* result) {
+  ContainerSettings container = settings.container;
+  container.bits = result->bits > 0 ? result->bits : container.bits;
+  if (settings.residual.lossless) return add_exact(source, container, result);
+  const double bound = settings.residual.max_error;
+  // The base exactly as every decoder of the file rebuilds it.
+  Expected<Model> base = decode_model(result->bytes);
+  if (!base.ok()) return base.status();
+  const BrdfTable base_table = base->table();
+
+  Model& model = result->model;
+  model.residual.max_error = bound;
+  model.residual.step = 2.0 * bound * kStepFraction;
+  model.residual.knee = kResidualKnee;
+  model.residual.codes = quantize_residual(source, base_table, model.not_measured,
+                                           model.residual.step, model.residual.knee);
+  model.residual.escapes.clear();
+  // Write, decode, check every bin; bins that miss the bound (rounding at the margin, or a code
+  // beyond the format's range) are stored exactly as escapes and the file written again.
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    Expected<std::vector<std::uint8_t>> bytes = encode_model(model, container);
+    if (!bytes.ok()) return bytes.status();
+    Expected<BrdfTable> decoded = decode_table(*bytes);
+    if (!decoded.ok()) return decoded.status();
+    std::vector<std::uint32_t> bad;
+    max_log_error(source, *decoded, model.residual.knee, bound, &bad);
+    if (bad.empty()) {
+      result->bytes = std::move(bytes).value();
+      return ok_status();
+    }
+    if (attempt == 1 || model.residual.escapes.size() + bad.size() > kMaxResidualEscapes) break;
+    std::vector<ResidualEscape> merged;
+    for (std::uint32_t b : bad) merged.push_back({b, source.stored_values()[b]});
+    for (const ResidualEscape& e : model.residual.escapes) merged.push_back(e);
+    std::sort(merged.begin(), merged.end(),
+              [](const ResidualEscape& a, const ResidualEscape& b) { return a.bin < b.bin; });
+    model.residual.escapes = std::move(merged);
+  }
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", bound);
+  return error(ErrorCode::kNumeric,
+               std::string("the residual layer cannot hold the bound ") + text +
+                   " on this table (too many bins need exact storage); use a larger --max-error");
+}
+
+}  // namespace cbrdf::internal

@@ -1,0 +1,225 @@
+// SPDX-License-Identifier: MIT
+// 'RESD' payloads (spec/container.md 4.6) as a reader meets them: a model with a residual round
+// trips exactly, and every malformed payload is refused with its error code and a message that
+// names the chunk.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <functional>
+
+#include "byte_writer.h"
+#include "cbrdf/codec.h"
+#include "cbrdf/container.h"
+#include "synthetic_model.h"
+
+namespace cbrdf {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+// A model of six slices with the standard mask and a residual: sparse codes of both signs, a
+// band of larger ones and two escapes.
+Model residual_model() {
+  Model m = testing::make_model(testing::six_slices(), true, 11);
+  Residual& r = m.residual;
+  r.max_error = 0.01;
+  r.step = 0.0199;
+  r.knee = 0.5;
+  r.codes.assign(std::size_t(kChannels) * kBinsPerChannel, 0);
+  for (int c = 0; c < kChannels; ++c) {
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      if (m.not_measured.test(c, i)) continue;
+      std::int32_t q = 0;
+      if (i % 101 == 7) q = std::int32_t(i % 9) - 4;
+      if (i / 16200 == 3) q = std::int32_t((i / 180) % 40) - 20 + c;  // theta_h bin 3
+      r.codes[std::size_t(c) * kBinsPerChannel + i] = q;
+    }
+  }
+  std::size_t measured = 0;
+  while (m.not_measured.test(0, measured)) ++measured;
+  r.escapes = {{std::uint32_t(measured), 0.25},
+               {std::uint32_t(kBinsPerChannel + measured + 180), 3.0}};
+  return m;
+}
+
+const Bytes& residual_file() {
+  static const Bytes b = [] {
+    ContainerSettings s;
+    s.bits = 8;
+    s.zstd_level = 3;
+    Expected<Bytes> e = encode_model(residual_model(), s);
+    EXPECT_TRUE(e.ok()) << e.status().message();
+    return e.ok() ? *e : Bytes{};
+  }();
+  return b;
+}
+
+TEST(ResidualContainer, RoundTripsExactly) {
+  const Model want = residual_model();
+  Expected<Model> got = decode_model(residual_file());
+  ASSERT_TRUE(got.ok()) << got.status().message();
+  EXPECT_EQ(got->residual.max_error, want.residual.max_error);
+  EXPECT_EQ(got->residual.step, want.residual.step);
+  EXPECT_EQ(got->residual.codes, want.residual.codes);
+  ASSERT_EQ(got->residual.escapes.size(), 2u);
+  EXPECT_EQ(got->residual.escapes[1].bin, want.residual.escapes[1].bin);
+  EXPECT_EQ(got->residual.escapes[1].stored, 3.0);
+  // The table: the escapes exactly, other measured bins by the normative formula.
+  Model base = *got;
+  base.residual = Residual{};
+  const BrdfTable with = got->table(), without = base.table();
+  EXPECT_EQ(with.stored_values()[want.residual.escapes[0].bin], 0.25);
+  const std::size_t i = 3 * 16200 + 90 * 180 / 2 + 77;  // inside the band of larger codes
+  ASSERT_FALSE(got->not_measured.test(1, i));
+  EXPECT_EQ(got->residual.knee, 0.5);
+  const double y = std::log1p(without.stored(1, i) / 0.5) +
+                   double(want.residual.codes[kBinsPerChannel + i]) * want.residual.step;
+  EXPECT_EQ(with.stored(1, i), y > 0 ? std::expm1(y) * 0.5 : 0.0);
+  EXPECT_EQ(residual_file()[10], 2);
+}
+
+// Mode 1 (lossless): the table comes back bit for bit, whatever the model says, and a table whose
+// not-measured bins differ from MASK is refused by the encoder.
+TEST(ResidualContainer, ExactTableRoundTripsBitForBit) {
+  Model m = testing::make_model({0, 45, 90}, false, 3);
+  testing::set_standard_mask(&m);
+  BrdfTable exact = m.table();
+  double* v = exact.stored_values().data();
+  for (std::size_t b = 0; b < exact.stored_values().size(); b += 7) {
+    if (v[b] >= 0.0) v[b] = v[b] * 1.001 + 1e-9 * double(b % 13);  // not the model's value
+  }
+  m.residual.exact = std::make_shared<const BrdfTable>(exact);
+  ContainerSettings s;
+  s.zstd_level = 3;
+  Expected<Bytes> bytes = encode_model(m, s);
+  ASSERT_TRUE(bytes.ok()) << bytes.status().message();
+  EXPECT_EQ((*bytes)[10], 2);
+  Expected<BrdfTable> t = decode_table(*bytes);
+  ASSERT_TRUE(t.ok()) << t.status().message();
+  EXPECT_EQ(std::memcmp(t->stored_values().data(), exact.stored_values().data(),
+                        exact.stored_values().size() * sizeof(double)),
+            0);
+  Expected<ContainerInfo> info = inspect_container(*bytes);
+  ASSERT_TRUE(info.ok());
+  EXPECT_EQ(info->residual_mode, 1);
+  BrdfTable wrong = exact;
+  wrong.stored_values()[0] = -1.0;  // bin 0 is measured in MASK
+  m.residual.exact = std::make_shared<const BrdfTable>(wrong);
+  Expected<Bytes> refused = encode_model(m, s);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code(), ErrorCode::kInvalidArgument);
+}
+
+// Rewrites the file with RESD's payload edited (checksums valid) and the given minor version.
+Bytes with_resd(const std::function<void(Bytes*)>& edit, int minor = 2, bool twice = false) {
+  Expected<ParsedContainer> pc = parse_container(residual_file());
+  EXPECT_TRUE(pc.ok());
+  std::vector<ChunkToWrite> chunks;
+  for (std::size_t k = 0; k + 1 < pc->layout.chunks.size(); ++k) {
+    chunks.push_back({pc->layout.chunks[k].tag, pc->payloads[k], true});
+    if (chunks.back().tag == kTagResidual) {
+      edit(&chunks.back().payload);
+      if (twice) chunks.push_back(chunks.back());
+    }
+  }
+  Expected<Bytes> out = write_container(chunks, 3);
+  EXPECT_TRUE(out.ok()) << out.status().message();
+  Bytes b = out.ok() ? *out : Bytes{};
+  b[10] = std::uint8_t(minor);
+  return b;
+}
+
+void expect_error(const Bytes& b, ErrorCode code, const std::string& needle) {
+  Expected<Model> m = decode_model(b);
+  ASSERT_FALSE(m.ok()) << "decoded although it should fail with: " << needle;
+  EXPECT_EQ(m.status().code(), code)
+      << error_code_name(m.status().code()) << ": " << m.status().message();
+  EXPECT_NE(m.status().message().find(needle), std::string::npos) << m.status().message();
+  EXPECT_NE(m.status().message().find("RESD"), std::string::npos) << m.status().message();
+}
+
+void put_f64(Bytes* b, std::size_t at, double v) {
+  const std::uint64_t u = std::bit_cast<std::uint64_t>(v);
+  for (int k = 0; k < 8; ++k) (*b)[at + std::size_t(k)] = std::uint8_t(u >> (8 * k));
+}
+
+TEST(ResidualContainer, MalformedPayloadsAreRefused) {
+  expect_error(with_resd([](Bytes* p) { (*p)[0] = 2; }), ErrorCode::kUnsupported,
+               "residual mode 2");
+  expect_error(with_resd([](Bytes* p) { (*p)[1] = 2; }), ErrorCode::kCorrupt, "predictor 2");
+  expect_error(with_resd([](Bytes* p) { (*p)[2] = 1; }), ErrorCode::kCorrupt, "reserved 1");
+  expect_error(with_resd([](Bytes* p) { put_f64(p, 4, std::nan("")); }), ErrorCode::kNumeric,
+               "max error nan");
+  expect_error(with_resd([](Bytes* p) { put_f64(p, 4, 1e-7); }), ErrorCode::kNumeric, "is outside");
+  expect_error(with_resd([](Bytes* p) { put_f64(p, 12, 0.03); }), ErrorCode::kNumeric,
+               "step 0.0299");
+  expect_error(with_resd([](Bytes* p) { put_f64(p, 12, 0.0); }), ErrorCode::kNumeric, "step 0");
+  expect_error(with_resd([](Bytes* p) { put_f64(p, 20, 0.0); }), ErrorCode::kNumeric, "knee 0");
+  expect_error(with_resd([](Bytes* p) { put_f64(p, 20, 1e13); }), ErrorCode::kNumeric,
+               "knee 10000000000000");
+  expect_error(with_resd([](Bytes* p) { (*p)[30] = 1; }), ErrorCode::kLimit, "escape count");
+  expect_error(with_resd([](Bytes* p) { p->resize(32 + 1000); }), ErrorCode::kTruncated,
+               "before the last measured bin");
+  // A code outside -2^28..2^28: the first varint replaced by a 5-byte value.
+  expect_error(with_resd([](Bytes* p) {
+                 const Bytes big = {0xFE, 0xFF, 0xFF, 0xFF, 0x0F};
+                 p->erase(p->begin() + 32);
+                 p->insert(p->begin() + 32, big.begin(), big.end());
+               }),
+               ErrorCode::kCorrupt, "outside -2^28..2^28");
+  expect_error(with_resd([](Bytes* p) {
+                 const Bytes overlong = {0x80, 0x00};
+                 p->erase(p->begin() + 32);
+                 p->insert(p->begin() + 32, overlong.begin(), overlong.end());
+               }),
+               ErrorCode::kCorrupt, "overlong");
+  // The last escape's value (the payload's last 8 bytes) negative, then its bin moved past the
+  // table (its gap is the varint before the value).
+  expect_error(with_resd([](Bytes* p) { put_f64(p, p->size() - 8, -1.0); }), ErrorCode::kNumeric,
+               "escape value -1");
+  expect_error(with_resd([](Bytes* p) {
+                 const Bytes far = {0xFF, 0xFF, 0xFF, 0xFF, 0x0F};
+                 std::size_t at = p->size() - 9;
+                 while ((*p)[at - 1] & 0x80) --at;  // the gap's first byte
+                 p->erase(p->begin() + std::ptrdiff_t(at), p->end() - 8);
+                 p->insert(p->begin() + std::ptrdiff_t(at), far.begin(), far.end());
+               }),
+               ErrorCode::kCorrupt, "past the table or not measured");
+  expect_error(with_resd([](Bytes* p) { p->push_back(0); }), ErrorCode::kCorrupt,
+               "unexpected bytes");
+  expect_error(with_resd([](Bytes*) {}, 1), ErrorCode::kCorrupt, "needs container version 1.2");
+  Expected<Model> dup = decode_model(with_resd([](Bytes*) {}, 2, true));
+  ASSERT_FALSE(dup.ok());
+  EXPECT_EQ(dup.status().code(), ErrorCode::kCorrupt);
+  EXPECT_NE(dup.status().message().find("duplicate"), std::string::npos);
+}
+
+// An escape at a not-measured bin.
+TEST(ResidualContainer, EscapeAtANotMeasuredBinIsRefused) {
+  const Model m = residual_model();
+  std::uint32_t masked = 0;
+  while (!m.not_measured.test(0, masked)) ++masked;
+  Bytes file = with_resd([masked](Bytes* p) {
+    // Rewrite the escapes: one, at the first not-measured bin of channel R.
+    std::size_t k = p->size();
+    // Walk back over the two escapes: value (8) and gap (1..5 bytes) each.
+    for (int e = 0; e < 2; ++e) {
+      k -= 8;
+      --k;
+      while (k > 0 && ((*p)[k - 1] & 0x80)) --k;
+    }
+    p->resize(k);
+    ByteWriter w;
+    w.varint32(masked);
+    w.f64(1.0);
+    const Bytes one = w.take();
+    p->insert(p->end(), one.begin(), one.end());
+    (*p)[28] = 1;  // escape count 1
+  });
+  expect_error(file, ErrorCode::kCorrupt, "names bin " + std::to_string(masked) + ",");
+}
+
+}  // namespace
+}  // namespace cbrdf

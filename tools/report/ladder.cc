@@ -1,0 +1,208 @@
+// SPDX-License-Identifier: MIT
+#include "report/ladder.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+
+#include "cbrdf/codec.h"
+#include "cbrdf/encoder.h"
+#include "cbrdf/fit.h"
+#include "cbrdf/merl_io.h"
+#include "cbrdf/metrics.h"
+#include "cbrdf/parallel.h"
+#include "report/float16_baseline.h"
+#include "report/lossless.h"
+#include "report/zfp_baseline.h"
+
+namespace cbrdf::report {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string format_g(const char* fmt, double v) {
+  char text[64];
+  std::snprintf(text, sizeof text, fmt, v);
+  return text;
+}
+
+bool bit_identical(const BrdfTable& a, const BrdfTable& b) {
+  return std::memcmp(a.stored_values().data(), b.stored_values().data(),
+                     a.stored_values().size() * sizeof(double)) == 0;
+}
+
+class LadderRun {
+ public:
+  LadderRun(const std::string& name, const BrdfTable& table, const LadderSettings& st)
+      : table_(table), st_(st) {
+    out_.name = name;
+    sphere_.size = st.sphere_size;
+    sphere_.threads = st.threads;
+  }
+
+  Expected<LadderMaterial> run() {
+    CBRDF_RETURN_IF_ERROR(base_points());
+    CBRDF_RETURN_IF_ERROR(residual_points());
+    if (st_.lossless) CBRDF_RETURN_IF_ERROR(cbrdf_lossless_point());
+    CBRDF_RETURN_IF_ERROR(zfp_points());
+    if (st_.float16) CBRDF_RETURN_IF_ERROR(float16_point());
+    if (st_.compressors) CBRDF_RETURN_IF_ERROR(compressor_points());
+    return std::move(out_);
+  }
+
+ private:
+  Status context(const Status& s, const LadderPoint& p) const {
+    return s.with_context(out_.name + " (ladder: " + p.method + " " + p.setting + ")");
+  }
+
+  // Metrics of `decoded` against the source, then the point is kept.
+  void add(LadderPoint p, const BrdfTable& decoded) {
+    const ImageMetrics im = sphere_psnr(table_, decoded, sphere_);
+    p.psnr_tonemapped = im.psnr_tonemapped;
+    p.psnr_linear = im.psnr_linear;
+    out_.points.push_back(std::move(p));
+  }
+  void add_exact(LadderPoint p) {
+    p.exact = true;
+    p.psnr_tonemapped = p.psnr_linear = kPsnrCapDb;
+    out_.points.push_back(std::move(p));
+  }
+
+  EncoderOptions options(int components, int bits) const {
+    EncoderOptions o;
+    o.components = std::to_string(components);
+    o.bits = bits;
+    o.threads = st_.threads;
+    o.source_name = out_.name;
+    return o;
+  }
+
+  // One fit per component count, every bits from it (as `cbrdf encode` would write each).
+  Status base_points() {
+    for (int k : st_.base_components) {
+      Model model;
+      double fit_s = 0;
+      for (std::size_t b = 0; b < st_.base_bits.size(); ++b) {
+        LadderPoint p{kLadderBase,
+                      "k" + std::to_string(k) + " b" + std::to_string(st_.base_bits[b])};
+        auto es = encoder_settings(options(k, st_.base_bits[b]));
+        if (!es.ok()) return context(es.status(), p);
+        if (b == 0) {
+          const auto t0 = Clock::now();
+          auto m = fit_model(table_, es->fit);
+          if (!m.ok()) return context(m.status(), p);
+          model = std::move(m).value();
+          fit_s = since(t0);
+        }
+        auto t0 = Clock::now();
+        auto bytes = encode_model(model, es->container);
+        if (!bytes.ok()) return context(bytes.status(), p);
+        p.encode_s = fit_s + since(t0);
+        p.bytes = double(bytes->size());
+        t0 = Clock::now();
+        auto decoded = decode_table(*bytes);
+        p.decode_s = since(t0);
+        if (!decoded.ok()) return context(decoded.status(), p);
+        add(std::move(p), *decoded);
+      }
+    }
+    return ok_status();
+  }
+
+  // A whole `cbrdf encode` (fit included) per point, as a user would run it.
+  Status encode_point(LadderPoint p, const EncoderOptions& o) {
+    auto es = encoder_settings(o);
+    if (!es.ok()) return context(es.status(), p);
+    auto t0 = Clock::now();
+    auto r = encode_table(table_, *es);
+    p.encode_s = since(t0);
+    if (!r.ok()) return context(r.status(), p);
+    p.bytes = double(r->bytes.size());
+    t0 = Clock::now();
+    auto decoded = decode_table(r->bytes);
+    p.decode_s = since(t0);
+    if (!decoded.ok()) return context(decoded.status(), p);
+    if (!o.lossless) {
+      add(std::move(p), *decoded);
+      return ok_status();
+    }
+    if (!bit_identical(table_, *decoded)) {
+      return context(error(ErrorCode::kInternal, "the lossless file does not decode bit for bit"),
+                     p);
+    }
+    add_exact(std::move(p));
+    return ok_status();
+  }
+
+  Status residual_points() {
+    for (double e : st_.max_errors) {
+      EncoderOptions o = options(1, st_.residual_base_bits);
+      o.max_error = e;
+      CBRDF_RETURN_IF_ERROR(encode_point({kLadderResidual, format_g("E %g", e)}, o));
+    }
+    return ok_status();
+  }
+
+  Status cbrdf_lossless_point() {
+    EncoderOptions o = options(1, st_.residual_base_bits);
+    o.lossless = true;
+    return encode_point({kLadderLossless, "k1 b" + std::to_string(st_.residual_base_bits)}, o);
+  }
+
+  Status zfp_points() {
+    for (double tol : st_.zfp_tolerances) {
+      LadderPoint p{kLadderZfp, format_g("tol %g", tol)};
+      auto z = zfp_log_round_trip(table_, tol);
+      if (!z.ok()) return context(z.status(), p);
+      p.bytes = double(z->compressed.bytes.size());
+      p.encode_s = z->compressed.encode_s;
+      p.decode_s = z->compressed.decode_s;
+      add(std::move(p), z->decoded);
+    }
+    return ok_status();
+  }
+
+  Status float16_point() {
+    LadderPoint p{kLadderFloat16, "level " + std::to_string(st_.zstd_level)};
+    auto f = float16_round_trip(table_, st_.zstd_level);
+    if (!f.ok()) return context(f.status(), p);
+    p.bytes = double(f->compressed.bytes.size());
+    p.encode_s = f->compressed.encode_s;
+    p.decode_s = f->compressed.decode_s;
+    add(std::move(p), f->decoded);
+    return ok_status();
+  }
+
+  // zstd and xz of the .binary bytes (verified round trips, so exact).
+  Status compressor_points() {
+    const std::vector<std::uint8_t> raw = serialize_merl(table_);
+    auto put = [&](LadderPoint p, const Expected<Compressed>& c) -> Status {
+      if (!c.ok()) return context(c.status(), p);
+      p.bytes = double(c->bytes.size());
+      p.encode_s = c->encode_s;
+      p.decode_s = c->decode_s;
+      add_exact(std::move(p));
+      return ok_status();
+    };
+    CBRDF_RETURN_IF_ERROR(put({kLadderZstd, "-" + std::to_string(st_.zstd_level)},
+                              zstd_round_trip(raw, st_.zstd_level)));
+    return put({kLadderXz, "-" + std::to_string(st_.xz_preset)}, xz_round_trip(raw, st_.xz_preset));
+  }
+
+  const BrdfTable& table_;
+  const LadderSettings& st_;
+  SphereSetup sphere_;
+  LadderMaterial out_;
+};
+
+}  // namespace
+
+Expected<LadderMaterial> measure_ladder(const std::string& name, const BrdfTable& table,
+                                        const LadderSettings& st) {
+  return LadderRun(name, table, st).run();
+}
+
+}  // namespace cbrdf::report

@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: MIT
+// `cbrdf report --ladder` (issue 18): one material's bytes against tone-mapped and linear sphere
+// PSNR from a few KB to lossless, for cbrdf (base model alone, base + residual layer, lossless)
+// and the baselines (ZFP on log1p values, float16+zstd, zstd and xz of the .binary), each point
+// with its encode and decode time.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cbrdf/brdf_table.h"
+#include "cbrdf/status.h"
+
+namespace cbrdf::report {
+
+// Method names of ladder points.
+inline constexpr const char* kLadderBase = "cbrdf base";
+inline constexpr const char* kLadderResidual = "cbrdf residual";
+inline constexpr const char* kLadderLossless = "cbrdf lossless";
+inline constexpr const char* kLadderZfp = "zfp log1p";
+inline constexpr const char* kLadderFloat16 = "float16+zstd";
+inline constexpr const char* kLadderZstd = "zstd";
+inline constexpr const char* kLadderXz = "xz";
+
+struct LadderSettings {
+  bool enabled = false;
+  // Base model alone: every components x bits (frank, 6 uniform slices).
+  std::vector<int> base_components = {1, 2, 4};
+  std::vector<int> base_bits = {8, 12};
+  // Base + residual (1 component, residual_base_bits): max errors in log1p of physical values.
+  // The residual's uniform quantization uses the whole bound, so E = 1e-3 reads about 53 dB and
+  // 1e-4 about 73 dB tone-mapped on a fabric; dark and mirror-like materials (chrome) need the
+  // finest values to approach 80 dB, since log1p is nearly linear below 1.
+  std::vector<double> max_errors = {0.01, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6};
+  int residual_base_bits = 10;
+  std::vector<double> zfp_tolerances = {0.5,  0.2,  0.08, 0.03, 0.012, 0.005,
+                                        2e-3, 5e-4, 1e-4, 2e-5, 5e-6};
+  bool float16 = true;
+  bool lossless = true;     // cbrdf --lossless
+  bool compressors = true;  // zstd and xz of the .binary
+  int zstd_level = 19;
+  std::uint32_t xz_preset = 9;
+  int threads = 0;  // fitting threads (0: the thread limit)
+  int sphere_size = 256;
+};
+
+struct LadderPoint {
+  std::string method;   // one of the names above
+  std::string setting;  // "k2 b12", "E 0.01", "tol 0.03", "level 19", ...
+  double bytes = 0;
+  double psnr_tonemapped = 0, psnr_linear = 0;  // kPsnrCapDb when exact
+  double encode_s = 0, decode_s = 0;
+  bool exact = false;  // decoded bit for bit (verified)
+};
+
+struct LadderMaterial {
+  std::string name;
+  std::vector<LadderPoint> points;  // in the order of the methods above, settings as given
+};
+
+// Measures every point on `table` (as read from a MERL file; its serialize_merl bytes are what
+// zstd and xz compress). Each point's decode is checked: lossless points must be bit-exact
+// (kInternal otherwise).
+Expected<LadderMaterial> measure_ladder(const std::string& name, const BrdfTable& table,
+                                        const LadderSettings& st);
+
+}  // namespace cbrdf::report
