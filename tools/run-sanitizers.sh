@@ -3,7 +3,10 @@
 # Builds cbrdf and every test with AddressSanitizer + UndefinedBehaviorSanitizer
 # (-DCBRDF_SANITIZE=ON; GCC, or whatever CXX names) in a separate build directory and runs the whole
 # ctest suite under them. Any sanitizer report fails the test that triggered it (UBSan is built
-# with -fno-sanitize-recover, ASan aborts, LeakSanitizer reports at exit).
+# with -fno-sanitize-recover, ASan aborts, LeakSanitizer reports at exit). Two tests are left to
+# the release suite: they run the mixture fit, which every other mixture test covers here, over
+# and over (at 8 table scales; a component ladder against separate fits) and took 6.5 of the
+# suite's 15 minutes of 2-core time under the sanitizers, which CI's 45 minutes cannot afford.
 #   Usage: tools/run-sanitizers.sh [BUILD_DIR]        (default <repo>/build-sanitize)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -23,5 +26,6 @@ cmake --build "$build" -j "$jobs"
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:check_initialization_order=1:strict_init_order=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 start=$(date +%s)
-ctest --test-dir "$build" --no-tests=error --output-on-failure -j "$jobs" --timeout 900
+ctest --test-dir "$build" --no-tests=error --output-on-failure -j "$jobs" --timeout 900 \
+  -E '^(FitScale\.MixtureFitDoesNotDependOnTheTableScale|Mixture\.FitLadderEqualsSeparateFitsAndReusesTheFactorization)$'
 echo "run-sanitizers: the suite passed under ASan + UBSan in $(( $(date +%s) - start )) s"
