@@ -14,7 +14,7 @@ fi
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 "$build/cbrdf" report --builtin measured --sweep slices=3,6 components=1,2,4 bits=6,8,12,auto \
-  --baselines separable --progress never -o "$out" | sed -n '/^Summary:/,$p' > "$out/summary.txt"
+  --baselines separable --progress never -o "$out" | sed -n '/^Summary:/,$p' | grep -v '^Full report:' > "$out/summary.txt"
 mkdir -p "$root/docs/spheres"
 cp "$out/frontier_mean.svg" "$root/docs/frontier.svg"
 for m in blue-metallic-paint nickel yellow-matte-plastic; do
