@@ -15,10 +15,7 @@ namespace cbrdf::report {
 namespace {
 
 std::string fmt(const char* f, double v) {
-  if (!std::isfinite(v)) return "n/a";
-  char text[64];
-  std::snprintf(text, sizeof text, f, v);
-  return text;
+  return format_value(f, v, "n/a");
 }
 std::string kb(double bytes) {
   return fmt(bytes < 1e4 ? "%.2f" : "%.1f", bytes / 1000);

@@ -23,24 +23,17 @@ constexpr PaperColumn kPaper[] = {
 };
 constexpr double kPaperMeasuredMib = 33.4;
 
-std::string fmt(const char* format, double v) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
 // "5.9 KB (6012 B)": KB and MB in 1024s, as the paper's.
 std::string size(double bytes) {
   if (!std::isfinite(bytes)) return "-";
-  const std::string exact = " (" + fmt("%.0f", bytes) + " B)";
-  if (bytes >= 1024.0 * 1024.0) return fmt("%.1f MB", bytes / (1024.0 * 1024.0)) + exact;
-  return fmt("%.1f KB", bytes / 1024.0) + exact;
+  const std::string exact = " (" + format_value("%.0f", bytes) + " B)";
+  if (bytes >= 1024.0 * 1024.0) return format_value("%.1f MB", bytes / (1024.0 * 1024.0)) + exact;
+  return format_value("%.1f KB", bytes / 1024.0) + exact;
 }
 
 // "40.4 KB", "4 KB".
 std::string kib(double bytes) {
-  return fmt("%g KB", bytes / 1024);
+  return format_value("%g KB", bytes / 1024);
 }
 
 struct Column {
@@ -69,7 +62,7 @@ Ours ours_of(const MaterialResult& m) {
 
 std::string psnr_cell(const Row* r, double Row::*field, bool with_label) {
   if (!r) return "-";
-  return fmt("%.2f", r->*field) + (with_label ? " (" + r->label() + ")" : "");
+  return format_value("%.2f", r->*field) + (with_label ? " (" + r->label() + ")" : "");
 }
 
 TextTable psnr_table(const std::vector<Column>& cols) {
@@ -97,9 +90,10 @@ TextTable psnr_table(const std::vector<Column>& cols) {
     t.rows.push_back(std::move(row));
   };
   add("paper: Frank copula, 40.4 KB",
-      [](const Column& c) { return fmt("%.2f", c.paper->frank_db); });
-  add("paper: Lawrence et al.", [](const Column& c) { return fmt("%.2f", c.paper->lawrence_db); });
-  add("paper: Ward", [](const Column& c) { return fmt("%.2f", c.paper->ward_db); });
+      [](const Column& c) { return format_value("%.2f", c.paper->frank_db); });
+  add("paper: Lawrence et al.",
+      [](const Column& c) { return format_value("%.2f", c.paper->lawrence_db); });
+  add("paper: Ward", [](const Column& c) { return format_value("%.2f", c.paper->ward_db); });
   const std::string paper = paper_setting().label();
   struct Line {
     std::string name;
@@ -139,9 +133,9 @@ TextTable storage_table(const std::vector<Column>& cols) {
     for (const Column& c : cols) row.push_back(cell(c));
     t.rows.push_back(std::move(row));
   };
-  add("paper: measured", [](const Column&) { return fmt("%.1f MB", kPaperMeasuredMib); });
+  add("paper: measured", [](const Column&) { return format_value("%.1f MB", kPaperMeasuredMib); });
   add("paper: Lawrence et al.",
-      [](const Column& c) { return fmt("%.1f KB", c.paper->lawrence_kib); });
+      [](const Column& c) { return format_value("%.1f KB", c.paper->lawrence_kib); });
   add("paper: Frank copula", [](const Column&) { return kib(kPaperFrankBytes); });
   add("ours: the MERL table (.binary)", [](const Column& c) {
     const Row* r = ours_of(*c.result).paper;

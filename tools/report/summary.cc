@@ -10,15 +10,8 @@
 namespace cbrdf::report {
 namespace {
 
-std::string fmt(const char* format, double v) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
 std::string db_with_gain(double psnr, double paper) {
-  return fmt("%.2f", psnr) + " (" + fmt("%+.2f", psnr - paper) + ")";
+  return format_value("%.2f", psnr) + " (" + format_value("%+.2f", psnr - paper) + ")";
 }
 
 // The label chosen most often among the picks, with its count (ties: the first met).
@@ -116,20 +109,22 @@ TextTable answer_table(const std::vector<MaterialResult>& results) {
               "dB (gain)", "best within 1/4", "bytes",    "dB (gain)"};
   for (const MaterialAnswer& a : answers) {
     std::vector<std::string> row{a.material, "-", "-", "-", "-", "-", "-", "-", "-"};
-    if (a.has_paper) row[1] = fmt("%.0f", a.paper.bytes), row[2] = fmt("%.2f", a.paper.psnr);
+    if (a.has_paper)
+      row[1] = format_value("%.0f", a.paper.bytes), row[2] = format_value("%.2f", a.paper.psnr);
     if (a.has_same) {
-      row[3] = a.same.label, row[4] = fmt("%.0f", a.same.bytes);
+      row[3] = a.same.label, row[4] = format_value("%.0f", a.same.bytes);
       row[5] = db_with_gain(a.same.psnr, a.paper.psnr);
     }
     if (a.has_small) {
-      row[6] = a.small.label, row[7] = fmt("%.0f", a.small.bytes);
+      row[6] = a.small.label, row[7] = format_value("%.0f", a.small.bytes);
       row[8] = db_with_gain(a.small.psnr, a.paper.psnr);
     }
     t.rows.push_back(std::move(row));
   }
   if (answers.size() > 1) {
     const PickMean paper = pick_mean(answers, &MaterialAnswer::has_paper, &MaterialAnswer::paper);
-    std::vector<std::string> row{"mean", fmt("%.0f", paper.bytes), fmt("%.2f", paper.psnr)};
+    std::vector<std::string> row{"mean", format_value("%.0f", paper.bytes),
+                                 format_value("%.2f", paper.psnr)};
     for (auto [has, pick] : {std::pair{&MaterialAnswer::has_same, &MaterialAnswer::same},
                              std::pair{&MaterialAnswer::has_small, &MaterialAnswer::small}}) {
       const PickMean m = pick_mean(answers, has, pick);
@@ -139,8 +134,8 @@ TextTable answer_table(const std::vector<MaterialResult>& results) {
       }
       row.push_back("most often " + m.most.first + " (" + std::to_string(m.most.second) + "/" +
                     std::to_string(m.n) + ")");
-      row.push_back(fmt("%.0f", m.bytes));
-      row.push_back(fmt("%.2f", m.psnr) + " (" + fmt("%+.2f", m.gain) + ")");
+      row.push_back(format_value("%.0f", m.bytes));
+      row.push_back(format_value("%.2f", m.psnr) + " (" + format_value("%+.2f", m.gain) + ")");
     }
     t.rows.push_back(std::move(row));
   }
@@ -155,10 +150,10 @@ std::string answer_paragraph(const std::vector<MaterialResult>& results, const S
   const double input = mean_of(results, label, &Row::input_bytes);
   std::ostringstream out;
   out << "On " << paper.n << (paper.n == 1 ? " material" : " materials")
-      << ", the paper's setting (" << label << ") takes " << fmt("%.0f", paper.bytes) << " bytes"
-      << (paper.n == 1 ? "" : " on average") << " (" << fmt("%.0f", input / paper.bytes)
-      << ":1 against the MERL table) at " << fmt("%.2f", paper.psnr)
-      << " dB tone-mapped sphere PSNR. ";
+      << ", the paper's setting (" << label << ") takes " << format_value("%.0f", paper.bytes)
+      << " bytes" << (paper.n == 1 ? "" : " on average") << " ("
+      << format_value("%.0f", input / paper.bytes) << ":1 against the MERL table) at "
+      << format_value("%.2f", paper.psnr) << " dB tone-mapped sphere PSNR. ";
   if (st.sweep.only_paper_setting()) {
     out << "The sweep held only the paper's setting, so there is nothing to compare it with: add "
            "e.g. "
@@ -171,8 +166,8 @@ std::string answer_paragraph(const std::vector<MaterialResult>& results, const S
     out << "the best setting" << (paper.n == 1 ? " (" : " per material (most often ")
         << m.most.first
         << (paper.n == 1 ? "" : ", " + std::to_string(m.most.second) + " of " + std::to_string(m.n))
-        << ") takes " << fmt("%.0f", m.bytes) << " bytes at " << fmt("%.2f", m.psnr) << " dB ("
-        << fmt("%+.2f", m.gain) << " dB)";
+        << ") takes " << format_value("%.0f", m.bytes) << " bytes at "
+        << format_value("%.2f", m.psnr) << " dB (" << format_value("%+.2f", m.gain) << " dB)";
   };
   out << "Within its bytes, ";
   describe(same);

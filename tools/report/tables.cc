@@ -214,6 +214,13 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
 
 }  // namespace
 
+std::string format_value(const char* format, double v, const char* non_finite) {
+  if (!std::isfinite(v)) return non_finite;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
 const Row* find_row(const MaterialResult& m, const std::string& label) {
   for (const Row& r : m.rows) {
     if (r.label() == label) return &r;

@@ -48,6 +48,10 @@ RdPoint mean_paper_point(const std::vector<MaterialResult>& results);
 std::vector<TextTable> report_tables(const std::vector<MaterialResult>& results,
                                      const Settings& st);
 
+// One number through printf's `format` for a table cell; a non-finite value prints as
+// `non_finite` (cells with nothing to show).
+std::string format_value(const char* format, double v, const char* non_finite = "-");
+
 std::string to_markdown(const TextTable& t);
 std::string to_html(const TextTable& t);
 std::string to_text(const TextTable& t);  // aligned columns for a terminal
