@@ -65,6 +65,13 @@ class LadderRun {
     p.psnr_linear = im.psnr_linear;
     out_.points.push_back(std::move(p));
   }
+  // A baseline's bytes and times on its point.
+  static LadderPoint with_costs(LadderPoint p, const Compressed& c) {
+    p.bytes = double(c.bytes.size());
+    p.encode_s = c.encode_s;
+    p.decode_s = c.decode_s;
+    return p;
+  }
   void add_exact(LadderPoint p) {
     p.exact = true;
     p.psnr_tonemapped = p.psnr_linear = kPsnrCapDb;
@@ -157,10 +164,7 @@ class LadderRun {
       LadderPoint p{kLadderZfp, format_g("tol %g", tol)};
       auto z = zfp_log_round_trip(table_, tol);
       if (!z.ok()) return context(z.status(), p);
-      p.bytes = double(z->compressed.bytes.size());
-      p.encode_s = z->compressed.encode_s;
-      p.decode_s = z->compressed.decode_s;
-      add(std::move(p), z->decoded);
+      add(with_costs(std::move(p), z->compressed), z->decoded);
     }
     return ok_status();
   }
@@ -169,10 +173,7 @@ class LadderRun {
     LadderPoint p{kLadderFloat16, "level " + std::to_string(st_.zstd_level)};
     auto f = float16_round_trip(table_, st_.zstd_level);
     if (!f.ok()) return context(f.status(), p);
-    p.bytes = double(f->compressed.bytes.size());
-    p.encode_s = f->compressed.encode_s;
-    p.decode_s = f->compressed.decode_s;
-    add(std::move(p), f->decoded);
+    add(with_costs(std::move(p), f->compressed), f->decoded);
     return ok_status();
   }
 
@@ -181,10 +182,7 @@ class LadderRun {
     const std::vector<std::uint8_t> raw = serialize_merl(table_);
     auto put = [&](LadderPoint p, const Expected<Compressed>& c) -> Status {
       if (!c.ok()) return context(c.status(), p);
-      p.bytes = double(c->bytes.size());
-      p.encode_s = c->encode_s;
-      p.decode_s = c->decode_s;
-      add_exact(std::move(p));
+      add_exact(with_costs(std::move(p), *c));
       return ok_status();
     };
     CBRDF_RETURN_IF_ERROR(put({kLadderZstd, "-" + std::to_string(st_.zstd_level)},
