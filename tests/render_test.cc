@@ -16,10 +16,13 @@
 #include "cbrdf/coords.h"
 #include "cbrdf/parallel.h"
 #include "cbrdf/samples.h"
+#include "render/builtin.h"
 #include "render/integrator.h"
 #include "render/material.h"
 #include "render/mesh.h"
 #include "render/scene.h"
+#include "render/table_lookup.h"
+#include "table_builder.h"
 #include "test_support.h"
 
 namespace cbrdf::render {
@@ -429,6 +432,112 @@ TEST(RenderMaterial, MeasuredSampleLooksUpItsTable) {
   ASSERT_FALSE(unknown.ok());
   EXPECT_TRUE(testing::contains(unknown.status().message(), "material 'metal': unknown sample"))
       << unknown.status().message();
+}
+
+// Trilinear lookup: at a bin's own position it returns the bin; between bins it interpolates
+// linearly (a table linear in the bin indices is reproduced exactly); not-measured neighbours are
+// skipped and the other weights renormalised, so a constant table stays constant up to the horizon.
+TEST(RenderTableLookup, TrilinearIsExactOnLinearTablesAndSkipsUnmeasuredBins) {
+  const auto f = [](int c, int h, int d, int p) {
+    return 0.5 + c + 0.01 * h + 0.02 * d + 0.003 * p;
+  };
+  const BrdfTable linear = testing::make_table(f, /*horizon_mask=*/false);
+  double rgb[3];
+  lookup_trilinear_measured(linear, GridPosition{12, 30, 40}, rgb);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(rgb[c], f(c, 12, 30, 40), 1e-12);
+  lookup_trilinear_measured(linear, GridPosition{12.25, 30.5, 40.75}, rgb);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(rgb[c], 0.5 + c + 0.01 * 12.25 + 0.02 * 30.5 + 0.003 * 40.75, 1e-12);
+  }
+  // phi_d wraps: halfway between bin 179 and bin 0.
+  lookup_trilinear_measured(linear, GridPosition{12, 30, 179.5}, rgb);
+  EXPECT_NEAR(rgb[0], (f(0, 12, 30, 179) + f(0, 12, 30, 0)) / 2, 1e-12);
+
+  // One of the 8 neighbours not measured (in channel 0 only): the other 7 carry the value.
+  BrdfTable constant = testing::make_table([](int, int, int, int) { return 2.0; }, false);
+  constant.set_stored(0, merl_index(13, 31, 41), -1.0);
+  lookup_trilinear_measured(constant, GridPosition{12.5, 30.5, 40.5}, rgb);
+  EXPECT_NEAR(rgb[0], 2.0, 1e-12);
+  EXPECT_NEAR(rgb[1], 2.0, 1e-12);
+  // cbrdf::lookup_linear reads it as 0 instead: 7/8 of the value.
+  Vec3 wi, wo;
+  from_half_diff({theta_h_of(12.5), 0.3, theta_d_of(30.5), phi_d_of(40.5)}, &wi, &wo);
+  lookup_linear(constant, wi, wo, rgb);
+  EXPECT_NEAR(rgb[0], 2.0 * 7 / 8, 1e-6);
+  lookup_trilinear_measured(constant, wi, wo, rgb);
+  EXPECT_NEAR(rgb[0], 2.0, 1e-9);
+  // All 8 not measured: 0.
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      for (int e = 0; e < 2; ++e) constant.set_not_measured(merl_index(12 + a, 30 + b, 40 + e));
+  lookup_trilinear_measured(constant, GridPosition{12.5, 30.5, 40.5}, rgb);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(rgb[c], 0.0);
+}
+
+// With the real horizon mask, a constant table reads constant at every direction pair above the
+// horizon (nearest-bin lookup returns 0 where its one bin is not measured).
+TEST(RenderTableLookup, ConstantTableStaysConstantNearTheHorizon) {
+  const BrdfTable t = testing::make_table([](int, int, int, int) { return 1.5; });
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 wi = sample_cosine_hemisphere(u(rng), u(rng));
+    const Vec3 wo = sample_cosine_hemisphere(u(rng), u(rng));
+    double rgb[3];
+    lookup_trilinear_measured(t, wi, wo, rgb);
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(rgb[c], 1.5, 1e-9) << i;
+  }
+}
+
+// A "merl" material with "lookup": "linear" and Material::from_table use the trilinear lookup.
+TEST(RenderTableLookup, MaterialsUseIt) {
+  const BrdfTable t = make_sample("nickel").value();
+  const auto tri = Material::from_table("m", t, true);
+  const auto near = Material::from_table("m", t, false);
+  EXPECT_EQ(tri->description(), "measured table, trilinear lookup");
+  EXPECT_EQ(near->description(), "measured table, nearest-bin lookup");
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int differ = 0;
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 wi = sample_cosine_hemisphere(u(rng), u(rng));
+    const Vec3 wo = sample_cosine_hemisphere(u(rng), u(rng));
+    double got[3], want[3], nearest[3];
+    tri->eval(wi, wo, got);
+    lookup_trilinear_measured(t, wi, wo, want);
+    near->eval(wi, wo, nearest);
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(got[c], want[c]);
+    differ += got[0] != nearest[0];
+  }
+  EXPECT_GT(differ, 150);
+}
+
+// figure4_one_material has the exported figure4 scene's image, camera, spheres and light.
+TEST(RenderBuiltin, Figure4OneMaterialMatchesTheFigure4Scene) {
+  TempDir tmp;
+  auto path = export_builtin("figure4-reference", tmp.path());
+  ASSERT_TRUE(path.ok()) << path.status().message();
+  auto ref = load_scene(*path);
+  ASSERT_TRUE(ref.ok()) << ref.status().message();
+  MaterialDesc d;
+  d.name = "m";
+  const Scene s = figure4_one_material(d, 1.0);
+  EXPECT_EQ(s.width, ref->width);
+  EXPECT_EQ(s.height, ref->height);
+  EXPECT_EQ(s.camera.orthographic, ref->camera.orthographic);
+  EXPECT_EQ(s.camera.height, ref->camera.height);
+  ASSERT_EQ(s.spheres.size(), ref->spheres.size());
+  for (std::size_t i = 0; i < s.spheres.size(); ++i) {
+    EXPECT_NEAR(s.spheres[i].center.x, ref->spheres[i].center.x, 1e-6);
+    EXPECT_EQ(s.spheres[i].material, 0);
+  }
+  ASSERT_EQ(s.directionals.size(), 1u);
+  ASSERT_EQ(ref->directionals.size(), 1u);
+  EXPECT_NEAR(dot(s.directionals[0].to_light, ref->directionals[0].to_light), 1.0, 1e-12);
+  EXPECT_EQ(s.directionals[0].irradiance, ref->directionals[0].irradiance);
+  const Scene half = figure4_one_material(d, 0.5);
+  EXPECT_EQ(half.width, 660);
+  EXPECT_EQ(half.height, 120);
 }
 
 }  // namespace

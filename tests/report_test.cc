@@ -3,6 +3,7 @@
 // `cbrdf encode` writes and what the library measures on the decoded file.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -384,6 +385,48 @@ TEST_F(ReportRun, MarkdownHasThePapersTablesAndTheCostOfAccuracy) {
                         "## Table 4: the sweep", "## Table 5: what accuracy costs in time",
                         "| frank s3 b6 -> frank s3 b16 |", "xz preset 6", "| plastic |"}) {
     EXPECT_NE(md.find(s), std::string::npos) << s;
+  }
+}
+
+// Table 3 times the figure-4 layout rendered from the primary and the paper's models and from the
+// measured table (nearest-bin and trilinear); the ratio cells are the model's time over the
+// table's as report.json records them.
+TEST_F(ReportRun, TimeTableComparesRenderingWithTheMeasuredTable) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->err;
+  const auto json = nlohmann::json::parse(testing::read_text(out_ / "report.json"));
+  ASSERT_EQ(json["table_renders"].size(), 1u);
+  const auto& t = json["table_renders"][0];
+  EXPECT_EQ(t["material"], "plastic");
+  EXPECT_EQ(t["width"], 1320);
+  EXPECT_EQ(t["height"], 240);
+  const double nearest = t["nearest_s"], trilinear = t["trilinear_s"];
+  EXPECT_GT(nearest, 0.0);
+  EXPECT_GT(trilinear, 0.0);
+  EXPECT_GT(t["trilinear_eval_ns"].get<double>(), 0.0);
+  const auto primary = row(json["rows"], "frank s3 b6");
+  const auto paper = row(json["rows"], "frank s6 b12");
+  ASSERT_TRUE(primary["render_s"].is_number());
+  ASSERT_TRUE(paper["render_s"].is_number());
+  EXPECT_TRUE(row(json["rows"], "float16+zstd")["render_s"].is_null());
+  const double model = primary["render_s"];
+  const std::string md = testing::read_text(out_ / "report.md");
+  const std::size_t table3 = md.find("## Table 3: means");
+  ASSERT_NE(table3, std::string::npos);
+  const std::string t3 = md.substr(table3, md.find("## Table 4") - table3);
+  EXPECT_NE(t3.find("| render s | render / nearest table | render / trilinear table |"),
+            std::string::npos)
+      << t3;
+  // One material: mean and max are the same ratio.
+  char cells[160];
+  std::snprintf(cells, sizeof cells, "| %.2fx (max %.2fx) | %.2fx (max %.2fx) |", model / nearest,
+                model / nearest, model / trilinear, model / trilinear);
+  const std::size_t primary_row = t3.find("| frank s3 b6 |");
+  ASSERT_NE(primary_row, std::string::npos) << t3;
+  const std::string line = t3.substr(primary_row, t3.find('\n', primary_row) - primary_row);
+  EXPECT_NE(line.find(cells), std::string::npos) << line << "\n" << cells;
+  for (const char* r : {"| measured table, nearest-bin lookup | 34992012 | 1:1 |",
+                        "| measured table, trilinear lookup | 34992012 | 1:1 |"}) {
+    EXPECT_NE(t3.find(r), std::string::npos) << r << "\n" << t3;
   }
 }
 

@@ -197,6 +197,8 @@ void set_pair_counters(benchmark::State& state, int pairs) {
   state.counters["ns_per_pair"] =
       benchmark::Counter(double(state.iterations()) * pairs,
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["pairs_per_s"] =
+      benchmark::Counter(double(state.iterations()) * pairs, benchmark::Counter::kIsRate);
 }
 
 void BM_EvalBatch(benchmark::State& state) {
@@ -239,6 +241,38 @@ void BM_EvalBatchFloat(benchmark::State& state) {
   set_pair_counters(state, kPairs);
 }
 BENCHMARK(BM_EvalBatchFloat)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Thread scaling of the batch API: 2^18 pairs (128 chunks) through the library's pool at 1 and 2
+// threads (state.range(1)), float64 (state.range(0) == 0) and float32. pairs_per_s is wall
+// time; the CPU column is the whole process's (all threads), so CPU per pair stays flat when the
+// work scales. The ratio of /2 to /1 is in the table at the end.
+void BM_EvalBatchThreads(benchmark::State& state) {
+  constexpr int kMany = 1 << 18;
+  const cbrdf::ModelEvaluator ev(*cbrdf::decode_model(encoded()));
+  const SoaPairs p(kMany);
+  std::vector<double> r(kMany), g(kMany), b(kMany);
+  std::vector<float> rf(kMany), gf(kMany), bf(kMany);
+  const bool f32 = state.range(0) != 0;
+  const int threads = int(state.range(1));
+  for (auto _ : state) {
+    if (f32) {
+      ev.eval_batch_f32(kMany, p.f[0].data(), p.f[1].data(), p.f[2].data(), p.f[3].data(),
+                        p.f[4].data(), p.f[5].data(), rf.data(), gf.data(), bf.data(), threads);
+      benchmark::DoNotOptimize(rf.data());
+    } else {
+      ev.eval_batch(kMany, p.x[0].data(), p.x[1].data(), p.x[2].data(), p.x[3].data(),
+                    p.x[4].data(), p.x[5].data(), r.data(), g.data(), b.data(), threads);
+      benchmark::DoNotOptimize(r.data());
+    }
+  }
+  set_pair_counters(state, kMany);
+}
+BENCHMARK(BM_EvalBatchThreads)
+    ->ArgsProduct({{0, 1}, {1, 2}})
+    ->ArgNames({"f32", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 // Importance sampling with weights (direction, pdf, f cos / pdf), the model's sampler: the scalar
 // loop (sample() and eval per draw, as a renderer does) and BrdfSampler::sample_batch at 1 and 2
@@ -363,6 +397,17 @@ class RatioReporter : public benchmark::ConsoleReporter {
         // CPU time of the calling thread per iteration (ms), which a loaded machine disturbs
         // less than wall time: comparable between runs on one thread only.
         cpu_.emplace_back(r.benchmark_name(), r.GetAdjustedCPUTime());
+        // CPU ns per pair: the counter is per wall second under UseRealTime ("/real_time" in
+        // the name), else per CPU second. Not known (NaN) for a run on 2 threads that measures
+        // the calling thread's CPU only (not "process_time").
+        const std::string& name = r.benchmark_name();
+        const bool wall = name.find("real_time") != std::string::npos;
+        const bool partial =
+            name.find("/2/") != std::string::npos && name.find("process_time") == std::string::npos;
+        const double real = r.GetAdjustedRealTime();
+        cpu_ns_.push_back(partial            ? std::nan("")
+                          : wall && real > 0 ? ns_.back().second * r.GetAdjustedCPUTime() / real
+                                             : ns_.back().second);
       }
     }
   }
@@ -373,9 +418,13 @@ class RatioReporter : public benchmark::ConsoleReporter {
       if (name.find("LookupMeasuredNearest") != std::string::npos) nearest = ns;
     }
     if (ns_.empty()) return;
-    std::printf("\n%-36s %10s %18s\n", "per direction pair", "ns", "nearest lookup / it");
-    for (const auto& [name, ns] : ns_)
-      std::printf("%-36s %10.1f %18.2f\n", name.c_str(), ns, nearest > 0 ? nearest / ns : 0.0);
+    std::printf("\n%-66s %10s %10s %18s\n", "per direction pair", "ns", "cpu ns",
+                "nearest lookup / it");
+    for (std::size_t i = 0; i < ns_.size(); ++i) {
+      const auto& [name, ns] = ns_[i];
+      std::printf("%-66s %10.1f %10.1f %18.2f\n", name.c_str(), ns, cpu_ns_[i],
+                  nearest > 0 ? nearest / ns : 0.0);
+    }
     // The batch paths against their scalar loops (all timed as wall time, in this one run).
     const std::pair<const char*, const char*> pairs[] = {
         {"BM_EvalBatch/1/", "BM_EvalModel/"},
@@ -384,6 +433,9 @@ class RatioReporter : public benchmark::ConsoleReporter {
         {"BM_EvalBatch4", "BM_EvalModel4"},
         {"BM_EvalBatchFloat/1/", "BM_EvalModelFloat/"},
         {"BM_EvalBatchFloat/2/", "BM_EvalModelFloat/"},
+        {"BM_EvalBatchFloat/2/", "BM_EvalBatchFloat/1/"},
+        {"BM_EvalBatchThreads/f32:0/threads:2", "BM_EvalBatchThreads/f32:0/threads:1"},
+        {"BM_EvalBatchThreads/f32:1/threads:2", "BM_EvalBatchThreads/f32:1/threads:1"},
         {"BM_SampleBatch/1/", "BM_SampleScalar"},
         {"BM_SampleBatch/2/", "BM_SampleScalar"},
         {"BM_SampleBatch/2/", "BM_SampleBatch/1/"}};
@@ -399,17 +451,18 @@ class RatioReporter : public benchmark::ConsoleReporter {
     };
     // Both runs on one thread (not /2): the ratio of CPU times too.
     auto one_thread = [](const char* key) {
-      return std::string(key).find("/2/") == std::string::npos;
+      const std::string k(key);
+      return k.find("/2/") == std::string::npos && k.find("threads:2") == std::string::npos;
     };
-    std::printf("\n%-24s %-22s %10s %10s\n", "speed-up of", "over", "wall", "cpu");
+    std::printf("\n%-38s %-38s %10s %10s\n", "speed-up of", "over", "wall", "cpu");
     for (const auto& [fast, slow] : pairs) {
       const double a = find(fast), b = find(slow);
       if (!(a > 0 && b > 0)) continue;
       const double ca = find_cpu(fast), cb = find_cpu(slow);
       if (one_thread(fast) && one_thread(slow) && ca > 0 && cb > 0) {
-        std::printf("%-24s %-22s %10.2f %10.2f\n", fast, slow, b / a, cb / ca);
+        std::printf("%-38s %-38s %10.2f %10.2f\n", fast, slow, b / a, cb / ca);
       } else {
-        std::printf("%-24s %-22s %10.2f %10s\n", fast, slow, b / a, "-");
+        std::printf("%-38s %-38s %10.2f %10s\n", fast, slow, b / a, "-");
       }
     }
   }
@@ -417,6 +470,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
  private:
   std::vector<std::pair<std::string, double>> ns_;
   std::vector<std::pair<std::string, double>> cpu_;  // ms per iteration
+  std::vector<double> cpu_ns_;                       // CPU ns per pair, as ns_
 };
 
 }  // namespace

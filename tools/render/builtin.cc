@@ -24,6 +24,11 @@ constexpr double kPi = std::numbers::pi;
 constexpr const char* kFigure4Samples[] = {"ward",      "ggx-rough", "ashikhmin-shirley",
                                            "ggx-sharp", "plastic",   "near-mirror"};
 
+// The figure-4 scene's layout as figure4_scene's JSON writes it (kept in step by render_test).
+constexpr int kFigure4Width = 1320, kFigure4Height = 240;
+constexpr double kFigure4ViewHeight = 2.4, kFigure4Spacing = 2.2, kFigure4Irradiance = 3.0;
+constexpr Vec3 kFigure4ToLight{0.5, 0.45, 0.74};
+
 Status write_text(const std::filesystem::path& path, const std::string& text) {
   return write_file_atomic(
       path, std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()),
@@ -151,6 +156,23 @@ const char* kMeshEnvScene = R"({
 )";
 
 }  // namespace
+
+Scene figure4_one_material(const MaterialDesc& material, double scale) {
+  Scene s;
+  s.width = std::max(1, int(std::lround(kFigure4Width * scale)));
+  s.height = std::max(1, int(std::lround(kFigure4Height * scale)));
+  s.camera.orthographic = true;
+  s.camera.position = {0, 0, 10};
+  s.camera.look_at = {0, 0, 0};
+  s.camera.height = kFigure4ViewHeight;
+  s.materials = {material};
+  const int n = int(std::size(kFigure4Samples));
+  for (int i = 0; i < n; ++i)
+    s.spheres.push_back({{(i - (n - 1) / 2.0) * kFigure4Spacing, 0, 0}, 1, 0});
+  s.directionals.push_back(
+      {normalize(kFigure4ToLight), {kFigure4Irradiance, kFigure4Irradiance, kFigure4Irradiance}});
+  return s;
+}
 
 std::vector<BuiltinScene> builtin_scenes() {
   return {

@@ -10,24 +10,60 @@
 #include "cbrdf/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/samples.h"
+#include "render/table_lookup.h"
 
 namespace cbrdf::render {
+
+std::string Material::use_table(BrdfTable table, bool trilinear) {
+  table_ = std::make_unique<BrdfTable>(std::move(table));
+  const BrdfTable* t = table_.get();
+  if (trilinear) {
+    fn_ = [t](const Vec3& wi, const Vec3& wo, double rgb[3]) {
+      lookup_trilinear_measured(*t, wi, wo, rgb);
+    };
+  } else {
+    fn_ = nearest_lookup_fn(*t);
+  }
+  return std::string(trilinear ? "trilinear" : "nearest-bin") + " lookup";
+}
+
+void Material::use_model(Model model) {
+  model_ = std::make_unique<Model>(std::move(model));
+  evaluator_ = std::make_unique<ModelEvaluator>(*model_);
+  fn_ = model_brdf_fn(*evaluator_);
+}
+
+void Material::finish() {
+  if (!fn_) {
+    const AnalyticBrdf* a = &analytic_;
+    fn_ = [a](const Vec3& wi, const Vec3& wo, double rgb[3]) { a->eval(wi, wo, rgb); };
+  }
+  sampler_ = std::make_unique<BrdfSampler>(fn_);
+}
+
+std::unique_ptr<Material> Material::from_table(std::string name, BrdfTable table, bool trilinear) {
+  std::unique_ptr<Material> m(new Material());
+  m->name_ = std::move(name);
+  m->description_ = "measured table, " + m->use_table(std::move(table), trilinear);
+  m->finish();
+  return m;
+}
+
+std::unique_ptr<Material> Material::from_model(std::string name, Model model) {
+  std::unique_ptr<Material> m(new Material());
+  m->name_ = std::move(name);
+  m->use_model(std::move(model));
+  m->description_ = "copula model, " + std::to_string(m->model_->slices.size()) + " slices";
+  m->finish();
+  return m;
+}
 
 Expected<std::unique_ptr<Material>> Material::create(const MaterialDesc& desc) {
   std::unique_ptr<Material> m(new Material());
   m->name_ = desc.name;
   const std::string file = desc.file.filename().string();
   const auto use_table = [&m, &desc](BrdfTable table) {
-    m->table_ = std::make_unique<BrdfTable>(std::move(table));
-    const BrdfTable* t = m->table_.get();
-    if (desc.linear_lookup) {
-      m->fn_ = [t](const Vec3& wi, const Vec3& wo, double rgb[3]) {
-        lookup_linear(*t, wi, wo, rgb);
-      };
-    } else {
-      m->fn_ = nearest_lookup_fn(*t);
-    }
-    return std::string(desc.linear_lookup ? "trilinear" : "nearest-bin") + " lookup";
+    return m->use_table(std::move(table), desc.linear_lookup);
   };
   switch (desc.type) {
     case MaterialType::kMerl: {
@@ -41,9 +77,7 @@ Expected<std::unique_ptr<Material>> Material::create(const MaterialDesc& desc) {
       if (!bytes.ok()) return bytes.status();
       auto model = decode_model(*bytes);
       if (!model.ok()) return model.status().with_context(desc.file.string());
-      m->model_ = std::make_unique<Model>(std::move(*model));
-      m->evaluator_ = std::make_unique<ModelEvaluator>(*m->model_);
-      m->fn_ = model_brdf_fn(*m->evaluator_);
+      m->use_model(std::move(*model));
       m->description_ =
           "copula model, " + std::to_string(m->model_->slices.size()) + " slices (" + file + ")";
       break;
@@ -71,11 +105,7 @@ Expected<std::unique_ptr<Material>> Material::create(const MaterialDesc& desc) {
       m->description_ = "analytic, " + std::to_string(desc.lobes.size()) + " lobe(s)";
       break;
   }
-  if (!m->fn_) {
-    const AnalyticBrdf* a = &m->analytic_;
-    m->fn_ = [a](const Vec3& wi, const Vec3& wo, double rgb[3]) { a->eval(wi, wo, rgb); };
-  }
-  m->sampler_ = std::make_unique<BrdfSampler>(m->fn_);
+  m->finish();
   return m;
 }
 

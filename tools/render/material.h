@@ -19,6 +19,10 @@ class Material {
  public:
   // Loads the material's data (MERL table, .cbrdf model, analytic lobes). Errors name the file.
   static Expected<std::unique_ptr<Material>> create(const MaterialDesc& desc);
+  // In-memory sources (the report times renders with them): a measured table looked up at the
+  // nearest bin or trilinearly (render/table_lookup.h), or a decoded model.
+  static std::unique_ptr<Material> from_table(std::string name, BrdfTable table, bool trilinear);
+  static std::unique_ptr<Material> from_model(std::string name, Model model);
 
   void eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const { fn_(wi, wo, rgb); }
   // Importance sampling of this BRDF (cbrdf/sampling.h); its tables are built on first use.
@@ -29,6 +33,10 @@ class Material {
 
  private:
   Material() = default;
+  // Sets fn_ (and the description's lookup part) for table_.
+  std::string use_table(BrdfTable table, bool trilinear);
+  void use_model(Model model);
+  void finish();  // the analytic fallback for fn_ and the sampler
   std::string name_, description_;
   std::unique_ptr<BrdfTable> table_;
   std::unique_ptr<Model> model_;

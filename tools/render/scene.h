@@ -57,7 +57,7 @@ struct MaterialDesc {
   std::string name;
   MaterialType type = MaterialType::kAnalytic;
   std::filesystem::path file;  // merl, cbrdf
-  bool linear_lookup = false;  // merl
+  bool linear_lookup = false;  // merl: "linear" = trilinear (render/table_lookup.h)
   std::string sample_name;     // sample
   std::vector<Lobe> lobes;     // analytic
 };

@@ -121,6 +121,8 @@ nlohmann::json row_json(const Row& r) {
           {"encode_s", r.encode_s},
           {"decode_s", r.decode_s},
           {"eval_ns", r.eval_ns},
+          {"render_s",
+           std::isfinite(r.render_s) ? nlohmann::json(r.render_s) : nlohmann::json(nullptr)},
           {"detail", r.detail}};
 }
 
@@ -163,8 +165,19 @@ std::string to_json(const std::vector<MaterialResult>& results, const Settings& 
                     double elapsed_s) {
   nlohmann::json rows = nlohmann::json::array();
   nlohmann::json polar = nlohmann::json::array();
+  nlohmann::json renders = nlohmann::json::array();
   for (const MaterialResult& m : results) {
     for (const Row& r : m.rows) rows.push_back(row_json(r));
+    // The measured table's render times (Table 3), when measured.
+    if (std::isfinite(m.render_nearest_s)) {
+      renders.push_back({{"material", m.name},
+                         {"width", m.render_width},
+                         {"height", m.render_height},
+                         {"nearest_s", m.render_nearest_s},
+                         {"trilinear_s", m.render_trilinear_s},
+                         {"nearest_eval_ns", m.nearest_eval_ns},
+                         {"trilinear_eval_ns", m.trilinear_eval_ns}});
+    }
     for (const PolarCurve& c : m.polar) {
       polar.push_back({{"material", m.name},
                        {"model", c.model},
@@ -176,6 +189,7 @@ std::string to_json(const std::vector<MaterialResult>& results, const Settings& 
   return nlohmann::json{{"settings", settings_json(st, elapsed_s)},
                         {"rows", rows},
                         {"polar", polar},
+                        {"table_renders", renders},
                         {"gains", gains_json(results)},
                         {"frontier", frontier_json(results, st)}}
              .dump(1, ' ', false, nlohmann::json::error_handler_t::replace) +

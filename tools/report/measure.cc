@@ -17,9 +17,11 @@
 #include "cbrdf/metrics.h"
 #include "cbrdf/parallel_for.h"
 #include "cbrdf/samples.h"
+#include "render/table_lookup.h"
 #include "report/float16_baseline.h"
 #include "report/lossless.h"
 #include "report/progress.h"
+#include "report/render_times.h"
 
 namespace cbrdf::report {
 namespace {
@@ -146,6 +148,7 @@ class MaterialRun {
     CBRDF_RETURN_IF_ERROR(load());
     result_.name = m_.name;
     result_.polar = polar_curves("measured", nearest_lookup_fn(table_));
+    if (st_.render_times) table_renders();
     CBRDF_RETURN_IF_ERROR(copula_rows());
     if (st_.baselines.analytic) CBRDF_RETURN_IF_ERROR(analytic_rows());
     if (st_.baselines.float16) CBRDF_RETURN_IF_ERROR(float16_row());
@@ -176,6 +179,25 @@ class MaterialRun {
       raw_ = std::move(raw).value();
     }
     return ok_status();
+  }
+
+  // Best of two one-thread renders: the time a single render thread spends, less disturbed by the
+  // other materials measured at once.
+  static constexpr int kRenderRepeats = 2;
+  double render_scale() const { return st_.sphere_size / 256.0; }
+
+  void table_renders() {
+    const TableRenderTimes t = time_table_renders(table_, render_scale(), kRenderRepeats);
+    result_.render_nearest_s = t.nearest_s;
+    result_.render_trilinear_s = t.trilinear_s;
+    // As the other rows' eval ns (the lossless rows' is the nearest-bin lookup's).
+    result_.nearest_eval_ns = eval_ns(
+        [&](const Vec3& wi, const Vec3& wo, double* rgb) { lookup_nearest(table_, wi, wo, rgb); });
+    result_.trilinear_eval_ns = eval_ns([&](const Vec3& wi, const Vec3& wo, double* rgb) {
+      render::lookup_trilinear_measured(table_, wi, wo, rgb);
+    });
+    result_.render_width = t.width;
+    result_.render_height = t.height;
   }
 
   Row base_row(const std::string& model, const char* kind) const {
@@ -242,6 +264,9 @@ class MaterialRun {
       const ModelEvaluator ev(*decoded_model);
       r.eval_ns =
           eval_ns([&](const Vec3& wi, const Vec3& wo, double* rgb) { ev.eval(wi, wo, rgb); });
+      if (st_.render_times && (r.primary || r.paper)) {
+        r.render_s = time_model_render(*decoded_model, render_scale(), kRenderRepeats);
+      }
       if (r.primary) {
         images(decoded, r.label());
         const auto curves = polar_curves(r.label(), [&](const Vec3& wi, const Vec3& wo,
@@ -348,6 +373,7 @@ class MaterialRun {
       // Bit-exact (verified by the round trip): no error, the PSNR cap.
       r.psnr_linear = r.psnr_tonemapped = kPsnrCapDb;
       r.eval_ns = lookup_ns;
+      r.render_s = result_.render_nearest_s;
       r.detail = "of the .binary bytes; eval = nearest-bin table lookup";
       result_.rows.push_back(std::move(r));
       progress_->step(m_.name + ": " + model);

@@ -3,6 +3,7 @@
 // baselines, each as one Row; plus what the plots and images need.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,9 @@ struct Settings {
   int jobs = 1;
   bool progress = true;   // a progress bar on stderr
   LadderSettings ladder;  // `--ladder`: measured when ladder.enabled
+  // Time renders of the figure-4 layout (render_times.h) from the primary and paper settings'
+  // models and from the measured table, at sphere_size / 256 times its 1320x240 pixels.
+  bool render_times = true;
 };
 
 // Row kinds.
@@ -57,6 +61,9 @@ struct Row {
   double decode_s = 0;  // bytes (or parameters) to a full table
   double eval_ns = 0;   // one RGB evaluation at a random direction pair
   std::string detail;   // e.g. the fitted analytic parameters
+  // The figure-4 layout rendered with this model on one thread (render_times.h): the primary and
+  // paper settings' models and the lossless rows (the measured table, nearest-bin); NaN otherwise.
+  double render_s = std::numeric_limits<double>::quiet_NaN();
 
   std::string label() const;  // "frank s6 b10", "frank s6 b10 k2", "ward", ...
   double ratio() const { return bytes > 0 ? input_bytes / bytes : 0.0; }
@@ -80,6 +87,13 @@ struct MaterialResult {
   Image reference, decoded, difference;
   std::string decoded_label;
   LadderMaterial ladder;  // empty without --ladder
+  // The figure-4 layout rendered from the measured table (render_times.h), nearest-bin and
+  // trilinear, and the lookups' eval costs; NaN without Settings::render_times.
+  double render_nearest_s = std::numeric_limits<double>::quiet_NaN();
+  double render_trilinear_s = std::numeric_limits<double>::quiet_NaN();
+  double nearest_eval_ns = std::numeric_limits<double>::quiet_NaN();
+  double trilinear_eval_ns = std::numeric_limits<double>::quiet_NaN();
+  int render_width = 0, render_height = 0;
 };
 inline constexpr double kImageLightDeg = 45.0;
 inline constexpr double kDifferenceScale = 0.1;  // display units shown as full yellow

@@ -3,14 +3,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "cbrdf/metrics.h"
+#include "rate/byte_predictor.h"
 
 namespace cbrdf {
 namespace {
 
 constexpr int kMinBits = 6, kMaxBits = 16;
+constexpr double kNone = -std::numeric_limits<double>::infinity();
+// A forecast of bytes (rate/byte_predictor.h) prunes a fit only when it misses the limit by more
+// than this share: the forecasts were within 4% on the real materials, and a pruned fit that
+// could have won costs quality, while a fit done for nothing only costs time.
+constexpr double kForecastMargin = 0.06;
 
 // The search's state: every setting measured, and the best so far.
 class Search {
@@ -48,7 +58,8 @@ class Search {
     return c;
   }
 
-  // Bytes only (no decode, no PSNR): the bound the pruning needs.
+  // Bytes only (no decode, no PSNR): encoding is a small part of a measurement, so the bits of a
+  // byte budget are searched this way and only the setting found is measured.
   Expected<double> bytes_at(const Model& model, int bits) const {
     ContainerSettings cs = base_.container;
     cs.bits = bits;
@@ -57,6 +68,7 @@ class Search {
     return double(bytes->size());
   }
 
+  bool have() const { return have_; }
   bool have_met() const { return have_ && result_.met; }
   const RateCandidate& chosen() const { return result_.chosen; }
   RateResult& result() { return result_; }
@@ -78,34 +90,56 @@ class Search {
   bool have_ = false;
 };
 
-// One row (a fitted slice and component count) at a byte budget: the most bits within it, by
-// bisection (bytes grow with bits). Sets *over_at_fewest when even 6 bits exceed the budget.
-Status search_bits_for_bytes(Search* search, const Model& model, const FitReport& report,
-                             int slices, int components, bool* over_at_fewest) {
-  auto lo_c = search->measure(model, report, slices, components, kMinBits);
-  if (!lo_c.ok()) return lo_c.status();
-  *over_at_fewest = !search->met(*lo_c);
-  if (*over_at_fewest) return ok_status();
-  auto hi_c = search->measure(model, report, slices, components, kMaxBits);
-  if (!hi_c.ok()) return hi_c.status();
-  if (search->met(*hi_c)) return ok_status();
-  int lo = kMinBits, hi = kMaxBits;  // lo within the budget, hi over it
+// What one row (a fitted slice and component count) gave.
+struct Row {
+  double bytes_at_fewest = 0;  // bytes at 6 bits: the least any setting of the row costs
+  double psnr = kNone;         // bytes: the best PSNR within the budget; PSNR: at 16 bits
+};
+
+// One row at a byte budget: the most bits within it, found on bytes alone by bisection (bytes grow
+// with bits), then measured once (PSNR grows with bits). A row over the budget even at 6 bits is
+// measured there only while nothing met it (it may be the closest).
+Expected<Row> row_for_bytes(Search* search, const Model& model, const FitReport& report, int slices,
+                            int components, double budget) {
+  Row row;
+  auto fewest = search->bytes_at(model, kMinBits);
+  if (!fewest.ok()) return fewest.status();
+  row.bytes_at_fewest = *fewest;
+  if (*fewest > budget) {
+    if (!search->have() || (!search->have_met() && *fewest < search->chosen().bytes)) {
+      auto c = search->measure(model, report, slices, components, kMinBits);
+      if (!c.ok()) return c.status();
+    }
+    return row;
+  }
+  int lo = kMinBits, hi = kMaxBits + 1;  // lo within the budget, hi over it (or past the range)
+  auto most = search->bytes_at(model, kMaxBits);
+  if (!most.ok()) return most.status();
+  if (*most <= budget) lo = kMaxBits;
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
-    auto c = search->measure(model, report, slices, components, mid);
-    if (!c.ok()) return c.status();
-    (search->met(*c) ? lo : hi) = mid;
+    auto b = search->bytes_at(model, mid);
+    if (!b.ok()) return b.status();
+    (*b <= budget ? lo : hi) = mid;
   }
-  return ok_status();
+  auto c = search->measure(model, report, slices, components, lo);
+  if (!c.ok()) return c.status();
+  row.psnr = c->psnr_tonemapped;
+  return row;
 }
 
 // One row at a PSNR target: the fewest bits reaching it, by bisection (PSNR grows with bits);
 // only 16 bits when even they do not reach it (the row's closest).
-Status search_bits_for_psnr(Search* search, const Model& model, const FitReport& report, int slices,
-                            int components) {
+Expected<Row> row_for_psnr(Search* search, const Model& model, const FitReport& report, int slices,
+                           int components) {
+  Row row;
+  auto fewest = search->bytes_at(model, kMinBits);
+  if (!fewest.ok()) return fewest.status();
+  row.bytes_at_fewest = *fewest;
   auto hi_c = search->measure(model, report, slices, components, kMaxBits);
   if (!hi_c.ok()) return hi_c.status();
-  if (!search->met(*hi_c)) return ok_status();
+  row.psnr = hi_c->psnr_tonemapped;
+  if (!search->met(*hi_c)) return row;
   int lo = kMinBits - 1, hi = kMaxBits;  // lo short of the target (or below the range), hi met
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
@@ -113,7 +147,7 @@ Status search_bits_for_psnr(Search* search, const Model& model, const FitReport&
     if (!c.ok()) return c.status();
     (search->met(*c) ? hi : lo) = mid;
   }
-  return ok_status();
+  return row;
 }
 
 // Within a PSNR target's reach, the most bits need not be the best: quantization noise of a
@@ -135,10 +169,7 @@ Status refine_closest(Search* search) {
   return ok_status();
 }
 
-}  // namespace
-
-Expected<RateResult> encode_to_target(const BrdfTable& table, const EncoderSettings& base,
-                                      const RateTarget& target) {
+Status check_target(const RateTarget& target) {
   const bool by_bytes = target.max_bytes > 0, by_psnr = target.min_psnr > 0;
   if (by_bytes == by_psnr) {
     return error(ErrorCode::kInvalidArgument,
@@ -152,66 +183,163 @@ Expected<RateResult> encode_to_target(const BrdfTable& table, const EncoderSetti
   if (target.slice_counts.empty()) {
     return error(ErrorCode::kInvalidArgument, "no slice counts to search");
   }
-  Search search(table, base, target);
-  // Bytes grow with slices, components and bits (more marginal values to store). A slice count
-  // whose one-component fit at 6 bits already costs `bytes_floor` bytes bounds every larger one:
-  // past the budget (bytes target) or at least the bytes of a setting already reaching the PSNR
-  // (PSNR target), larger slice counts cannot win and are not fitted.
-  double slice_floor_bytes = -1;
-  int slice_floor_count = 0;
-  for (int slices : target.slice_counts) {
-    if (slice_floor_bytes >= 0 && slices >= slice_floor_count) {
-      const bool prune = by_bytes ? slice_floor_bytes > target.max_bytes
-                                  : search.have_met() && slice_floor_bytes >= search.chosen().bytes;
-      if (prune) continue;
+  return ok_status();
+}
+
+}  // namespace
+
+namespace {
+
+// The search over slice and component counts: what it knows of the rows fitted so far, and the
+// rules that keep it from fitting rows that cannot win.
+class Grid {
+ public:
+  Grid(const BrdfTable& table, const EncoderSettings& base, const RateTarget& target)
+      : table_(table), base_(base), target_(target), search_(table, base, target) {}
+
+  // First one component at each slice count (ascending) until slices stop paying, then one more
+  // component at a time across the slice counts still open: each round learns what a component
+  // gains before the next slice count decides whether to fit it.
+  Status run() {
+    double best_one = kNone;
+    int misses = 0;
+    for (int slices : target_.slice_counts) {
+      // Bytes grow with slices: a smaller slice count's one-component file at 6 bits bounds this
+      // one's, and so does a forecast (with its margin) through the smaller counts' files.
+      if (floor_bytes_ >= 0 && slices >= floor_count_ && cannot_win(floor_bytes_)) continue;
+      if (forecast_cannot_win(slices, 1)) continue;
+      auto row = fit_row(slices, 1);
+      if (!row.ok()) return row.status();
+      if (components_pay(*row, kNone)) lanes_.at(slices).previous = row->psnr;
+      // PSNR against slices rises to a few slices and then is flat or falls (the metric sees
+      // three theta_d): the first slice count that does not beat the smaller ones ends the
+      // search over slices.
+      misses = row->psnr > best_one ? 0 : misses + 1;
+      best_one = std::max(best_one, row->psnr);
+      if (misses >= kSlicePatience) break;
     }
-    FitSettings fs = base.fit;
-    set_counts({slices, false}, {1, false}, &fs);
-    // Components are fitted in increasing count, each continuing the factorization of the one
-    // before (fit.h, FitLadder).
-    FitLadder ladder(table, fs);
-    for (int components = 1; components <= target.max_components; ++components) {
-      FitReport report;
-      auto model = ladder.fit(components, &report);
-      if (!model.ok()) return model.status();
-      if (by_bytes) {
-        bool over_at_fewest = false;
-        if (Status s =
-                search_bits_for_bytes(&search, *model, report, slices, components, &over_at_fewest);
-            !s.ok()) {
-          return s;
+    for (int components = 2; components <= target_.max_components; ++components) {
+      for (auto& [slices, lane] : lanes_) {
+        if (!std::isfinite(lane.previous) || forecast_cannot_win(slices, components) ||
+            gain_cannot_win(slices, components, lane.previous)) {
+          lane.previous = kNone;  // closed: more components cannot win
+          continue;
         }
-        if (over_at_fewest) {
-          // More components only add bytes too.
-          if (components == 1 && (slice_floor_bytes < 0 || slices < slice_floor_count)) {
-            slice_floor_bytes = target.max_bytes + 1;
-            slice_floor_count = slices;
-          }
-          break;
-        }
-        continue;
-      }
-      if (Status s = search_bits_for_psnr(&search, *model, report, slices, components); !s.ok()) {
-        return s;
-      }
-      // Every setting with more components costs at least this row's bytes at 6 bits.
-      if (search.have_met()) {
-        auto floor = search.bytes_at(*model, kMinBits);
-        if (!floor.ok()) return floor.status();
-        if (components == 1 && (slice_floor_bytes < 0 || slices < slice_floor_count)) {
-          slice_floor_bytes = *floor;
-          slice_floor_count = slices;
-        }
-        if (*floor >= search.chosen().bytes) break;
+        auto row = fit_row(slices, components);
+        if (!row.ok()) return row.status();
+        lane.previous = components_pay(*row, lane.previous) ? row->psnr : kNone;
       }
     }
-    search.result().fits += ladder.fits();
-    search.result().hals_sweeps += ladder.hals_sweeps();
+    for (const auto& [slices, lane] : lanes_) {
+      search_.result().fits += lane.ladder.fits();
+      search_.result().hals_sweeps += lane.ladder.hals_sweeps();
+    }
+    if (!by_bytes() && !search_.have_met()) return refine_closest(&search_);
+    return ok_status();
   }
-  if (by_psnr && !search.have_met()) {
-    if (Status s = refine_closest(&search); !s.ok()) return s;
+
+  RateResult& result() { return search_.result(); }
+
+ private:
+  static constexpr int kSlicePatience = 1;
+  static constexpr double kGainSlackDb = 1.0;
+
+  bool by_bytes() const { return target_.max_bytes > 0; }
+  // No setting costing `bytes` or more can beat the one chosen (or fit the budget).
+  bool cannot_win(double bytes) const {
+    return by_bytes() ? bytes > target_.max_bytes
+                      : search_.have_met() && bytes >= search_.chosen().bytes;
   }
-  return std::move(search.result());
+  bool forecast_cannot_win(int slices, int components) const {
+    const auto b = predictor_.predict(slices, components);
+    return b && cannot_win(*b * (1 - kForecastMargin));
+  }
+
+  // The most one more component can add to a row's PSNR: the gain from components - 1 to
+  // components at any slice count fitted, else the gain of the component before at this one
+  // (gains shrink with the count); none known: no bound.
+  std::optional<double> gain_bound(int slices, int components) const {
+    std::optional<double> gain;
+    for (const auto& [sk, p] : psnr_) {
+      if (sk.second != components) continue;
+      const auto before = psnr_.find({sk.first, components - 1});
+      if (before == psnr_.end() || !std::isfinite(p) || !std::isfinite(before->second)) continue;
+      gain = std::max(gain.value_or(kNone), p - before->second);
+    }
+    if (gain) return gain;
+    const auto a = psnr_.find({slices, components - 1}), b = psnr_.find({slices, components - 2});
+    if (a != psnr_.end() && b != psnr_.end() && std::isfinite(a->second) &&
+        std::isfinite(b->second)) {
+      return a->second - b->second;
+    }
+    return std::nullopt;
+  }
+  // A component whose best possible gain (with kGainSlackDb to spare) leaves the row short of
+  // the best setting within the budget, or of a PSNR target already met elsewhere.
+  bool gain_cannot_win(int slices, int components, double previous) const {
+    if (!std::isfinite(previous) || !search_.have_met()) return false;
+    const auto gain = gain_bound(slices, components);
+    if (!gain) return false;
+    const double bound = previous + std::max(*gain, 0.0) + kGainSlackDb;
+    return by_bytes() ? bound <= search_.chosen().psnr_tonemapped : bound < target_.min_psnr;
+  }
+
+  // More components may still win after this row: it does not cost the target's bytes already at
+  // 6 bits (more components only add bytes), and its component raised the row's PSNR (at a
+  // budget: the best within it; a component that does not is not followed by one that does).
+  bool components_pay(const Row& row, double previous) const {
+    return !cannot_win(row.bytes_at_fewest) && row.psnr > previous;
+  }
+
+  // One row: the slice count's ladder (fit.h, FitLadder: each component count continues the
+  // factorization of the one before) fitted at `components`, and its bits searched.
+  Expected<Row> fit_row(int slices, int components) {
+    auto lane = lanes_.find(slices);
+    if (lane == lanes_.end()) {
+      FitSettings fs = base_.fit;
+      set_counts({slices, false}, {1, false}, &fs);
+      lane = lanes_.emplace(slices, Lane{FitLadder(table_, fs), kNone}).first;
+    }
+    FitReport report;
+    auto model = lane->second.ladder.fit(components, &report);
+    if (!model.ok()) return model.status();
+    auto row = by_bytes()
+                   ? row_for_bytes(&search_, *model, report, slices, components, target_.max_bytes)
+                   : row_for_psnr(&search_, *model, report, slices, components);
+    if (!row.ok()) return row.status();
+    predictor_.add(slices, components, row->bytes_at_fewest);
+    psnr_[{slices, components}] = row->psnr;
+    if (components == 1 && (floor_bytes_ < 0 || slices < floor_count_)) {
+      floor_bytes_ = row->bytes_at_fewest;
+      floor_count_ = slices;
+    }
+    return row;
+  }
+
+  struct Lane {
+    FitLadder ladder;
+    double previous;  // the PSNR of its last row; -inf: closed to more components
+  };
+
+  const BrdfTable& table_;
+  const EncoderSettings& base_;
+  const RateTarget& target_;
+  Search search_;
+  rate::BytePredictor predictor_;
+  std::map<std::pair<int, int>, double> psnr_;  // Row::psnr per (slices, components) fitted
+  std::map<int, Lane> lanes_;                   // per slice count fitted
+  double floor_bytes_ = -1;  // one component at 6 bits at the smallest slice count fitted
+  int floor_count_ = 0;
+};
+
+}  // namespace
+
+Expected<RateResult> encode_to_target(const BrdfTable& table, const EncoderSettings& base,
+                                      const RateTarget& target) {
+  if (Status s = check_target(target); !s.ok()) return s;
+  Grid grid(table, base, target);
+  if (Status s = grid.run(); !s.ok()) return s;
+  return std::move(grid.result());
 }
 
 }  // namespace cbrdf

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 
@@ -247,12 +248,13 @@ inline Position<T> position(T ix, T iy, T iz, T ox, T oy, T oz) {
 // branch-free loops (the coordinates, three atan2 polynomials and four square roots per pair)
 // that the compiler vectorizes across pairs; (2) per pair, the two bins' rows of each axis
 // interpolated and the copula ratios formed, kGroup slots at a time (the slice tables' grouped
-// layout), vectorized across slots. Every value is formed by the same operations in the same
-// order as eval's, so the results are equal bit for bit: vector lanes round as scalar
-// instructions do, and neither path contracts multiply-adds (x86-64 without -mfma; the AVX2
-// clones do not enable FMA). A pair across a slice boundary is two slice evaluations, as in eval;
-// pairs below the horizon are 0; pairs across the phi_d period (1 in 180) and models with generic
-// terms go through eval's own code.
+// layout), vectorized across slots (in float32 two pairs at a time, one per half of an 8-wide
+// vector; the paper's model, one slot per channel, adds its lanes straight to the sums). Every
+// value is formed by the same operations in the same order as eval's, so the results are equal
+// bit for bit: vector lanes round as scalar instructions do, and neither path contracts
+// multiply-adds (x86-64 without -mfma; the AVX2 clones do not enable FMA). A pair across a slice
+// boundary is two slice evaluations, as in eval; pairs below the horizon are 0; pairs across the
+// phi_d period (1 in 180) and models with generic terms go through eval's own code.
 constexpr int kBlock = 32;
 
 // One block's inputs and stage (1)'s results, in one object: its arrays provably do not alias, so
@@ -319,51 +321,222 @@ struct BlockJobs {
 };
 
 // Per job, per group of kGroup slots, the interpolated terms of the two bins' rows on each axis,
-// g1 g2 g3, 1 - h, 1 + h and the ratio k g (1 + h) / (1 - h)^3, each a kGroup-wide vector
-// operation (the same operations, in the same order, as add_slice's per slot); then per channel
-// the sum over its R slots in add_slice's order, added times the job's weight to the pair's
-// acc[c * kBlock + l] (zero before the first job). `v` holds G kGroup values.
+// g1 g2 g3, 1 - h, 1 + h and the ratio k g (1 + h) / (1 - h)^3, each a vector operation across
+// the group's slots (GCC/Clang vector types: the same operations, in the same order, as
+// add_slice's per slot, so each lane rounds as the scalar code does); then per channel the sum
+// over its R slots in add_slice's order, added times the job's weight to the pair's
+// acc[c * kBlock + l] (zero before the first job). In float32 two jobs whose slices have as many
+// groups share one 8-wide vector, a job per half. `v` holds 2 G kGroup values.
+// Helpers write vectors through pointers rather than return them: GCC warns (-Wpsabi) about
+// returning a 32-byte vector by value where AVX is not enabled, in the baseline clone.
+using V4d = double __attribute__((vector_size(32)));
+using V4f = float __attribute__((vector_size(16)));
+using V8f = float __attribute__((vector_size(32)));
+
+// Every lane x (x - 0 is x exactly, -0 included).
+template <class V, class T>
+[[gnu::always_inline]] inline void splat(V* v, T x) {
+  *v = x - V{};
+}
+
+template <class V>
+[[gnu::always_inline]] inline void load_vec(V* v, const void* p) {
+  std::memcpy(v, p, sizeof *v);
+}
+
+// Two 4-lane float vectors from pa and pb as one 8-lane one.
+[[gnu::always_inline]] inline void load_two(V8f* v, const float* pa, const float* pb) {
+  V4f a, b;
+  load_vec(&a, pa);
+  load_vec(&b, pb);
+  *v = __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+}
+
+// A job's row pointers and fractions.
 template <class T>
-[[gnu::always_inline]] inline void block_values(const BlockState<T>& b, const BlockJobs<T>& jobs,
-                                                T* v, T* acc) {
-  for (int j = 0; j < jobs.count; ++j) {
-    const SliceTables<T>* st = jobs.slice[j];
-    const int l = jobs.lane[j];
-    const std::size_t n = st->row();
-    const T* h0 = st->h.data() + std::size_t(b.h0[l]) * n;
-    const T* d0 = st->d.data() + std::size_t(jobs.jl[j]) * n;
-    const T* p0 = st->p.data() + std::size_t(b.p0[l]) * n;
-    const T a1 = b.fh[l], a2 = jobs.fd[j], a3 = b.fp[l];
-    const T b1 = 1 - a1, b2 = 1 - a2, b3 = 1 - a3;
-    const T* kc = st->consts.data();
-    for (int gi = 0; gi < st->groups; ++gi) {
-      const std::size_t o = std::size_t(gi) * kGroupTerms;
-      T t1[kGroupTerms], t2[kGroupTerms], t3[kGroupTerms];
-      for (int e = 0; e < kGroupTerms; ++e) {
-        t1[e] = h0[o + e] * b1 + h0[n + o + e] * a1;
-        t2[e] = d0[o + e] * b2 + d0[n + o + e] * a2;
-        t3[e] = p0[o + e] * b3 + p0[n + o + e] * a3;
-      }
-      const T* k = kc + std::size_t(gi) * kGroupConstants;
-      T ratio[kGroup];  // local, so that no store to v can alias the loads
-      for (int q = 0; q < kGroup; ++q) {
-        const T w1 = t1[kGroup + q], w2 = t2[kGroup + q], w3 = t3[kGroup + q];
-        const T y1 = t1[2 * kGroup + q], y2 = t2[2 * kGroup + q], y3 = t3[2 * kGroup + q];
-        const T w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
-        const T omh = k[kGroup + q] + k[2 * kGroup + q] * Y + k[3 * kGroup + q] * W;
-        const T oph = k[4 * kGroup + q] + k[5 * kGroup + q] * Y + k[6 * kGroup + q] * W;
-        ratio[q] = k[q] * (t1[q] * t2[q] * t3[q]) * oph / (omh * omh * omh);
-      }
-      for (int q = 0; q < kGroup; ++q) v[gi * kGroup + q] = ratio[q];
-    }
-    const int R = st->slots_per_channel;
-    const T w = jobs.weight[j];
-    for (int c = 0; c < kChannels; ++c) {
-      T sum = 0;
-      for (int r = 0; r < R; ++r) sum += v[c * R + r];
-      acc[c * kBlock + l] += w * sum;
+struct JobRows {
+  const T* r[3];  // bin rows of theta_h, theta_d, phi_d (the next bin's row at + row())
+  T a[3];         // fractions
+  const T* k;     // constants
+  std::size_t n;  // row length
+  int groups, slots, lane;
+  T weight;
+};
+
+template <class T>
+inline JobRows<T> job_rows(const BlockState<T>& b, const BlockJobs<T>& jobs, int j) {
+  const SliceTables<T>* st = jobs.slice[j];
+  JobRows<T> r;
+  r.lane = jobs.lane[j];
+  r.n = st->row();
+  r.r[0] = st->h.data() + std::size_t(b.h0[r.lane]) * r.n;
+  r.r[1] = st->d.data() + std::size_t(jobs.jl[j]) * r.n;
+  r.r[2] = st->p.data() + std::size_t(b.p0[r.lane]) * r.n;
+  r.a[0] = b.fh[r.lane];
+  r.a[1] = jobs.fd[j];
+  r.a[2] = b.fp[r.lane];
+  r.k = st->consts.data();
+  r.groups = st->groups;
+  r.slots = st->slots_per_channel;
+  r.weight = jobs.weight[j];
+  return r;
+}
+
+// Per channel the sum of a job's R slot values v, times its weight, into acc.
+template <class T>
+inline void add_sums(const T* v, int R, T weight, int lane, T* acc) {
+  for (int c = 0; c < kChannels; ++c) {
+    T sum = 0;
+    for (int r = 0; r < R; ++r) sum += v[c * R + r];
+    acc[c * kBlock + lane] += weight * sum;
+  }
+}
+
+// The loads of one job's rows (V4d, V4f), or of two jobs' (V8f: job A in the low half, B in
+// the high one).
+template <class V, class T>
+struct OneJob {
+  const JobRows<T>& J;
+  [[gnu::always_inline]] void load(V* v, int x, int bin, std::size_t off) const {
+    load_vec(v, J.r[x] + (bin ? J.n : 0) + off);
+  }
+  [[gnu::always_inline]] void fractions(V* a, V* b, int x) const {
+    splat(a, J.a[x]);
+    splat(b, T(1 - J.a[x]));
+  }
+  [[gnu::always_inline]] void constant(V* v, std::size_t off) const { load_vec(v, J.k + off); }
+};
+
+struct TwoJobs {
+  const JobRows<float>& A;
+  const JobRows<float>& B;
+  [[gnu::always_inline]] void load(V8f* v, int x, int bin, std::size_t off) const {
+    load_two(v, A.r[x] + (bin ? A.n : 0) + off, B.r[x] + (bin ? B.n : 0) + off);
+  }
+  [[gnu::always_inline]] void fractions(V8f* a, V8f* b, int x) const {
+    V4f fa, fb, ga, gb;
+    splat(&fa, A.a[x]);
+    splat(&fb, B.a[x]);
+    splat(&ga, float(1 - A.a[x]));
+    splat(&gb, float(1 - B.a[x]));
+    *a = __builtin_shufflevector(fa, fb, 0, 1, 2, 3, 4, 5, 6, 7);
+    *b = __builtin_shufflevector(ga, gb, 0, 1, 2, 3, 4, 5, 6, 7);
+  }
+  [[gnu::always_inline]] void constant(V8f* v, std::size_t off) const {
+    if (A.k == B.k) {  // one slice (the usual case): one load, repeated
+      V4f a;
+      load_vec(&a, A.k + off);
+      *v = __builtin_shufflevector(a, a, 0, 1, 2, 3, 0, 1, 2, 3);
+    } else {
+      load_two(v, A.k + off, B.k + off);
     }
   }
+};
+
+// Axis x's terms g, w, y of a group (its offset o in the row), interpolated between the rows.
+template <class V, class S>
+[[gnu::always_inline]] inline void lerp_axis(const S& s, int x, std::size_t o, V* g, V* w, V* y) {
+  V a, b, u0, u1;
+  s.fractions(&a, &b, x);
+  s.load(&u0, x, 0, o);
+  s.load(&u1, x, 1, o);
+  *g = u0 * b + u1 * a;
+  s.load(&u0, x, 0, o + kGroup);
+  s.load(&u1, x, 1, o + kGroup);
+  *w = u0 * b + u1 * a;
+  s.load(&u0, x, 0, o + 2 * kGroup);
+  s.load(&u1, x, 1, o + 2 * kGroup);
+  *y = u0 * b + u1 * a;
+}
+
+// Group gi's ratios k g (1 + h) / (1 - h)^3.
+template <class V, class S>
+[[gnu::always_inline]] inline void group_ratio(const S& s, int gi, V* ratio) {
+  const std::size_t o = std::size_t(gi) * kGroupTerms;
+  V g1, w1, y1, g2, w2, y2, g3, w3, y3;
+  lerp_axis(s, 0, o, &g1, &w1, &y1);
+  lerp_axis(s, 1, o, &g2, &w2, &y2);
+  lerp_axis(s, 2, o, &g3, &w3, &y3);
+  const std::size_t c = std::size_t(gi) * kGroupConstants;
+  V k0, k1, k2, k3, k4, k5, k6;
+  s.constant(&k0, c);
+  s.constant(&k1, c + kGroup);
+  s.constant(&k2, c + 2 * kGroup);
+  s.constant(&k3, c + 3 * kGroup);
+  s.constant(&k4, c + 4 * kGroup);
+  s.constant(&k5, c + 5 * kGroup);
+  s.constant(&k6, c + 6 * kGroup);
+  const V w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
+  const V omh = k1 + k2 * Y + k3 * W;
+  const V oph = k4 + k5 * Y + k6 * W;
+  *ratio = k0 * (g1 * g2 * g3) * oph / (omh * omh * omh);
+}
+
+// One job: with one group of one slot per channel (the paper's model) channel c is lane c, added
+// straight from the vector; else the groups' values go through v.
+template <class V, class T>
+[[gnu::always_inline]] inline void job_values(const JobRows<T>& J, T* v, T* acc) {
+  const OneJob<V, T> s{J};
+  if (J.groups == 1 && J.slots == 1) {
+    V ratio;
+    group_ratio(s, 0, &ratio);
+    for (int c = 0; c < kChannels; ++c) acc[c * kBlock + J.lane] += J.weight * (T(0) + ratio[c]);
+    return;
+  }
+  for (int gi = 0; gi < J.groups; ++gi) {
+    V ratio;
+    group_ratio(s, gi, &ratio);
+    std::memcpy(v + gi * kGroup, &ratio, sizeof ratio);
+  }
+  add_sums(v, J.slots, J.weight, J.lane, acc);
+}
+
+[[gnu::always_inline]] inline void block_values(const BlockState<double>& b,
+                                                const BlockJobs<double>& jobs, double* v,
+                                                double* acc) {
+  for (int j = 0; j < jobs.count; ++j) job_values<V4d>(job_rows(b, jobs, j), v, acc);
+}
+
+// Two float32 jobs of as many groups in 8-wide vectors.
+[[gnu::always_inline]] inline void job_pair_values(const JobRows<float>& A, const JobRows<float>& B,
+                                                   float* v, float* acc) {
+  const TwoJobs s{A, B};
+  if (A.groups == 1 && A.slots == 1 && B.slots == 1) {
+    V8f ratio;
+    group_ratio(s, 0, &ratio);
+    for (int c = 0; c < kChannels; ++c) {
+      acc[c * kBlock + A.lane] += A.weight * (0.0f + ratio[c]);
+      acc[c * kBlock + B.lane] += B.weight * (0.0f + ratio[kGroup + c]);
+    }
+    return;
+  }
+  float* vb = v + A.groups * kGroup;
+  for (int gi = 0; gi < A.groups; ++gi) {
+    V8f ratio;
+    group_ratio(s, gi, &ratio);
+    float r[2 * kGroup];
+    std::memcpy(r, &ratio, sizeof r);
+    std::memcpy(v + gi * kGroup, r, sizeof(float) * kGroup);
+    std::memcpy(vb + gi * kGroup, r + kGroup, sizeof(float) * kGroup);
+  }
+  add_sums(v, A.slots, A.weight, A.lane, acc);
+  add_sums(vb, B.slots, B.weight, B.lane, acc);
+}
+
+[[gnu::always_inline]] inline void block_values(const BlockState<float>& b,
+                                                const BlockJobs<float>& jobs, float* v,
+                                                float* acc) {
+  int j = 0;
+  for (; j + 1 < jobs.count; j += 2) {
+    const JobRows<float> A = job_rows(b, jobs, j), B = job_rows(b, jobs, j + 1);
+    if (A.groups == B.groups) {
+      job_pair_values(A, B, v, acc);
+    } else {
+      job_values<V4f>(A, v, acc);
+      job_values<V4f>(B, v, acc);
+    }
+  }
+  if (j < jobs.count) job_values<V4f>(job_rows(b, jobs, j), v, acc);
 }
 
 // The stages' entry points, compiled for AVX2 and for the baseline and chosen at load time where
@@ -604,7 +777,7 @@ void InterpTables::eval_chunk(const std::vector<SliceTables<T>>& tables, std::si
   const int *d0 = bs.d0, *p0 = bs.p0;
   alignas(64) T acc[kChannels * kBlock];
   BlockJobs<T> jobs;
-  std::vector<T> values(std::size_t(3 * max_slots_per_channel_ + kGroup));
+  std::vector<T> values(2 * std::size_t(3 * max_slots_per_channel_ + kGroup));
   enum : unsigned char { kInside, kBelow, kApart };
   unsigned char kind[kBlock];
   const std::size_t is = args.in_stride, os = args.out_stride;
@@ -622,6 +795,12 @@ void InterpTables::eval_chunk(const std::vector<SliceTables<T>>& tables, std::si
       const T* src = args.in[a] + base * is;
       if (is == 1 && m == kBlock) {
         for (int l = 0; l < kBlock; ++l) in[a][l] = src[l];  // a fixed size: moved inline
+        // The block after next, into the cache while this one is evaluated: six streams of
+        // pairs outrun the hardware's prefetching.
+        if (base + 3 * kBlock <= end) {
+          for (int l = 0; l < kBlock; l += int(64 / sizeof(T)))
+            __builtin_prefetch(src + 2 * kBlock + l);
+        }
       } else {
         for (int l = 0; l < m; ++l) in[a][l] = src[std::size_t(l) * is];
       }
@@ -651,6 +830,7 @@ void InterpTables::eval_chunk(const std::vector<SliceTables<T>>& tables, std::si
       }
     }
     block_values_any(bs, jobs, values.data(), acc);
+    T* const out[3] = {args.out[0], args.out[1], args.out[2]};  // not reloaded after each store
     for (int l = 0; l < m; ++l) {
       T rgb[3] = {T(0), T(0), T(0)};
       if (kind[l] == kInside) {
@@ -659,7 +839,7 @@ void InterpTables::eval_chunk(const std::vector<SliceTables<T>>& tables, std::si
         eval_at(Position<T>{ph[l], pd[l], pp[l]}, rgb);
       }
       const std::size_t o = (base + std::size_t(l)) * os;
-      for (int c = 0; c < kChannels; ++c) args.out[c][o] = rgb[c];
+      for (int c = 0; c < kChannels; ++c) out[c][o] = rgb[c];
     }
   }
 }

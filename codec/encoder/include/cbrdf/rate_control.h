@@ -28,7 +28,7 @@ struct RateCandidate {
 struct RateResult {
   EncodeResult encoded;  // the chosen file
   RateCandidate chosen;
-  std::vector<RateCandidate> tried;  // every setting measured, in search order
+  std::vector<RateCandidate> tried;  // every setting measured (decoded, PSNR), in search order
   bool met = false;                  // false: no setting met the target; the closest is chosen
   // The search's work: (slice count, component count) models fitted, and HALS sweeps spent on
   // their mixtures (each component count continues the one before: FitLadder).
@@ -39,14 +39,24 @@ struct RateResult {
 // Searches slices in target.slice_counts, components 1..max_components (each a fixed count per
 // slice and channel) and bits 6..16 with the other settings of `base`.
 // The search relies on bytes growing with slices, components and bits, and on PSNR growing with
-// bits: per slice count the components are fitted in turn, each continuing the fit of the count
-// before (FitLadder); per fitted model the bits are bisected (the most bits within the budget,
-// or the fewest reaching the PSNR; 16 bits alone when even they miss it); larger component and
-// slice counts are not fitted once their least possible bytes cannot beat the setting chosen
-// (over the budget, or no fewer bytes than a setting reaching the PSNR). When no setting reaches
-// the PSNR, the closest row is also measured at fewer bits while its PSNR stays saturated (within
-// 0.05 dB of the best), since the last bits can cost a hair of PSNR there.
-// Exactly one of max_bytes, min_psnr must be > 0 (kInvalidArgument otherwise).
+// bits. It fits one component at each slice count in turn until a slice count does not beat the
+// smaller ones (PSNR against slices rises to a few slices, then is flat or falls), then adds one
+// component at a time to the slice counts still open, each continuing the fit of the count
+// before (FitLadder). Per fitted model the bits are bisected: at a budget on bytes alone (encoding
+// without decoding), and only the most bits within it are measured; at a PSNR the fewest bits
+// reaching it (16 bits alone when even they miss it). A slice or component count is not fitted
+// when it cannot win: its least possible bytes (6 bits, measured, or forecast from the counts
+// fitted with a 6% margin) are over the budget or no fewer than a setting reaching the PSNR; or
+// its PSNR, bounded by the row before plus the largest gain that component brought at any slice
+// count (else the gain of the component before) plus 1 dB, cannot beat the best setting within
+// the budget or reach a PSNR already met; or the component before did not raise its row's PSNR.
+// The forecasts, the gain bound and the end of the slice search are heuristics, not proofs (they
+// matched the full search of the previous version on the real materials measured, and an
+// exhaustive search on a small grid in tests/rate_control_test.cc); they are what keeps a search
+// within a few default encodes. When no setting reaches the PSNR, the closest row is also measured
+// at fewer bits while its PSNR stays saturated (within 0.05 dB of the best), since the last bits
+// can cost a hair of PSNR there. Exactly one of max_bytes, min_psnr must be > 0 (kInvalidArgument
+// otherwise).
 CBRDF_EXPORT Expected<RateResult> encode_to_target(const BrdfTable& table,
                                                    const EncoderSettings& base,
                                                    const RateTarget& target);

@@ -2,14 +2,15 @@
 // Fitting a slice as a mixture of K copula components (beyond the paper; container version 1.1).
 //
 // Two stages. (1) The marginals of all components: a nonnegative rank-K factorization of the slice
-// (theta_h x theta_d x phi_d) by hierarchical alternating least squares (HALS), started from the
-// (K-1)-component fit plus one component built from the positive residual. Not-measured bins are
-// handled by expectation-maximization: before each sweep they are filled with the current model's
-// values, so they neither count as zeros nor pull the fit (the mixture's version of the imputed
-// marginals). (2) The copula parameter and weight of every component, jointly, by Ceres on the
-// fitting loss over measured bins, with the weights as logarithms so that they stay positive and
-// the marginals fixed. The result never has a higher objective than the factorization alone
-// (independence is inside every fitted family's range and is where stage 2 starts).
+// (theta_h x theta_d x phi_d) by hierarchical alternating least squares (HALS) with extrapolation
+// between sweeps, started from the (K-1)-component fit plus one component built from the positive
+// residual. Not-measured bins are handled by expectation-maximization: before each sweep they are
+// filled with the current model's values, so they neither count as zeros nor pull the fit (the
+// mixture's version of the imputed marginals). (2) The copula parameter and weight of every
+// component, jointly, by Ceres on the fitting loss over measured bins, with the weights as
+// logarithms so that they stay positive and the marginals fixed. The result never has a higher
+// objective than the factorization alone (independence is inside every fitted family's range and
+// is where stage 2 starts).
 #pragma once
 
 #include <vector>
