@@ -18,6 +18,7 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
+#include "harness/roundtrip_target.h"
 #include "synthetic_model.h"
 
 namespace {
@@ -237,6 +238,23 @@ void roundtrip_seeds(Writer& w) {
     b[3] = std::uint8_t((b[3] & 0xFE) | (broken ? 1 : 0));  // the byte that breaks a rule
     w.add("fuzz_roundtrip", "seed-" + std::to_string(i) + ".bin", b,
           broken ? "rejected invalid-argument" : "accepted");
+  }
+  // Inputs long enough to reach the residual layer (one in 32 of them): the first with one bound
+  // (mode 0) and the first with a shift per row (mode 2), from a fixed search.
+  std::mt19937_64 search(2026);
+  bool have[2] = {false, false};
+  for (int t = 0; t < 100000 && !(have[0] && have[1]); ++t) {
+    Bytes b(20000 + search() % 40000);
+    for (std::uint8_t& v : b) v = std::uint8_t(search());
+    b[3] &= 0xFE;  // valid: the residual is checked
+    cbrdf::fuzz::ByteSource in({b.data(), b.size()});
+    for (int k = 0; k < 4; ++k) in.u8();  // bits, level, metadata, breakage
+    const Model m = cbrdf::fuzz::build_model(in);
+    const int mode = m.residual.row_shift.empty() ? 0 : 1;
+    if (!m.residual.present() || have[mode]) continue;
+    have[mode] = true;
+    w.add("fuzz_roundtrip", mode == 0 ? "residual-one-bound.bin" : "residual-row-bounds.bin", b,
+          "accepted");
   }
 }
 

@@ -372,6 +372,9 @@ std::uint64_t model_hash(const Model& m) {
       add(&e.bin, 4);
       add(&e.stored, 8);
     }
+    // Mode 2's row steps only when present, so that mode 0 files' hashes stay.
+    if (!m.residual.row_shift.empty())
+      add(m.residual.row_shift.data(), m.residual.row_shift.size());
   }
   const std::uint64_t h = XXH64_digest(st);
   XXH64_freeState(st);
@@ -448,12 +451,23 @@ Model golden_residual6() {
   return m;
 }
 
+// Version 1.2, RESD mode 2: golden_residual6 with a step per row (shifts 0 to 6).
+Model golden_rows6() {
+  Model m = golden_residual6();
+  m.residual.row_shift.resize(std::size_t(kThetaHBins) * kThetaDBins);
+  for (std::size_t r = 0; r < m.residual.row_shift.size(); ++r) {
+    m.residual.row_shift[r] = std::uint8_t((r / 90 + r % 90) / 30);
+  }
+  return m;
+}
+
 const Golden kGolden[] = {
     {"v1.0-frank6-b10.cbrdf", 0x9fe1a1553716af4dull, 10, golden_frank6},
     {"v1.0-mixed2-b16.cbrdf", 0xd135c0c5b1901d9cull, 16, golden_mixed2},
     {"v1.0-tiny1-b6.cbrdf", 0x9f27464498924fe4ull, 6, golden_tiny1},
     {"v1.1-mixture3-b12.cbrdf", 0x1a5a936090db3f8dull, 12, golden_mixture3},
     {"v1.2-residual-frank6-b10.cbrdf", 0x46a06259c1d7b4a3ull, 10, golden_residual6},
+    {"v1.2-residual-rows-frank6-b10.cbrdf", 0xb907f23340054a63ull, 10, golden_rows6},
 };
 
 std::vector<std::uint8_t> read_bytes(const std::filesystem::path& p) {

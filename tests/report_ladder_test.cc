@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cbrdf/codec.h"
+#include "cbrdf/encoder.h"
 #include "report/ladder.h"
 #include "report/ladder_check.h"
 #include "report/ladder_output.h"
@@ -175,6 +177,22 @@ TEST(Ladder, MeasuresEveryMethodOnASmallSetting) {
   EXPECT_FALSE(l->points[3].exact);
   // Smooth data: the exact coding takes far fewer than the .binary's 35 MB.
   EXPECT_LT(l->points[2].bytes, 8e6);
+  // The residual point reuses the base points' fit, and is the very file a whole encode with row
+  // steps writes.
+  EncoderOptions o;
+  o.components = "1";
+  o.bits = st.residual_base_bits;
+  o.source_name = "smooth";
+  o.max_error = 0.01;
+  auto es = encoder_settings(o);
+  ASSERT_TRUE(es.ok());
+  es->residual.row_steps = true;
+  auto whole = encode_table(smooth_material(), *es);
+  ASSERT_TRUE(whole.ok()) << whole.status().message();
+  EXPECT_EQ(double(whole->bytes.size()), residual.bytes);
+  auto info = inspect_container(whole->bytes);
+  ASSERT_TRUE(info.ok());
+  EXPECT_EQ(info->residual_mode, 2);
 }
 
 }  // namespace

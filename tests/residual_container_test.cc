@@ -113,8 +113,9 @@ TEST(ResidualContainer, ExactTableRoundTripsBitForBit) {
 }
 
 // Rewrites the file with RESD's payload edited (checksums valid) and the given minor version.
-Bytes with_resd(const std::function<void(Bytes*)>& edit, int minor = 2, bool twice = false) {
-  Expected<ParsedContainer> pc = parse_container(residual_file());
+Bytes with_resd(const std::function<void(Bytes*)>& edit, int minor = 2, bool twice = false,
+                const Bytes& source = residual_file()) {
+  Expected<ParsedContainer> pc = parse_container(source);
   EXPECT_TRUE(pc.ok());
   std::vector<ChunkToWrite> chunks;
   for (std::size_t k = 0; k + 1 < pc->layout.chunks.size(); ++k) {
@@ -146,8 +147,8 @@ void put_f64(Bytes* b, std::size_t at, double v) {
 }
 
 TEST(ResidualContainer, MalformedPayloadsAreRefused) {
-  expect_error(with_resd([](Bytes* p) { (*p)[0] = 2; }), ErrorCode::kUnsupported,
-               "residual mode 2");
+  expect_error(with_resd([](Bytes* p) { (*p)[0] = 3; }), ErrorCode::kUnsupported,
+               "residual mode 3");
   expect_error(with_resd([](Bytes* p) { (*p)[1] = 2; }), ErrorCode::kCorrupt, "predictor 2");
   expect_error(with_resd([](Bytes* p) { (*p)[2] = 1; }), ErrorCode::kCorrupt, "reserved 1");
   expect_error(with_resd([](Bytes* p) { put_f64(p, 4, std::nan("")); }), ErrorCode::kNumeric,
@@ -194,6 +195,84 @@ TEST(ResidualContainer, MalformedPayloadsAreRefused) {
   ASSERT_FALSE(dup.ok());
   EXPECT_EQ(dup.status().code(), ErrorCode::kCorrupt);
   EXPECT_NE(dup.status().message().find("duplicate"), std::string::npos);
+}
+
+// Mode 2: the residual_model() with a step per row (shifts 0, 2 and 4 of the bound 0.01).
+Model rows_model() {
+  Model m = residual_model();
+  m.residual.row_shift.resize(kThetaHBins * kThetaDBins);
+  for (std::size_t r = 0; r < m.residual.row_shift.size(); ++r) {
+    m.residual.row_shift[r] = std::uint8_t((r * 7 / 3) % 7);
+  }
+  return m;
+}
+
+const Bytes& rows_file() {
+  static const Bytes b = [] {
+    ContainerSettings s;
+    s.bits = 8;
+    s.zstd_level = 3;
+    Expected<Bytes> e = encode_model(rows_model(), s);
+    EXPECT_TRUE(e.ok()) << e.status().message();
+    return e.ok() ? *e : Bytes{};
+  }();
+  return b;
+}
+
+TEST(ResidualContainer, RowStepsRoundTripExactly) {
+  const Model want = rows_model();
+  Expected<Model> got = decode_model(rows_file());
+  ASSERT_TRUE(got.ok()) << got.status().message();
+  EXPECT_EQ(got->residual.row_shift, want.residual.row_shift);
+  EXPECT_EQ(got->residual.codes, want.residual.codes);
+  EXPECT_EQ(got->residual.escapes.size(), 2u);
+  Model base = *got;
+  base.residual = Residual{};
+  const BrdfTable with = got->table(), without = base.table();
+  const std::size_t i = 3 * 16200 + 90 * 180 / 2 + 77;  // row 3 * 90 + 45: shift (315 * 7 / 3) % 7
+  ASSERT_EQ(want.residual.row_shift[i / 180], 0);
+  const std::size_t j = i + 180;  // the next row: shift 2
+  ASSERT_EQ(want.residual.row_shift[j / 180], 2);
+  for (std::size_t b : {i, j}) {
+    ASSERT_FALSE(got->not_measured.test(1, b));
+    const double step = std::ldexp(0.0199, want.residual.row_shift[b / 180]);
+    const double y = std::log1p(without.stored(1, b) / 0.5) +
+                     double(want.residual.codes[kBinsPerChannel + b]) * step;
+    EXPECT_EQ(with.stored(1, b), y > 0 ? std::expm1(y) * 0.5 : 0.0) << b;
+  }
+  Expected<ContainerInfo> info = inspect_container(rows_file());
+  ASSERT_TRUE(info.ok()) << info.status().message();
+  EXPECT_EQ(info->residual_mode, 2);
+  EXPECT_EQ(info->residual_max_error, 0.16);  // shifts 0, 2 and 4
+  EXPECT_EQ(info->residual_min_error, 0.01);
+  // The same codes without the row steps are a mode 0 file that decodes as before.
+  Expected<Model> plain = decode_model(residual_file());
+  ASSERT_TRUE(plain.ok());
+  EXPECT_TRUE(plain->residual.row_shift.empty());
+}
+
+TEST(ResidualContainer, MalformedRowStepsAreRefused) {
+  const Bytes& f = rows_file();
+  expect_error(with_resd([](Bytes* p) { (*p)[32 + 17] = 25; }, 2, false, f), ErrorCode::kNumeric,
+               "row shift 25 at payload offset 49");
+  // 0.01 x 2^11 = 20.48 > 16.
+  expect_error(with_resd([](Bytes* p) { (*p)[32 + 8099] = 11; }, 2, false, f), ErrorCode::kNumeric,
+               "row shift 11");
+  // A bound of 2 allows shifts up to 3.
+  expect_error(with_resd([](Bytes* p) { put_f64(p, 4, 2.0); }, 2, false, f), ErrorCode::kNumeric,
+               "row shift");
+  expect_error(with_resd([](Bytes* p) { p->resize(32 + 8000); }, 2, false, f),
+               ErrorCode::kTruncated, "row shifts");
+  // A mode 0 payload read as mode 2 loses 8100 bytes of codes to the shifts: refused either way.
+  Expected<Model> m = decode_model(with_resd([](Bytes* p) { (*p)[0] = 2; }));
+  EXPECT_FALSE(m.ok());
+  // And the writer refuses what no reader accepts.
+  Model bad = rows_model();
+  bad.residual.row_shift[5] = 12;
+  ContainerSettings s;
+  EXPECT_EQ(encode_model(bad, s).status().code(), ErrorCode::kInvalidArgument);
+  bad.residual.row_shift.resize(100);
+  EXPECT_EQ(encode_model(bad, s).status().code(), ErrorCode::kInvalidArgument);
 }
 
 // An escape at a not-measured bin.

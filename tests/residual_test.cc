@@ -4,6 +4,7 @@
 // with the residual, and the option checks.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -217,6 +218,76 @@ TEST(Residual, OptionsAreCheckedWithOneLineMessages) {
   const testing::CommandResult r =
       testing::run_cli("encode x.binary -o y.cbrdf --max-error 0.1 --lossless");
   EXPECT_EQ(r.exit_code, 2);
+}
+
+// RESD mode 2 (ResidualSettings::row_steps): each row's bound held on every measured bin, checked
+// here from the row shifts the file stores; coarser rows cost fewer bytes than one bound; the
+// evaluator applies each bin's row step.
+TEST(Residual, RowStepsHoldEachRowsBound) {
+  const Encoded& uniform = encoded_at(0.002);
+  EncoderSettings st = settings_for(0.002);
+  st.residual.row_steps = true;
+  Expected<EncodeResult> r = encode_table(uniform.source, st);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  EXPECT_EQ(payload_of(r->bytes, kTagResidual)[0], 2);
+  Expected<Model> model = decode_model(r->bytes);
+  ASSERT_TRUE(model.ok()) << model.status().message();
+  const std::vector<std::uint8_t>& shift = model->residual.row_shift;
+  ASSERT_EQ(shift.size(), 8100u);
+  EXPECT_EQ(shift, internal::residual_row_shifts(0.002));
+  const BrdfTable dec = model->table();
+  double worst_fine = 0, worst_ratio = 0;
+  for (int c = 0; c < kChannels; ++c) {
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      const double s = uniform.source.stored(c, i);
+      if (!(s >= 0.0)) continue;
+      const double e = std::abs(std::log1p(dec.stored(c, i) / 1e-4) - std::log1p(s / 1e-4));
+      const double bound = std::ldexp(0.002, shift[i / 180]);
+      ASSERT_LE(e, bound) << c << " " << i;
+      if (shift[i / 180] == 0) worst_fine = std::max(worst_fine, e);
+      worst_ratio = std::max(worst_ratio, e / 0.002);
+    }
+  }
+  EXPECT_GT(worst_fine, 0.9 * 0.002);  // the finest rows use their step
+  EXPECT_GT(worst_ratio, 8.0);         // and coarse rows theirs
+  EXPECT_LT(r->bytes.size(), uniform.result.bytes.size());
+  Expected<ContainerInfo> info = inspect_container(r->bytes);
+  ASSERT_TRUE(info.ok());
+  EXPECT_EQ(info->residual_mode, 2);
+  EXPECT_EQ(info->residual_min_error, 0.002);
+  EXPECT_EQ(info->residual_max_error, 0.002 * 64);
+  // Continuous evaluation at bin centres: the decoded table.
+  const ModelEvaluator ev(*model);
+  int checked = 0;
+  for (int h = 3; h < 90; h += 7) {
+    for (int d = 2; d < 88; d += 9) {
+      Vec3 a, b;
+      bin_directions(h, d, 40, &a, &b);
+      if (a.z <= 0.05 || b.z <= 0.05) continue;
+      double rgb[3];
+      ev.eval(a, b, rgb);
+      for (int c = 0; c < kChannels; ++c) {
+        const double want = dec.physical(c, merl_index(h, d, 40));
+        EXPECT_NEAR(rgb[c], want, 1e-6 * want + 1e-12) << h << " " << d;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 50);
+}
+
+// The shifts: 0 on the most visible rows, the cap where cos(theta_i) cos(theta_o) vanishes, and
+// never a row bound above the format's 16.
+TEST(Residual, RowShiftsFollowTheRowsWeight) {
+  const std::vector<std::uint8_t> s = internal::residual_row_shifts(0.01);
+  ASSERT_EQ(s.size(), 8100u);
+  EXPECT_EQ(*std::min_element(s.begin(), s.end()), 0);
+  EXPECT_EQ(*std::max_element(s.begin(), s.end()), internal::kRowStepShiftCap);
+  EXPECT_EQ(s[89 * 90 + 89], internal::kRowStepShiftCap);  // grazing: nothing seen
+  // Near-normal incidence and reflection count more than theta_d near 90 at the same theta_h.
+  EXPECT_LT(s[30 * 90 + 10], s[30 * 90 + 85]);
+  const std::vector<std::uint8_t> big = internal::residual_row_shifts(4.0);
+  EXPECT_EQ(*std::max_element(big.begin(), big.end()), 2);  // 4 x 2^2 = 16
 }
 
 // The bound on every real material (../shared). The base is one fixed synthetic model rather

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // `cbrdf encode`: MERL .binary -> .cbrdf.
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -76,8 +77,15 @@ Expected<EncodeResult> encode(const BrdfTable& table, const EncoderSettings& st,
   auto rc = encode_to_target_ladder(table, st, target);
   if (!rc.ok()) return rc.status();
   if (!ctx.quiet) {
-    char residual_text[48] = "";
-    if (rc->chosen.max_error > 0) {
+    char residual_text[96] = "";
+    const std::vector<std::uint8_t>& shifts = rc->encoded.model.residual.row_shift;
+    if (rc->chosen.max_error > 0 && !shifts.empty()) {
+      // Steps per row: no option writes this file again, so name the bounds, not an option.
+      const int top = *std::max_element(shifts.begin(), shifts.end());
+      std::snprintf(residual_text, sizeof residual_text,
+                    " and a residual layer bounded per row (%.3g to %.3g)", rc->chosen.max_error,
+                    std::ldexp(rc->chosen.max_error, top));
+    } else if (rc->chosen.max_error > 0) {
       std::snprintf(residual_text, sizeof residual_text, " --max-error %.3g", rc->chosen.max_error);
     }
     std::fprintf(info,
@@ -136,10 +144,17 @@ void print_residual(const EncodeResult& result, std::FILE* info) {
     std::fprintf(info, "residual layer: exact table (lossless, checked), %u bytes\n", bytes);
     return;
   }
+  // Steps per row (--target-psnr, --target-bytes): the bound over every bin is the coarsest row's.
+  const int top =
+      r.row_shift.empty() ? 0 : *std::max_element(r.row_shift.begin(), r.row_shift.end());
   std::fprintf(info,
                "residual layer: |log1p(decoded / k) - log1p(source / k)| <= %g on every measured "
                "bin (k = %g; checked), %u bytes, %zu bins stored exactly\n",
-               r.max_error, r.knee, bytes, r.escapes.size());
+               std::ldexp(r.max_error, top), r.knee, bytes, r.escapes.size());
+  if (top > 0) {
+    std::fprintf(info, "  steps per row by visibility: the most visible rows within %g\n",
+                 r.max_error);
+  }
 }
 
 int run_encode(const EncodeOptions& o, const Context& ctx) {

@@ -57,6 +57,7 @@ inline constexpr int kMaxExtraComponents = 7;
 // RESD (spec 4.6, version 1.2): the residual layer's modes, predictor and limits.
 inline constexpr std::uint8_t kResidualModeLog = 0;        // bounded log1p residual
 inline constexpr std::uint8_t kResidualModeExact = 1;      // the exact table (lossless)
+inline constexpr std::uint8_t kResidualModeRows = 2;       // mode 0 with a step per row
 inline constexpr std::uint8_t kResidualPredictorNone = 0;  // codes as they are
 inline constexpr std::uint8_t kResidualPredictorPhi = 1;   // from the previous phi_d bin
 inline constexpr double kMinResidualError = 1e-6;
@@ -69,6 +70,9 @@ inline constexpr double kMaxResidualKnee = 1e12;
 inline constexpr double kResidualKnee = 1e-4;
 inline constexpr std::int64_t kMaxResidualCode = std::int64_t{1} << 28;
 inline constexpr std::uint32_t kMaxResidualEscapes = 65536;
+// Mode 2: rows (90 theta_h + theta_d) and the largest shift of a row's step (x 2^24).
+inline constexpr std::size_t kResidualRows = std::size_t{kThetaHBins} * kThetaDBins;
+inline constexpr std::uint8_t kMaxResidualShift = 24;
 // Up to 4.4 million varints: zstd's top levels cost seconds there for little (measured).
 inline constexpr int kResidualZstdLevel = 19;
 

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // decode_model and inspect_container: the container parser, then each chunk's payload parser,
 // with every error prefixed by the chunk's tag and file offset.
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <string>
 
 #include "cbrdf/codec.h"
@@ -59,8 +61,17 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
                      "the file is 1." +
                          std::to_string(minor));
     if (!st.ok()) return st.with_context(where(pc, resd));
-    d.info.residual_mode = d.model.residual.exact ? kResidualModeExact : kResidualModeLog;
-    d.info.residual_max_error = d.model.residual.max_error;
+    const Residual& res = d.model.residual;
+    d.info.residual_mode = res.exact               ? kResidualModeExact
+                           : res.row_shift.empty() ? kResidualModeLog
+                                                   : kResidualModeRows;
+    // Mode 2: the bound over every bin is the coarsest row's; the finest row's beside it.
+    const int top =
+        res.row_shift.empty() ? 0 : *std::max_element(res.row_shift.begin(), res.row_shift.end());
+    const int low =
+        res.row_shift.empty() ? 0 : *std::min_element(res.row_shift.begin(), res.row_shift.end());
+    d.info.residual_max_error = std::ldexp(res.max_error, top);
+    d.info.residual_min_error = std::ldexp(res.max_error, low);
     d.info.residual_knee = d.model.residual.knee;
     d.info.residual_escapes = d.model.residual.escapes.size();
   }

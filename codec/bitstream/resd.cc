@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 // RESD (spec 4.6): the error-bounded residual layer of container 1.2. Reader and writer.
 //
-// Mode 0 holds one integer code per measured bin (channel, then MERL index order), each coded as
-// the zigzag of its difference from a prediction out of codes already decoded, as an unsigned
-// LEB128 varint; the chunk's zstd frame does the entropy coding.
+// Modes 0 and 2 hold one integer code per measured bin (channel, then MERL index order), each
+// coded as the zigzag of its difference from a prediction out of codes already decoded, as an
+// unsigned LEB128 varint; the chunk's zstd frame does the entropy coding. Mode 2 adds one step
+// shift per (theta_h, theta_d) row before the codes.
 #include <array>
 #include <bit>
 #include <cmath>
@@ -151,6 +152,26 @@ Status read_escapes(ByteReader& r, std::uint32_t count, const NotMeasured& mask,
   return ok_status();
 }
 
+// Mode 2's row shifts: each at most kMaxResidualShift, and no row's bound above the format's.
+Status read_row_shifts(ByteReader& r, Residual* out) {
+  std::span<const std::uint8_t> shifts;
+  const std::uint64_t at = r.offset();
+  CBRDF_RETURN_IF_ERROR(r.bytes(kResidualRows, &shifts, "row shifts"));
+  for (std::size_t row = 0; row < kResidualRows; ++row) {
+    const int s = shifts[row];
+    if (s > kMaxResidualShift || std::ldexp(out->max_error, s) > kMaxResidualError) {
+      return error(ErrorCode::kNumeric,
+                   "row shift " + std::to_string(s) + " at payload offset " +
+                       std::to_string(at + row) + " exceeds " +
+                       std::to_string(int(kMaxResidualShift)) +
+                       " or makes the row's bound (max error x 2^shift) exceed " +
+                       number_text(kMaxResidualError));
+    }
+  }
+  out->row_shift.assign(shifts.begin(), shifts.end());
+  return ok_status();
+}
+
 // Mode 1: the exact table, whose not-measured bins must be MASK's.
 Status read_exact(std::span<const std::uint8_t> rest, const NotMeasured& mask, Residual* out) {
   Expected<BrdfTable> t = internal::decode_exact_table(rest);
@@ -180,10 +201,10 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   std::uint32_t escapes = 0;
   CBRDF_RETURN_IF_ERROR(r.u8(&mode, "residual mode"));
   if (mode == kResidualModeExact) return read_exact(payload.subspan(1), mask, out);
-  if (mode != kResidualModeLog) {
-    return error(ErrorCode::kUnsupported,
-                 "residual mode " + std::to_string(mode) +
-                     " is not known to this reader (0 = bounded log residual, 1 = exact table)");
+  if (mode != kResidualModeLog && mode != kResidualModeRows) {
+    return error(ErrorCode::kUnsupported, "residual mode " + std::to_string(mode) +
+                                              " is not known to this reader (0 = bounded log "
+                                              "residual, 1 = exact table, 2 = a step per row)");
   }
   CBRDF_RETURN_IF_ERROR(r.u8(&predictor, "predictor"));
   CBRDF_RETURN_IF_ERROR(r.u16(&reserved, "reserved field"));
@@ -193,6 +214,8 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   CBRDF_RETURN_IF_ERROR(r.u32(&escapes, "escape count"));
   CBRDF_RETURN_IF_ERROR(
       check_header(predictor, reserved, out->max_error, out->step, out->knee, escapes));
+  out->row_shift.clear();
+  if (mode == kResidualModeRows) CBRDF_RETURN_IF_ERROR(read_row_shifts(r, out));
   out->codes.assign(kMaskBits, 0);
   std::span<const std::uint8_t> rest;
   const std::uint64_t codes_at = r.offset();
@@ -216,13 +239,14 @@ std::vector<std::uint8_t> encode_residual_chunk(const Model& model) {
   std::vector<std::uint8_t> none = code_stream(model, kResidualPredictorNone);
   std::vector<std::uint8_t> phi = code_stream(model, kResidualPredictorPhi);
   const bool use_phi = entropy_bits(phi) < entropy_bits(none);
-  w.u8(kResidualModeLog);
+  w.u8(res.row_shift.empty() ? kResidualModeLog : kResidualModeRows);
   w.u8(use_phi ? kResidualPredictorPhi : kResidualPredictorNone);
   w.u16(0);
   w.f64(res.max_error);
   w.f64(res.step);
   w.f64(res.knee);
   w.u32(std::uint32_t(res.escapes.size()));
+  if (!res.row_shift.empty()) w.bytes(res.row_shift);
   w.bytes(use_phi ? phi : none);
   std::uint64_t next = 0;
   for (const ResidualEscape& e : res.escapes) {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // encode_model: validates the model against what a file can hold, then writes the chunks.
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <string>
@@ -53,6 +54,16 @@ Status check_residual(const Model& model) {
   }
   if (!(r.knee >= kMinResidualKnee && r.knee <= kMaxResidualKnee)) {
     return invalid("residual knee " + number_text(r.knee) + " is outside 1e-12..1e12");
+  }
+  if (!r.row_shift.empty()) {
+    const std::uint8_t top = *std::max_element(r.row_shift.begin(), r.row_shift.end());
+    if (r.row_shift.size() != kResidualRows || top > kMaxResidualShift ||
+        std::ldexp(r.max_error, top) > kMaxResidualError) {
+      return invalid("the residual's row shifts (" + std::to_string(r.row_shift.size()) +
+                     ", largest " + std::to_string(int(top)) + ") are not " +
+                     std::to_string(kResidualRows) + " values of at most " +
+                     std::to_string(int(kMaxResidualShift)) + " with max error x 2^shift <= 16");
+    }
   }
   if (r.codes.size() != kMaskBits) {
     return invalid("the residual has " + std::to_string(r.codes.size()) + " codes, expected " +

@@ -6,11 +6,11 @@
 // channel a family with a parameter inside its domain (edges, huge and tiny values included), K,
 // three marginal tables of assorted shapes (zeros, one-hot, 700-decade ranges, raw doubles), a
 // mask (standard, empty, full, runs, flipped bits) and single or per-bin values (NaN payloads
-// included), plus the quantization bits. The checks are the codec's promises (codec.h,
-// spec/container.md 4.3): families, parameters, K, bounds, mask and values come back bit for bit;
-// each nonzero mass within the documented relative error e^step - 1, each zero mass exactly.
-// One input in two (by a byte) breaks one rule of the model instead, and encode_model must then
-// refuse it with kInvalidArgument.
+// included), plus the quantization bits and, on one input in 32, a residual layer (modes 0, 2). The
+// checks are the codec's promises (codec.h, spec/container.md 4.3): families, parameters, K,
+// bounds, mask and values come back bit for bit; each nonzero mass within the documented relative
+// error e^step - 1, each zero mass exactly. One input in two (by a byte) breaks one rule of the
+// model instead, and encode_model must then refuse it with kInvalidArgument.
 #pragma once
 
 #include <algorithm>
@@ -172,6 +172,61 @@ inline void pick_mask(Model* m, ByteSource& in) {
   }
 }
 
+// The residual layer (container 1.2, spec 4.6) on one input in 32, from the bytes left after the
+// mixtures: mode 0 or 2 (a shift per row), codes that are zero, sparse spikes up to the format's
+// limit, a ramp or runs, and a few escapes. Rare because it costs a zstd pass over 4.4 million
+// codes.
+inline void pick_residual(Model* m, ByteSource& in) {
+  if (in.empty() || in.u8() % 32 != 0) return;
+  constexpr std::size_t kBins = std::size_t{kChannels} * kBinsPerChannel;
+  constexpr std::int32_t kMaxCode = std::int32_t{1} << 28;  // spec 4.6: |code| <= 2^28
+  Residual& r = m->residual;
+  r.max_error = std::exp(in.in_range(std::log(1e-6), std::log(16.0)));
+  r.step = 2.0 * r.max_error * in.in_range(0.01, 1.0);
+  r.knee = std::exp(in.in_range(std::log(1e-12), std::log(1e12)));
+  r.codes.assign(kBins, 0);
+  switch (in.u8() % 4) {
+    case 0:
+      break;
+    case 1:
+      for (int k = in.u8(); k > 0; --k) {
+        const std::int32_t v = std::int32_t(in.u32() % (2u * kMaxCode + 1)) - kMaxCode;
+        r.codes[in.u32() % kBins] = v;
+      }
+      break;
+    case 2:
+      for (std::size_t b = 0; b < kBins; ++b) r.codes[b] = std::int32_t(b % 181) - 90;
+      break;
+    default: {
+      std::size_t pos = 0;
+      for (int k = 0; k < 32 && pos < kBins && !in.empty(); ++k) {
+        const std::size_t len = std::min<std::size_t>(in.u16() * std::size_t{16}, kBins - pos);
+        std::fill_n(r.codes.begin() + std::ptrdiff_t(pos), len, std::int32_t(std::int8_t(in.u8())));
+        pos += len;
+      }
+    }
+  }
+  for (std::size_t b = 0; b < kBins; ++b) {  // not-measured bins carry no code
+    if ((m->not_measured.bits[b >> 6] >> (b & 63)) & 1u) r.codes[b] = 0;
+  }
+  if (in.u8() % 2 == 0) {  // mode 2: every row's bound max_error 2^shift must stay <= 16
+    const int top = std::min(in.u8() % 25, int(std::floor(std::log2(16.0 / r.max_error))));
+    r.row_shift.resize(std::size_t{kThetaHBins} * kThetaDBins);
+    for (std::uint8_t& sh : r.row_shift) sh = std::uint8_t(top > 0 ? in.u8() % (top + 1) : 0);
+  }
+  std::vector<std::uint32_t> bins;
+  for (int k = in.u8() % 9; k > 0; --k) {
+    const std::uint32_t b = in.u32() % std::uint32_t(kBins);
+    if (!((m->not_measured.bits[b >> 6] >> (b & 63)) & 1u)) bins.push_back(b);
+  }
+  std::sort(bins.begin(), bins.end());
+  bins.erase(std::unique(bins.begin(), bins.end()), bins.end());
+  for (std::uint32_t b : bins) {
+    const double raw = std::bit_cast<double>(in.u64());
+    r.escapes.push_back({b, std::isfinite(raw) && raw >= 0.0 ? raw : 0.5});
+  }
+}
+
 inline Model build_model(ByteSource& in) {
   Model m;
   std::vector<int> cuts = {0, kThetaDBins};
@@ -211,7 +266,23 @@ inline Model build_model(ByteSource& in) {
       }
     }
   }
+  pick_residual(&m, in);
   return m;
+}
+
+// The residual came back bit for bit: bound, step, knee, codes, row shifts and escapes.
+inline void check_residual_roundtrip(const Residual& a, const Residual& b, Result* r) {
+  r->check(std::memcmp(&a.max_error, &b.max_error, 8) == 0, "the residual bound changed");
+  r->check(std::memcmp(&a.step, &b.step, 8) == 0, "the residual step changed");
+  r->check(std::memcmp(&a.knee, &b.knee, 8) == 0, "the residual knee changed");
+  r->check(a.codes == b.codes, "the residual codes changed");
+  r->check(a.row_shift == b.row_shift, "the residual row shifts changed");
+  bool same = a.escapes.size() == b.escapes.size();
+  for (std::size_t k = 0; same && k < a.escapes.size(); ++k) {
+    same = a.escapes[k].bin == b.escapes[k].bin &&
+           std::memcmp(&a.escapes[k].stored, &b.escapes[k].stored, 8) == 0;
+  }
+  r->check(same, "the residual escapes changed");
 }
 
 // Breaks one rule that encode_model documents; returns false when the model stays valid.
@@ -361,6 +432,7 @@ inline Result run_roundtrip(Bytes bytes) {
   }
   r.accept();
   check_roundtrip(model, *back, settings.bits, &r);
+  check_residual_roundtrip(model.residual, back->residual, &r);
   // inspect_container decodes the whole file again: one input in eight is enough.
   if (input_hash(bytes) % 8 != 0) return r;
   Expected<ContainerInfo> info = inspect_container(*file);

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 
 #include "cbrdf/codec.h"
 #include "cbrdf/encoder.h"
@@ -103,6 +104,10 @@ class LadderRun {
           if (!m.ok()) return context(m.status(), p);
           model = std::move(m).value();
           fit_s = since(t0);
+          if (k == st_.residual_base_components) {
+            residual_base_ = model;
+            residual_fit_s_ = fit_s;
+          }
         }
         auto t0 = Clock::now();
         auto bytes = encode_model(model, es->container);
@@ -119,20 +124,48 @@ class LadderRun {
     return ok_status();
   }
 
-  // A whole `cbrdf encode` (fit included) per point, as a user would run it.
-  Status encode_point(LadderPoint p, const EncoderOptions& o) {
-    auto es = encoder_settings(o);
+  // The residual's base: the model fitted for the base points when they include its component
+  // count (else fitted here once), written at residual_base_bits; every residual point reuses it.
+  Status residual_base() {
+    if (have_residual_base_) return ok_status();
+    const int k = st_.residual_base_components;
+    auto es = encoder_settings(options(k, st_.residual_base_bits));
+    if (!es.ok()) return es.status();
+    if (!residual_base_) {
+      const auto t0 = Clock::now();
+      auto m = fit_model(table_, es->fit);
+      if (!m.ok()) return m.status();
+      residual_base_ = std::move(m).value();
+      residual_fit_s_ = since(t0);
+    }
+    const auto t0 = Clock::now();
+    auto bytes = encode_model(*residual_base_, es->container);
+    if (!bytes.ok()) return bytes.status();
+    base_file_.bytes = std::move(bytes).value();
+    base_file_.bits = st_.residual_base_bits;
+    base_file_.model = *residual_base_;
+    residual_fit_s_ += since(t0);
+    have_residual_base_ = true;
+    return ok_status();
+  }
+
+  // The base file plus a residual layer; the encode time counts the fit, as `cbrdf encode` pays
+  // it. Lossless points must decode bit for bit.
+  Status residual_point(LadderPoint p, const ResidualSettings& rs) {
+    if (Status s = residual_base(); !s.ok()) return context(s, p);
+    auto es = encoder_settings(options(st_.residual_base_components, st_.residual_base_bits));
     if (!es.ok()) return context(es.status(), p);
+    es->residual = rs;
+    EncodeResult r = base_file_;
     auto t0 = Clock::now();
-    auto r = encode_table(table_, *es);
-    p.encode_s = since(t0);
-    if (!r.ok()) return context(r.status(), p);
-    p.bytes = double(r->bytes.size());
+    if (Status s = add_residual_layer(table_, *es, &r); !s.ok()) return context(s, p);
+    p.encode_s = residual_fit_s_ + since(t0);
+    p.bytes = double(r.bytes.size());
     t0 = Clock::now();
-    auto decoded = decode_table(r->bytes);
+    auto decoded = decode_table(r.bytes);
     p.decode_s = since(t0);
     if (!decoded.ok()) return context(decoded.status(), p);
-    if (!o.lossless) {
+    if (!rs.lossless) {
       add(std::move(p), *decoded);
       return ok_status();
     }
@@ -146,17 +179,20 @@ class LadderRun {
 
   Status residual_points() {
     for (double e : st_.max_errors) {
-      EncoderOptions o = options(1, st_.residual_base_bits);
-      o.max_error = e;
-      CBRDF_RETURN_IF_ERROR(encode_point({kLadderResidual, format_g("E %g", e)}, o));
+      ResidualSettings rs;
+      rs.max_error = e;
+      rs.row_steps = st_.residual_row_steps;
+      CBRDF_RETURN_IF_ERROR(residual_point({kLadderResidual, format_g("E %g", e)}, rs));
     }
     return ok_status();
   }
 
   Status cbrdf_lossless_point() {
-    EncoderOptions o = options(1, st_.residual_base_bits);
-    o.lossless = true;
-    return encode_point({kLadderLossless, "k1 b" + std::to_string(st_.residual_base_bits)}, o);
+    ResidualSettings rs;
+    rs.lossless = true;
+    return residual_point({kLadderLossless, "k" + std::to_string(st_.residual_base_components) +
+                                                " b" + std::to_string(st_.residual_base_bits)},
+                          rs);
   }
 
   Status zfp_points() {
@@ -192,6 +228,10 @@ class LadderRun {
 
   const BrdfTable& table_;
   const LadderSettings& st_;
+  std::optional<Model> residual_base_;  // the fit under the residual points
+  double residual_fit_s_ = 0;           // its fit and write time
+  EncodeResult base_file_;
+  bool have_residual_base_ = false;
   SphereSetup sphere_;
   LadderMaterial out_;
 };

@@ -19,7 +19,7 @@ constexpr double kStepFraction = 1.0 - 1.0 / 1024.0 / 1024.0;
 // The codes of the source against the decoded base table: round((log1p(src) - log1p(base)) /
 // step) per measured bin, clamped to the format's range (a clamped bin becomes an escape).
 std::vector<std::int32_t> quantize_residual(const BrdfTable& source, const BrdfTable& base,
-                                            const NotMeasured& mask, double step, double knee) {
+                                            const NotMeasured& mask, const Residual& res) {
   std::vector<std::int32_t> codes(kMaskBits, 0);
   const double top = double(kMaxResidualCode);
   for (int c = 0; c < kChannels; ++c) {
@@ -28,8 +28,8 @@ std::vector<std::int32_t> quantize_residual(const BrdfTable& source, const BrdfT
     std::int32_t* q = codes.data() + std::size_t(c) * kBinsPerChannel;
     for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
       if (mask.test(c, i)) continue;
-      const double r = std::log1p(s[i] / knee) - std::log1p(b[i] / knee);
-      q[i] = std::int32_t(std::clamp(std::nearbyint(r / step), -top, top));
+      const double r = std::log1p(s[i] / res.knee) - std::log1p(b[i] / res.knee);
+      q[i] = std::int32_t(std::clamp(std::nearbyint(r / res.step_at(i)), -top, top));
     }
   }
   return codes;
@@ -38,7 +38,8 @@ std::vector<std::int32_t> quantize_residual(const BrdfTable& source, const BrdfT
 }  // namespace
 
 double max_log_error(const BrdfTable& source, const BrdfTable& decoded, double knee, double bound,
-                     std::vector<std::uint32_t>* violations) {
+                     std::vector<std::uint32_t>* violations,
+                     const std::vector<std::uint8_t>* row_shift) {
   double worst = 0;
   for (int c = 0; c < kChannels; ++c) {
     const double* s = source.channel_data(c);
@@ -46,14 +47,45 @@ double max_log_error(const BrdfTable& source, const BrdfTable& decoded, double k
     for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
       if (!(s[i] >= 0.0)) continue;  // not measured
       const double e = std::abs(std::log1p(d[i] / knee) - std::log1p(s[i] / knee));
+      const double b = row_shift ? std::ldexp(bound, (*row_shift)[i / kPhiDBins]) : bound;
       // A NaN error (never expected) counts as a violation.
-      if (violations && !(e <= bound)) {
+      if (violations && !(e <= b)) {
         violations->push_back(std::uint32_t(std::size_t(c) * kBinsPerChannel + i));
       }
       if (!(e <= worst)) worst = e;
     }
   }
   return worst;
+}
+
+std::vector<std::uint8_t> residual_row_shifts(double max_error) {
+  std::vector<double> w(kResidualRows, 0.0);
+  for (int h = 0; h < kThetaHBins; ++h) {
+    // Bin centres; theta_h's bins widen with theta_h (MERL's square-root spacing).
+    const double th = theta_h_of(h + 0.5), dth = theta_h_of(h + 1.0) - theta_h_of(h);
+    for (int d = 0; d < kThetaDBins; ++d) {
+      const double td = theta_d_of(d + 0.5);
+      double cosines = 0;
+      for (int p = 0; p < kPhiDBins; ++p) {
+        Vec3 wi, wo;
+        from_half_diff({th, 0.0, td, phi_d_of(p + 0.5)}, &wi, &wo);
+        cosines += std::max(wi.z, 0.0) * std::max(wo.z, 0.0);
+      }
+      // d(wi) d(wo) = 4 cos(theta_d) d(wh) d(wd) (Rusinkiewicz): sin and cos of theta_d.
+      w[std::size_t(h) * kThetaDBins + d] =
+          std::sin(th) * dth * std::sin(td) * std::cos(td) * cosines;
+    }
+  }
+  const double top = *std::max_element(w.begin(), w.end());
+  // No row's bound above the format's largest.
+  const int cap =
+      std::min(kRowStepShiftCap, int(std::floor(std::log2(kMaxResidualError / max_error))));
+  std::vector<std::uint8_t> shifts(kResidualRows);
+  for (std::size_t r = 0; r < kResidualRows; ++r) {
+    const double s = w[r] > 0 ? std::nearbyint(0.5 * std::log2(top / w[r])) : double(cap);
+    shifts[r] = std::uint8_t(std::clamp(s, 0.0, double(std::max(cap, 0))));
+  }
+  return shifts;
 }
 
 namespace {
@@ -92,8 +124,11 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings,
   model.residual.max_error = bound;
   model.residual.step = 2.0 * bound * kStepFraction;
   model.residual.knee = kResidualKnee;
-  model.residual.codes = quantize_residual(source, base_table, model.not_measured,
-                                           model.residual.step, model.residual.knee);
+  model.residual.row_shift.clear();
+  if (settings.residual.row_steps) model.residual.row_shift = residual_row_shifts(bound);
+  model.residual.codes = quantize_residual(source, base_table, model.not_measured, model.residual);
+  const std::vector<std::uint8_t>* rows =
+      model.residual.row_shift.empty() ? nullptr : &model.residual.row_shift;
   model.residual.escapes.clear();
   // Write, decode, check every bin; bins that miss the bound (rounding at the margin, or a code
   // beyond the format's range) are stored exactly as escapes and the file written again.
@@ -103,7 +138,7 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings,
     Expected<BrdfTable> decoded = decode_table(*bytes);
     if (!decoded.ok()) return decoded.status();
     std::vector<std::uint32_t> bad;
-    max_log_error(source, *decoded, model.residual.knee, bound, &bad);
+    max_log_error(source, *decoded, model.residual.knee, bound, &bad, rows);
     if (bad.empty()) {
       result->bytes = std::move(bytes).value();
       return ok_status();
@@ -124,3 +159,12 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings,
 }
 
 }  // namespace cbrdf::internal
+
+namespace cbrdf {
+
+Status add_residual_layer(const BrdfTable& table, const EncoderSettings& settings,
+                          EncodeResult* result) {
+  return internal::add_residual(table, settings, result);
+}
+
+}  // namespace cbrdf

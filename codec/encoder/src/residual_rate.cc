@@ -20,6 +20,7 @@ Expected<RateCandidate> try_error(const BrdfTable& table, const EncoderSettings&
                                   const RateResult& base, double e, EncodeResult* out) {
   EncoderSettings st = base_settings;
   st.residual.max_error = e;
+  st.residual.row_steps = true;  // a target in PSNR or bytes, not a bound: steps by visibility
   st.container.bits = base.chosen.bits;
   *out = base.encoded;
   CBRDF_RETURN_IF_ERROR(internal::add_residual(table, st, out));

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -87,7 +88,14 @@ struct CBRDF_EXPORT Residual {
   std::vector<std::int32_t> codes;         // kChannels * kBinsPerChannel; 0 at not-measured bins
   std::vector<ResidualEscape> escapes;     // bins whose value is stored exactly, increasing
   std::shared_ptr<const BrdfTable> exact;  // mode 1: the source table itself
+  // Mode 2: per row r = 90 theta_h + theta_d (kThetaHBins * kThetaDBins entries), the row's step
+  // and bound are step and max_error times 2^row_shift[r]; empty: one step for every bin.
+  std::vector<std::uint8_t> row_shift;
   bool present() const { return max_error > 0.0 || exact != nullptr; }
+  // The step of MERL index i (any channel).
+  double step_at(std::size_t i) const {
+    return row_shift.empty() ? step : std::ldexp(step, row_shift[i / std::size_t{kPhiDBins}]);
+  }
 };
 
 // Pure data: what a .cbrdf file holds. Evaluate it through a ModelEvaluator.
@@ -140,7 +148,8 @@ class CBRDF_EXPORT ModelEvaluator {
   void eval_f32(const float wi[3], const float wo[3], float rgb[3]) const;
   // n direction pairs at once, in structure-of-arrays form: pair k is wi = (wi_x[k], wi_y[k],
   // wi_z[k]), wo likewise, and its value goes to (r[k], g[k], b[k]). Equal bit for bit to eval per
-  // pair (tests/model_eval_test.cc), 2.5 to 3 times faster per pair on one core (tests/bench):
+  // pair (tests/model_eval_test.cc), about 3 times faster per pair on one core (float32 3 to 4.4
+  // times; tests/bench, BM_EvalBatch*):
   // blocks of pairs go through vectorized stages (the positions across pairs, then each pair's
   // interpolation and copula ratios across its slots), and chunks of 2048 pairs through the
   // library's thread pool (cbrdf/parallel.h) on at most `threads` threads (<= 0: the thread

@@ -28,7 +28,7 @@ void apply_residual_to_table(const Model& model, BrdfTable* table) {
     const std::int32_t* codes = r.codes.data() + std::size_t(c) * kBinsPerChannel;
     for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
       if (nm.test(c, i)) continue;
-      data[i] = apply_residual(data[i], codes[i], r.step, r.knee);
+      data[i] = apply_residual(data[i], codes[i], r.step_at(i), r.knee);
     }
   }
   double* all = table->stored_values().data();
@@ -48,7 +48,8 @@ double ResidualEval::at_bin(int channel, std::size_t index, double physical) con
       std::lower_bound(esc.begin(), esc.end(), bin,
                        [](const ResidualEscape& e, std::uint32_t b) { return e.bin < b; });
   if (it != esc.end() && it->bin == bin) return it->stored * scale;
-  return apply_residual(physical / scale, residual_->codes[bin], residual_->step, residual_->knee) *
+  return apply_residual(physical / scale, residual_->codes[bin], residual_->step_at(index),
+                        residual_->knee) *
          scale;
 }
 
@@ -64,13 +65,18 @@ void interpolate(const Residual& r, const GridPosition& g, double out[3]) {
   const int p0 = std::min(int(p), kPhiDBins - 1);
   const int p1 = p0 + 1 == kPhiDBins ? 0 : p0 + 1;
   const double fh = h - h0, fd = d - d0, fp = p - p0;
+  const bool rows = !r.row_shift.empty();
   for (int c = 0; c < kChannels; ++c) {
     const std::int32_t* q = r.codes.data() + std::size_t(c) * kBinsPerChannel;
-    auto at = [&](int i, int j, int k) { return double(q[merl_index(i, j, k)]); };
+    // Mode 2 scales each bin by its row's step (the product is exact for mode 0's 1.0).
+    auto at = [&](int i, int j, int k) {
+      const std::size_t b = merl_index(i, j, k);
+      return double(q[b]) * (rows ? r.step_at(b) : 1.0);
+    };
     auto row = [&](int i, int j) { return at(i, j, p0) * (1 - fp) + at(i, j, p1) * fp; };
     const double lo = row(h0, d0) * (1 - fd) + row(h0, d0 + 1) * fd;
     const double hi = row(h0 + 1, d0) * (1 - fd) + row(h0 + 1, d0 + 1) * fd;
-    out[c] = (lo * (1 - fh) + hi * fh) * r.step;
+    out[c] = (lo * (1 - fh) + hi * fh) * (rows ? 1.0 : r.step);
   }
 }
 

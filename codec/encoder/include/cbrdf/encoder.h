@@ -37,6 +37,11 @@ struct ResidualSettings {
   // absolute one of about E k below; 1e-6 to 16. 0: no residual layer.
   double max_error = 0;
   bool lossless = false;  // the decoded table equal to the source bit for bit
+  // A coarser step where a bin counts less in rendered images (RESD mode 2): each theta_h,
+  // theta_d row's step and bound are those of max_error times a power of two from the row's
+  // solid-angle measure times cos(theta_i) cos(theta_o), so max_error bounds the most visible
+  // rows only. What --target-psnr and --target-bytes use; --max-error keeps one bound.
+  bool row_steps = false;
 };
 
 struct EncoderSettings {
@@ -110,5 +115,11 @@ CBRDF_EXPORT Expected<AutoBitsChoice> choose_bits(const BrdfTable& source, const
 // Fits the model to the table and writes it as a .cbrdf container.
 CBRDF_EXPORT Expected<EncodeResult> encode_table(const BrdfTable& table,
                                                  const EncoderSettings& settings);
+
+// What encode_table does after the fit: `result` holds a base file (bytes, bits, model) of
+// `table`, and receives the file with the residual layer of settings.residual (the bound checked
+// after decoding). One fit then serves several bounds (the report's ladder).
+CBRDF_EXPORT Status add_residual_layer(const BrdfTable& table, const EncoderSettings& settings,
+                                       EncodeResult* result);
 
 }  // namespace cbrdf
