@@ -332,6 +332,8 @@ static void test_info(const cbrdf_model* m, const struct expected_model* e) {
   CHECK(info.bits == e->bits);
   CHECK(info.file_bytes == e->file_bytes);
   CHECK(info.not_measured_bins == e->not_measured_bins);
+  CHECK(info.residual_mode == CBRDF_RESIDUAL_NONE && info.residual_bytes == 0);
+  CHECK(info.residual_max_error == 0 && info.residual_min_error == 0 && info.residual_knee == 0);
 
   /* A caller with a newer, longer struct: this version's fields are filled, the rest untouched. */
   memset(&bigger, 0xCD, sizeof bigger);
@@ -1095,6 +1097,133 @@ static void test_golden(const struct expected_model* e, double** table_out) {
   cbrdf_model_free(from_file);
 }
 
+/* ---- The residual layer (container 1.2) -------------------------------------------------------
+ */
+
+/* Largest |log1p(decoded / k) - log1p(source / k)| over measured bins (k = 1e-4 stored units, the
+ * bound's unit); -1 when a not-measured bin did not come back bit for bit. */
+static double residual_error(const double* source, const double* decoded, size_t count) {
+  double worst = 0;
+  size_t i;
+  for (i = 0; i < count; ++i) {
+    if (source[i] < 0) {
+      if (memcmp(&source[i], &decoded[i], sizeof(double)) != 0) return -1;
+      continue;
+    }
+    worst = fmax(worst, fabs(log1p(decoded[i] / 1e-4) - log1p(source[i] / 1e-4)));
+  }
+  return worst;
+}
+
+/* Encodes `table` with `s` and opens the file, with *info filled; NULL (a failed CHECK) when
+ * either step fails. */
+static cbrdf_model* encode_and_open(const double* table, const cbrdf_encode_settings* s,
+                                    cbrdf_model_info* info, size_t* size) {
+  void* bytes = NULL;
+  cbrdf_model* m;
+  CHECK_STATUS(cbrdf_encode_table(table, cbrdf_merl_table_size(), s, &bytes, size), CBRDF_OK);
+  m = bytes != NULL ? cbrdf_model_open_memory(bytes, *size) : NULL;
+  cbrdf_free(bytes);
+  CHECK(m != NULL);
+  if (m != NULL) {
+    info->struct_size = sizeof *info;
+    CHECK_STATUS(cbrdf_model_get_info(m, info), CBRDF_OK);
+  }
+  return m;
+}
+
+static void test_residual(const double* table) {
+  const size_t count = cbrdf_merl_table_size();
+  double* decoded = (double*)malloc(count * sizeof(double));
+  cbrdf_encode_settings s;
+  cbrdf_model_info info;
+  cbrdf_model* m;
+  void* bytes = NULL;
+  size_t size = 0;
+  double worst;
+  CHECK(decoded != NULL);
+  if (decoded == NULL) return;
+
+  /* The golden 1.2 file, as `cbrdf info --json` describes it. */
+  m = cbrdf_model_open_file(GOLDEN_DIR "v1.2-residual-frank6-b10.cbrdf");
+  CHECK(m != NULL);
+  if (m != NULL) {
+    info.struct_size = sizeof info;
+    CHECK_STATUS(cbrdf_model_get_info(m, &info), CBRDF_OK);
+    CHECK(info.version_minor == 2 && info.file_bytes == 6478);
+    CHECK(info.residual_mode == CBRDF_RESIDUAL_BOUNDED);
+    CHECK(info.residual_max_error == 0.004 && info.residual_knee == 1e-4);
+    CHECK(info.residual_bytes == 3073);
+    CHECK(info.residual_min_error == 0.004);
+    cbrdf_model_free(m);
+  }
+  /* A bound per row: the coarsest row's and the finest row's. */
+  m = cbrdf_model_open_file(GOLDEN_DIR "v1.2-residual-rows-frank6-b10.cbrdf");
+  CHECK(m != NULL);
+  if (m != NULL) {
+    info.struct_size = sizeof info;
+    CHECK_STATUS(cbrdf_model_get_info(m, &info), CBRDF_OK);
+    CHECK(info.version_minor == 2 && info.file_bytes == 6583);
+    CHECK(info.residual_mode == CBRDF_RESIDUAL_ROW_BOUNDED);
+    CHECK(info.residual_max_error == 0.128 && info.residual_min_error == 0.004);
+    CHECK(info.residual_knee == 1e-4 && info.residual_bytes == 3173);
+    cbrdf_model_free(m);
+  }
+
+  /* Out of range, or both: refused before any work, naming the field. */
+  cbrdf_encode_settings_init(&s);
+  CHECK(s.max_error == 0 && s.lossless == 0);
+  s.max_error = 1e-7;
+  CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("max_error must be 1e-06 to 16");
+  s.max_error = NAN;
+  CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_ERROR_INVALID_ARGUMENT);
+  s.max_error = 17;
+  CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_ERROR_INVALID_ARGUMENT);
+  s.max_error = 0.01;
+  s.lossless = 1;
+  CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("exclude each other");
+  s.max_error = 0;
+  s.lossless = 2;
+  CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("lossless");
+  CHECK(bytes == NULL && size == 0);
+
+  /* A bound: every measured bin within it, the not-measured ones exact. */
+  cbrdf_encode_settings_init(&s);
+  s.bits = 10;
+  s.zstd_level = 3;
+  s.threads = 2;
+  s.max_error = 0.01;
+  m = encode_and_open(table, &s, &info, &size);
+  if (m != NULL) {
+    CHECK(info.version_minor == 2 && info.residual_mode == CBRDF_RESIDUAL_BOUNDED);
+    CHECK(info.residual_max_error == 0.01 && info.residual_min_error == 0.01);
+    CHECK(info.residual_bytes > 0);
+    CHECK(info.residual_bytes < info.file_bytes);
+    CHECK_STATUS(cbrdf_model_table(m, decoded, count), CBRDF_OK);
+    worst = residual_error(table, decoded, count);
+    printf("max_error 0.01: %lu bytes, largest error %.6f\n", (unsigned long)size, worst);
+    CHECK(worst >= 0 && worst <= 0.01 * (1 + 1e-9));
+    cbrdf_model_free(m);
+  }
+
+  /* Lossless: the table bit for bit. */
+  s.max_error = 0;
+  s.lossless = 1;
+  m = encode_and_open(table, &s, &info, &size);
+  if (m != NULL) {
+    CHECK(info.residual_mode == CBRDF_RESIDUAL_LOSSLESS && info.residual_max_error == 0);
+    CHECK_STATUS(cbrdf_model_table(m, decoded, count), CBRDF_OK);
+    CHECK(memcmp(table, decoded, count * sizeof(double)) == 0);
+    printf("lossless: %lu bytes\n", (unsigned long)size);
+    cbrdf_model_free(m);
+  }
+  cbrdf_free(bytes);
+  free(decoded);
+}
+
 int main(void) {
   double* frank6_table = NULL;
   test_version_and_names();
@@ -1107,6 +1236,7 @@ int main(void) {
   if (frank6_table != NULL) {
     test_encode_settings(frank6_table);
     test_encode(frank6_table);
+    test_residual(frank6_table);
     free(frank6_table);
   }
   printf("%d passed, %d failed\n", g_passed, g_failed);

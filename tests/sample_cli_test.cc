@@ -68,7 +68,7 @@ TEST(SampleCli, MeasuredSampleIsWrittenAsAFullMerlTable) {
   EXPECT_TRUE(bytes == serialize_merl(make_sample("nickel").value()));
 
   const auto bad = run_cli("sample gold-leaf -o '" + (tmp / "x.binary").string() + "'");
-  EXPECT_EQ(bad.exit_code, 1) << bad.err;  // as today for an unknown name: one line, the choices
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;  // a usage error: one line, the choices
   EXPECT_EQ(lines_of(bad.err).size(), 1u) << bad.err;
   EXPECT_NE(bad.err.find("valid names: blue-metallic-paint, nickel,"), std::string::npos)
       << bad.err;

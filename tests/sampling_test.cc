@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <string>
@@ -379,6 +380,21 @@ TEST(Sampling, BelowHorizonAndBlackMaterials) {
   const Vec3 cos_wi = sample_cosine_hemisphere(0.3, 0.6);
   EXPECT_NEAR(smp.wi.x, cos_wi.x, 1e-15);
   EXPECT_NEAR(smp.wi.z, cos_wi.z, 1e-15);
+  // A NaN draw is rejected, on a table with rows and on an empty one (nothing to search), and
+  // on the batch path as on the scalar one.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const BrdfSampler* sm : {&s, &black}) {
+    for (const auto& [u1, u2] : {std::pair{nan, 0.5}, {0.99, nan}, {nan, nan}}) {
+      const BrdfSample r = sm->sample(wo, u1, u2);
+      EXPECT_FALSE(r.valid);
+      EXPECT_EQ(r.pdf, 0.0);
+    }
+    const double wo3[3] = {wo.x, wo.y, wo.z}, u[2] = {nan, 0.5};
+    double wi3[3] = {1, 1, 1}, pdf = 1, weight[3] = {1, 1, 1};
+    sm->sample_batch(1, wo3, u, wi3, &pdf, weight);
+    EXPECT_EQ(pdf, 0.0);
+    EXPECT_EQ(weight[0], 0.0);
+  }
 }
 
 // Equal sample counts, one glossy material (the fitted copula model of the polished-gold sample)

@@ -10,6 +10,7 @@
 #include "cbrdf/merl_io.h"
 #include "cli.h"
 #include "cli_io.h"
+#include "info_json.h"
 
 namespace cbrdf::cli {
 namespace {
@@ -19,23 +20,14 @@ struct InfoOptions {
   bool json = false;
 };
 
-// Invalid UTF-8 (a file name, metadata written by an older encoder) is replaced by U+FFFD: JSON
-// output never fails on bytes.
-void print_json(const nlohmann::json& j) {
-  std::printf("%s\n", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
+void print_json(nlohmann::json j, const std::string& file) {
+  j["file"] = file;
+  std::printf("%s\n", dump_json(j, 2).c_str());
 }
 
 bool is_container(const std::vector<std::uint8_t>& bytes) {
   return bytes.size() >= kContainerSignature.size() &&
          std::equal(kContainerSignature.begin(), kContainerSignature.end(), bytes.begin());
-}
-
-// Stored bytes of the residual chunk 'RESD' (0 when absent).
-std::uint32_t residual_bytes(const ContainerInfo& info) {
-  for (const ChunkInfo& c : info.layout.chunks) {
-    if (c.tag == kTagResidual) return c.stored_bytes;
-  }
-  return 0;
 }
 
 int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
@@ -46,44 +38,7 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
   if (!model.ok()) return fail(model.status().with_context(shown(o.input, false)));
   const std::size_t evaluator_bytes = ModelEvaluator(std::move(model).value()).footprint_bytes();
   if (o.json) {
-    nlohmann::json j;
-    j["file"] = o.input;
-    j["format"] = "cbrdf";
-    j["version"] = {info->layout.major, info->layout.minor};
-    j["bytes"] = info->layout.file_bytes;
-    for (const ChunkInfo& c : info->layout.chunks) {
-      j["chunks"].push_back({{"tag", c.tag},
-                             {"offset", c.offset},
-                             {"stored_bytes", c.stored_bytes},
-                             {"payload_bytes", c.payload_bytes},
-                             {"compressed", c.compressed},
-                             {"critical", c.critical},
-                             {"known", c.known}});
-    }
-    j["bits"] = info->bits;
-    j["colour_scale"] = info->colour_scale;
-    j["not_measured_bins"] = info->not_measured_bins;
-    if (info->residual_mode >= 0) {
-      j["residual"] = {{"mode", info->residual_mode},
-                       {"max_error", info->residual_max_error},
-                       {"knee", info->residual_knee},
-                       {"escapes", info->residual_escapes},
-                       {"stored_bytes", residual_bytes(*info)}};
-    }
-    j["evaluator_bytes"] = evaluator_bytes;
-    for (const SliceParams& s : info->slices) {
-      nlohmann::json js;
-      js["theta_d_bins"] = {s.theta_d_begin, s.theta_d_end};
-      for (int c = 0; c < kChannels; ++c) {
-        js["channels"].push_back({{"family", family_name(s.family[c])},
-                                  {"theta", s.theta[c]},
-                                  {"scale", s.scale[c]},
-                                  {"components", s.components[c]}});
-      }
-      j["slices"].push_back(js);
-    }
-    for (const auto& [k, v] : info->metadata) j["metadata"][k] = v;
-    print_json(j);
+    print_json(container_info_json(*info, evaluator_bytes), o.input);
     return kExitOk;
   }
   std::printf("%s: cbrdf container version %u.%u, %llu bytes\n", shown(o.input, false).c_str(),
@@ -101,13 +56,20 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
               info->mask_relative_to_horizon ? " (coded against the horizon mask)" : "");
   if (info->residual_mode >= 0) {
     if (info->residual_mode == 1) {
-      std::printf("residual layer: exact table (lossless), %u bytes\n", residual_bytes(*info));
+      std::printf("residual layer: exact table (lossless), %u bytes\n",
+                  residual_chunk_bytes(*info));
     } else {
       std::printf(
           "residual layer: |log1p(decoded / k) - log1p(source / k)| <= %g on every "
           "measured bin (k = %g), %u bytes, %zu bins stored exactly\n",
-          info->residual_max_error, info->residual_knee, residual_bytes(*info),
+          info->residual_max_error, info->residual_knee, residual_chunk_bytes(*info),
           info->residual_escapes);
+      if (info->residual_mode == 2) {
+        std::printf(
+            "  a bound per (theta_h, theta_d) row, by its weight in rendering: %g in the finest "
+            "rows\n",
+            info->residual_min_error);
+      }
     }
   }
   std::printf("evaluator: %zu bytes in memory (the MERL table it replaces: %zu)\n", evaluator_bytes,
@@ -135,25 +97,13 @@ int info_merl(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
   MerlInfo mi;
   auto table = parse_merl(bytes, shown(o.input, false), {}, &mi);
   if (!table.ok()) return fail(table.status());
+  if (o.json) {
+    print_json(merl_info_json(*table, mi), o.input);
+    return kExitOk;
+  }
   const MerlStats st = merl_stats(*table);
   const HorizonMaskCheck hm = check_horizon_mask(*table);
   static const char* kNames[] = {"R", "G", "B"};
-  if (o.json) {
-    nlohmann::json j;
-    j["file"] = o.input;
-    j["format"] = "merl";
-    j["dims"] = mi.dims;
-    j["folded_from_360"] = mi.folded_from_360;
-    j["mask_matches_horizon"] = hm.matches();
-    for (int c = 0; c < kChannels; ++c) {
-      const MerlChannelStats& s = st.channel[c];
-      j["channels"][kNames[c]] = {{"measured", s.measured}, {"not_measured", s.not_measured},
-                                  {"zeros", s.zeros},       {"min", s.min},
-                                  {"max", s.max},           {"mean", s.mean}};
-    }
-    print_json(j);
-    return kExitOk;
-  }
   std::printf("%s: MERL table %dx%dx%d%s\n", shown(o.input, false).c_str(), mi.dims[0], mi.dims[1],
               mi.dims[2], mi.folded_from_360 ? " (phi_d folded from 360 bins to 180)" : "");
   std::printf("not-measured mask %s the below-horizon geometry",

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // `cbrdf sample`: the built-in materials (measured and analytic), written as MERL tables.
+#include <algorithm>
 #include <cstdio>
 
 #include "cbrdf/merl_io.h"
@@ -29,7 +30,12 @@ int run_sample(const SampleOptions& o, const Context& ctx) {
   if (o.output.empty()) return usage_error("sample: give the output file with -o FILE.binary");
   const std::vector<PathArg> outputs = {{"-o", o.output}};
   if (auto bad = check_paths("sample", {}, outputs)) return usage_error(*bad);
+  const auto known = sample_materials();
+  const bool is_known = std::any_of(known.begin(), known.end(),
+                                    [&](const SampleInfo& s) { return s.name == o.name; });
   auto table = make_sample(o.name);
+  // An unknown name is a usage error (exit 2); the message lists the valid names.
+  if (!table.ok() && !is_known) return usage_error("sample: " + table.status().message());
   if (!table.ok()) return fail(table.status());
   if (Status s = write_merl(output_path(o.output), *table); !s.ok()) return fail(s);
   if (!ctx.quiet)

@@ -30,7 +30,16 @@ AzimuthFrame azimuth_frame(const Vec3& wo) {
 // Upper bound search in a normalized CDF of n + 1 entries: the bin i with cdf[i] <= u < cdf[i+1]
 // and u remapped to [0, 1) within it. Empty bins are never chosen.
 int pick(const double* cdf, int n, double* u) {
-  const double* it = std::upper_bound(cdf, cdf + n + 1, *u);
+  // std::upper_bound's own steps (libstdc++'s), its probes and result the same, with selects for
+  // its branches: u is random, so they mispredict half the time.
+  const double* it = cdf;
+  std::size_t len = std::size_t(n) + 1;
+  while (len > 0) {
+    const std::size_t half = len >> 1;
+    const bool right = !(*u < it[half]);
+    it = right ? it + half + 1 : it;
+    len = right ? len - half - 1 : half;
+  }
   const int i = std::clamp(int(it - cdf) - 1, 0, n - 1);
   const double w = cdf[i + 1] - cdf[i];
   *u = w > 0 ? std::clamp((*u - cdf[i]) / w, 0.0, std::nextafter(1.0, 0.0)) : 0.5;
@@ -154,7 +163,10 @@ double BrdfSampler::table_pdf(const Table& t, const Vec3& wo, const Vec3& wi) co
 
 double BrdfSampler::pdf(const Vec3& wo, const Vec3& wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return 0.0;
-  const Table& t = table_for(wo.z);
+  return pdf_in(table_for(wo.z), wo, wi);
+}
+
+double BrdfSampler::pdf_in(const Table& t, const Vec3& wo, const Vec3& wi) const {
   const double c = t.empty ? 1.0 : settings_.cosine_fraction;
   double p = c * wi.z / kPi;
   if (c < 1.0) p += (1 - c) * table_pdf(t, wo, wi);
@@ -162,14 +174,20 @@ double BrdfSampler::pdf(const Vec3& wo, const Vec3& wi) const {
 }
 
 BrdfSample BrdfSampler::sample(const Vec3& wo, double u1, double u2) const {
+  if (!(wo.z > 0)) return BrdfSample{};
+  return sample_in(table_for(wo.z), wo, u1, u2);
+}
+
+BrdfSample BrdfSampler::sample_in(const Table& t, const Vec3& wo, double u1, double u2) const {
   BrdfSample s;
-  if (!(wo.z > 0)) return s;
-  const Table& t = table_for(wo.z);
+  // A NaN draw passes std::clamp unchanged and every comparison: refuse it (valid = false)
+  // rather than search a table with it.
+  if (std::isnan(u1) || std::isnan(u2)) return s;
   const double c = t.empty ? 1.0 : settings_.cosine_fraction;
   const double below_one = std::nextafter(1.0, 0.0);
   u1 = std::clamp(u1, 0.0, below_one);
   u2 = std::clamp(u2, 0.0, below_one);
-  if (u1 < c) {
+  if (u1 < c || t.empty) {
     s.wi = sample_cosine_hemisphere(std::min(u1 / c, below_one), u2);
   } else {
     double v1 = std::min((u1 - c) / (1 - c), below_one), v2 = u2;
@@ -186,7 +204,7 @@ BrdfSample BrdfSampler::sample(const Vec3& wo, double u1, double u2) const {
     s.wi = {2 * d * h.x - wo.x, 2 * d * h.y - wo.y, 2 * d * h.z - wo.z};
   }
   if (!(s.wi.z > 0)) return s;
-  s.pdf = pdf(wo, s.wi);
+  s.pdf = pdf_in(t, wo, s.wi);  // pdf(wo, s.wi): wo.z > 0 and wi.z > 0 here
   s.valid = s.pdf > 0;
   if (!s.valid) s.pdf = 0;
   return s;
@@ -206,18 +224,48 @@ struct BrdfSampler::BatchIo {
   std::size_t weight_stride = 1;
 };
 
+const BrdfSampler::Table* BrdfSampler::prefetch_rows(double wo_z, double u1) const {
+  if (!(wo_z > 0)) return nullptr;
+  const Table& t = table_for(wo_z);
+  const double c = t.empty ? 1.0 : settings_.cosine_fraction;
+  const double below_one = std::nextafter(1.0, 0.0);
+  u1 = std::clamp(u1, 0.0, below_one);
+  if (!(u1 >= c) || t.empty) return &t;  // no table rows to search (NaN: sample_in refuses it)
+  double v1 = std::min((u1 - c) / (1 - c), below_one);
+  const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
+  const int a = pick(t.row_cdf.data(), nh, &v1);
+  const double* cdf = &t.cell_cdf[std::size_t(a) * (np + 1)];
+  const double* p = &t.cell_p[std::size_t(a) * np];
+  constexpr int kLine = 64 / sizeof(double);
+  for (int i = 0; i <= np; i += kLine) __builtin_prefetch(cdf + i);
+  __builtin_prefetch(cdf + np);
+  for (int i = 0; i < np; i += kLine) __builtin_prefetch(p + i);
+  __builtin_prefetch(p + np - 1);
+  return &t;
+}
+
 void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t end) const {
-  // Blocks: the draws (scalar: binary searches in the tables), then the block's BRDF values
-  // through the evaluator's batch path (or f per draw), then the weights.
+  // Blocks: the table rows the draws will search brought into the cache together (their misses
+  // overlap, where one draw after another waits for each in turn), the draws (scalar: binary
+  // searches in the tables), then the block's BRDF values through the evaluator's batch path (or
+  // f per draw), then the weights.
   constexpr std::size_t kBlock = 256;
   double v[6][kBlock], f[3][kBlock], p[kBlock];
+  const Table* tables[kBlock];
   for (std::size_t base = begin; base < end; base += kBlock) {
     const std::size_t m = std::min(kBlock, end - base);
     for (std::size_t l = 0; l < m; ++l) {
       const std::size_t k = base + l;
+      tables[l] = prefetch_rows(io.wo[2][k * io.wo_stride], io.u[0][k * io.u_stride]);
+    }
+    for (std::size_t l = 0; l < m; ++l) {
+      const std::size_t k = base + l;
       const Vec3 o{io.wo[0][k * io.wo_stride], io.wo[1][k * io.wo_stride],
                    io.wo[2][k * io.wo_stride]};
-      const BrdfSample s = sample(o, io.u[0][k * io.u_stride], io.u[1][k * io.u_stride]);
+      // sample(): its table is tables[l] (null where wo is at or below the horizon).
+      const BrdfSample s = tables[l] == nullptr ? BrdfSample{}
+                                                : sample_in(*tables[l], o, io.u[0][k * io.u_stride],
+                                                            io.u[1][k * io.u_stride]);
       const bool ok = s.valid && s.pdf > 0;
       v[0][l] = ok ? s.wi.x : 0.0;
       v[1][l] = ok ? s.wi.y : 0.0;

@@ -67,6 +67,46 @@ def test_info_equals_cbrdf_info_json(work, model):
     assert cbrdf.decode(data).info == dict(model.info, file=None) == cbrdf.info(data)
 
 
+def test_residual_layer_matches_the_command_and_keeps_its_bound(work, tmp_path):
+    out = tmp_path / "e.cbrdf"
+    run_cli("encode", work / "plastic.binary", "-o", out, "--bits", "8", "--max-error", "0.02",
+            "--no-metrics")
+    data = cbrdf.encode(work / "plastic.binary", bits=8, max_error=0.02)
+    assert data == out.read_bytes()
+    info = cbrdf.info(data)
+    assert info == dict(cli_json("info", "--json", str(out)), file=None)
+    assert info["version"] == [1, 2]
+    assert info["residual"]["mode"] == 0 and info["residual"]["max_error"] == 0.02
+    assert 0 < info["residual"]["stored_bytes"] < info["bytes"]
+    src = cbrdf.read_merl(work / "plastic.binary", units="stored")
+    dec = cbrdf.decode(data).table(units="stored")
+    measured = src >= 0
+    assert np.array_equal(np.isnan(dec) | (dec < 0), ~measured)
+    k = info["residual"]["knee"]
+    err = np.abs(np.log1p(dec[measured] / k) - np.log1p(src[measured] / k))
+    assert err.max() <= 0.02 * (1 + 1e-9)
+    assert "residual" not in cbrdf.info(work / "plastic.cbrdf")
+
+
+def test_lossless_decodes_to_the_source_bit_for_bit(work):
+    data = cbrdf.encode(work / "plastic.binary", bits=8, lossless=True)
+    assert cbrdf.info(data)["residual"]["mode"] == 1
+    back = cbrdf.merl_bytes(cbrdf.decode(data).table(units="stored"), units="stored")
+    assert back == (work / "plastic.binary").read_bytes()
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(max_error=1e-7), "max-error must be 1e-06 to 16"),
+    (dict(max_error=float("nan")), "max_error must be a number above 0"),
+    (dict(max_error=-1), "max_error must be a number above 0"),
+    (dict(max_error=0.01, lossless=True), "exclude each other"),
+])
+def test_residual_options_are_checked(work, kwargs, message):
+    with pytest.raises(cbrdf.Error, match=message) as e:
+        cbrdf.encode(work / "plastic.binary", **kwargs)
+    assert e.value.exit_code == 2
+
+
 def test_slices_carry_families_and_parameters(model):
     info = model.info
     assert len(model.slices) == len(info["slices"])

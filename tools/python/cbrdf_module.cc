@@ -35,6 +35,7 @@
 #include "cbrdf/samples.h"
 #include "cbrdf/sampling.h"
 #include "cbrdf/version.h"
+#include "info_json.h"
 
 namespace py = pybind11;
 
@@ -71,14 +72,6 @@ template <typename T>
 T take(Expected<T>&& e, const std::string& context = {}) {
   if (!e.ok()) raise_status(context.empty() ? e.status() : e.status().with_context(context));
   return std::move(e).value();
-}
-
-// Text that may hold bytes that are not UTF-8 (file names, metadata of old files): invalid
-// bytes become U+FFFD, as `cbrdf info --json` prints them.
-py::str utf8(const std::string& s) {
-  PyObject* o = PyUnicode_DecodeUTF8(s.data(), Py_ssize_t(s.size()), "replace");
-  if (o == nullptr) throw py::error_already_set();
-  return py::reinterpret_steal<py::str>(o);
 }
 
 std::vector<std::uint8_t> bytes_of(const py::buffer& b) {
@@ -235,88 +228,13 @@ PyTable read_table(const std::string& path) {
   return t;
 }
 
-// ---- Info dictionaries (exactly `cbrdf info --json`) ----------------------------------------
+// ---- Info dictionaries (exactly `cbrdf info --json`: the command's own builder) -------------
 
-template <typename T>
-py::list list_of(std::initializer_list<T> values) {
-  py::list l;
-  for (const T& v : values) l.append(v);
-  return l;
-}
-
-py::dict container_info_dict(const ContainerInfo& info, std::size_t evaluator_bytes,
-                             const py::object& file) {
-  py::dict j;
-  j["file"] = file;
-  j["format"] = "cbrdf";
-  j["version"] = list_of({info.layout.major, info.layout.minor});
-  j["bytes"] = info.layout.file_bytes;
-  py::list chunks;
-  for (const ChunkInfo& c : info.layout.chunks) {
-    py::dict d;
-    d["tag"] = utf8(c.tag);
-    d["offset"] = c.offset;
-    d["stored_bytes"] = c.stored_bytes;
-    d["payload_bytes"] = c.payload_bytes;
-    d["compressed"] = c.compressed;
-    d["critical"] = c.critical;
-    d["known"] = c.known;
-    chunks.append(d);
-  }
-  if (!chunks.empty()) j["chunks"] = chunks;
-  j["bits"] = info.bits;
-  j["colour_scale"] = list_of({info.colour_scale[0], info.colour_scale[1], info.colour_scale[2]});
-  j["not_measured_bins"] = info.not_measured_bins;
-  j["evaluator_bytes"] = evaluator_bytes;
-  py::list slices;
-  for (const SliceParams& s : info.slices) {
-    py::dict js;
-    js["theta_d_bins"] = list_of({s.theta_d_begin, s.theta_d_end});
-    py::list channels;
-    for (std::size_t c = 0; c < std::size_t(kChannels); ++c) {
-      py::dict jc;
-      jc["family"] = std::string(family_name(s.family[c]));
-      jc["theta"] = s.theta[c];
-      jc["scale"] = s.scale[c];
-      jc["components"] = s.components[c];
-      channels.append(jc);
-    }
-    js["channels"] = channels;
-    slices.append(js);
-  }
-  if (!slices.empty()) j["slices"] = slices;
-  if (!info.metadata.empty()) {
-    py::dict meta;
-    for (const auto& [k, v] : info.metadata) meta[utf8(k)] = utf8(v);
-    j["metadata"] = meta;
-  }
-  return j;
-}
-
-py::dict merl_info_dict(const BrdfTable& table, const MerlInfo& mi, const py::object& file) {
-  const MerlStats st = merl_stats(table);
-  const HorizonMaskCheck hm = check_horizon_mask(table);
-  static const char* kNames[] = {"R", "G", "B"};
-  py::dict j;
-  j["file"] = file;
-  j["format"] = "merl";
-  j["dims"] = list_of({mi.dims[0], mi.dims[1], mi.dims[2]});
-  j["folded_from_360"] = mi.folded_from_360;
-  j["mask_matches_horizon"] = hm.matches();
-  py::dict channels;
-  for (std::size_t c = 0; c < std::size_t(kChannels); ++c) {
-    const MerlChannelStats& s = st.channel[c];
-    py::dict d;
-    d["measured"] = s.measured;
-    d["not_measured"] = s.not_measured;
-    d["zeros"] = s.zeros;
-    d["min"] = s.min;
-    d["max"] = s.max;
-    d["mean"] = s.mean;
-    channels[kNames[c]] = d;
-  }
-  j["channels"] = channels;
-  return j;
+// `j` as a Python dict through its JSON text, with "file" set.
+py::dict info_dict(const nlohmann::json& j, const py::object& file) {
+  py::dict d = py::module_::import("json").attr("loads")(cli::dump_json(j, -1));
+  d["file"] = file;
+  return d;
 }
 
 bool is_container(const std::vector<std::uint8_t>& bytes) {
@@ -331,11 +249,11 @@ py::dict info_of_bytes(const std::vector<std::uint8_t>& bytes, const std::string
     ContainerInfo info;
     auto model = take(decode_model(bytes, &info), name);
     const std::size_t evaluator_bytes = ModelEvaluator(std::move(model)).footprint_bytes();
-    return container_info_dict(info, evaluator_bytes, file);
+    return info_dict(cli::container_info_json(info, evaluator_bytes), file);
   }
   MerlInfo mi;
   auto table = take(parse_merl(bytes, name, {}, &mi));
-  return merl_info_dict(table, mi, file);
+  return info_dict(cli::merl_info_json(table, mi), file);
 }
 
 // ---- Directions -----------------------------------------------------------------------------
@@ -751,7 +669,7 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
                  const py::object& slices, const std::string& family, const std::string& loss,
                  int level, const std::string& placement, bool naive_marginals, int threads,
                  const py::object& target_bytes, const py::object& target_psnr,
-                 const py::object& source_name) {
+                 const py::object& max_error, bool lossless, const py::object& source_name) {
   EncoderOptions o;
   o.slices = count_text(slices, "slices");
   o.components = count_text(components, "components");
@@ -766,6 +684,8 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
   o.naive_marginals = naive_marginals;
   o.threads = threads;
   o.source_name = source_name.is_none() ? t.source_name : source_name.cast<std::string>();
+  if (!max_error.is_none()) o.max_error = target_value(max_error, "max_error", 16.0, "16");
+  o.lossless = lossless;
   RateTarget target;
   if (!target_bytes.is_none() && !target_psnr.is_none()) {
     raise_invalid("give target_bytes or target_psnr, not both", 2);
@@ -798,7 +718,8 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
       if (!st->fit.auto_components && st->fit.components > 1) {
         target.max_components = st->fit.components;
       }
-      auto r = encode_to_target(t.table, *st, target);
+      // The whole ladder, as `cbrdf encode --target-*`: the model, then model + residual.
+      auto r = encode_to_target_ladder(t.table, *st, target);
       bytes = r.ok() ? Expected<std::vector<std::uint8_t>>(std::move(r->encoded.bytes))
                      : Expected<std::vector<std::uint8_t>>(r.status());
     }
@@ -1007,7 +928,8 @@ PYBIND11_MODULE(_cbrdf, m) {
   m.def("_encode", &encode, py::arg("table"), py::arg("bits"), py::arg("components"),
         py::arg("slices"), py::arg("family"), py::arg("loss"), py::arg("level"),
         py::arg("placement"), py::arg("naive_marginals"), py::arg("threads"),
-        py::arg("target_bytes"), py::arg("target_psnr"), py::arg("source_name"));
+        py::arg("target_bytes"), py::arg("target_psnr"), py::arg("max_error"), py::arg("lossless"),
+        py::arg("source_name"));
 
   m.def("_sphere_metrics", &sphere_metrics, py::arg("reference"), py::arg("test"), py::arg("size"),
         py::arg("light_angles"));
@@ -1041,8 +963,9 @@ PYBIND11_MODULE(_cbrdf, m) {
       .def_property_readonly("info",
                              [](PyModel& self) {
                                auto ev = self.ev();
-                               return container_info_dict(self.info(), ev->footprint_bytes(),
-                                                          self.file);
+                               return info_dict(
+                                   cli::container_info_json(self.info(), ev->footprint_bytes()),
+                                   self.file);
                              })
       .def_property_readonly("file", [](const PyModel& self) { return self.file; })
       .def_property_readonly("closed", [](const PyModel& self) { return !self.evaluator; })

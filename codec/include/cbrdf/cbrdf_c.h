@@ -130,7 +130,23 @@ typedef struct cbrdf_model_info {
   int bits;                   /* bits per quantized marginal value, 6 to 16 */
   uint64_t file_bytes;        /* size of the .cbrdf file */
   uint64_t not_measured_bins; /* (channel, bin) pairs marked not measured, over all channels */
+  /* Since 1.4: the residual layer (container 1.2, chunk RESD; spec/container.md 4.6). */
+  int residual_mode;         /* CBRDF_RESIDUAL_NONE, _BOUNDED, _LOSSLESS or _ROW_BOUNDED */
+  double residual_max_error; /* _BOUNDED, _ROW_BOUNDED: every measured bin decodes within this
+                                bound of the source, |log1p(decoded / k) - log1p(source / k)|
+                                on stored values; 0 otherwise */
+  double residual_min_error; /* _ROW_BOUNDED: the finest row's bound; _BOUNDED: max_error */
+  double residual_knee;      /* k of that bound, in stored units (0 without a bounded layer) */
+  uint64_t residual_bytes;   /* stored bytes of the RESD chunk (0 without one) */
 } cbrdf_model_info;
+
+/* cbrdf_model_info.residual_mode */
+#define CBRDF_RESIDUAL_NONE (-1)
+#define CBRDF_RESIDUAL_BOUNDED 0
+#define CBRDF_RESIDUAL_LOSSLESS 1
+/* A bound per (theta_h, theta_d) row, coarser where a bin weighs less in rendering (written by
+ * the rate control: cbrdf_encode_settings.max_error always writes _BOUNDED). */
+#define CBRDF_RESIDUAL_ROW_BOUNDED 2
 
 /* Fills *info (see cbrdf_model_info). Returns CBRDF_OK, or CBRDF_ERROR_INVALID_ARGUMENT when model
  * or info is NULL or info->struct_size is smaller than the first version of the struct. */
@@ -272,6 +288,12 @@ typedef struct cbrdf_encode_settings {
   int components;       /* copula components per slice and channel, 1 to 8 (1, the paper's) */
   int family;           /* a cbrdf_family, CBRDF_FAMILY_AUTO included (CBRDF_FAMILY_FRANK) */
   int threads;          /* fitting threads, 0 (one per core) to 256 (1); results are identical */
+  /* Since 1.4: the residual layer (container 1.2; spec/container.md 4.6). */
+  double max_error; /* > 0: every measured bin decodes within this bound of the source,
+                       |log1p(decoded / k) - log1p(source / k)| <= max_error on stored values
+                       with k = 1e-4 (a relative bound), 1e-6 to 16; 0 (the default): none */
+  int lossless;     /* 1: the decoded table equals the source bit for bit (excludes
+                       max_error); 0 (the default): not */
 } cbrdf_encode_settings;
 
 /* Sets every field to its default (as `cbrdf encode` without options, except threads = 1) and

@@ -63,7 +63,8 @@ class CBRDF_EXPORT BrdfSampler {
   BrdfSampler(BrdfSampler&&) noexcept;
   BrdfSampler& operator=(BrdfSampler&&) noexcept;
 
-  // Draws wi for a unit wo (local frame, z = normal) from u1, u2 in [0, 1).
+  // Draws wi for a unit wo (local frame, z = normal) from u1, u2 in [0, 1) (clamped into it; a
+  // NaN u1 or u2 gives a rejected sample, valid = false).
   BrdfSample sample(const Vec3& wo, double u1, double u2) const;
   // The density of sample() per unit solid angle of wi; 0 when wo or wi is at or below the horizon.
   double pdf(const Vec3& wo, const Vec3& wi) const;
@@ -93,6 +94,12 @@ class CBRDF_EXPORT BrdfSampler {
                                         const SamplerSettings&);
   const Table& table_for(double cos_theta_o) const;
   void sample_chunk(const BatchIo& io, std::size_t begin, std::size_t end) const;
+  // The table of wo_z (null at or below the horizon), with the row a draw of sample() at
+  // (wo_z, u1) will search prefetched (sample_chunk).
+  const Table* prefetch_rows(double wo_z, double u1) const;
+  // sample() and pdf() with wo's table t (wo.z > 0; for pdf_in wi.z > 0 too).
+  BrdfSample sample_in(const Table& t, const Vec3& wo, double u1, double u2) const;
+  double pdf_in(const Table& t, const Vec3& wo, const Vec3& wi) const;
   double table_pdf(const Table& t, const Vec3& wo, const Vec3& wi) const;
 
   BrdfFn f_;

@@ -289,6 +289,7 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
            family: str = "frank", loss: str = "linear", level: int = 19,
            placement: str = "uniform", naive_marginals: bool = False, threads: int = 0,
            target_bytes: float | None = None, target_psnr: float | None = None,
+           max_error: float | None = None, lossless: bool = False,
            mask: _Any = None, source_name: str | None = None) -> bytes:
     """Fit the copula model to a table and return the bytes of a .cbrdf file.
 
@@ -315,7 +316,15 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
         target_bytes: search slices, components and bits for the best tone-mapped
             sphere PSNR within this many bytes (``--target-bytes``).
         target_psnr: search for the fewest bytes reaching this tone-mapped PSNR
-            in dB (``--target-psnr``).  Give at most one target.
+            in dB (``--target-psnr``).  Give at most one target.  Either target
+            searches the whole ladder: the model alone, then the model plus the
+            residual layer (container 1.2) when the model cannot reach it.
+        max_error: add the residual layer: every measured bin decodes within this
+            bound, ``|log1p(decoded / k) - log1p(source / k)| <= max_error`` on
+            stored values with k = 1e-4 (a relative bound, 1e-6 to 16;
+            ``--max-error``).
+        lossless: add the residual layer that makes the decoded table equal to the
+            source bit for bit (``--lossless``; excludes ``max_error``).
         mask: with an array, True where a bin was not measured.
         source_name: recorded in the file's metadata; defaults to the input file's
             name (as ``cbrdf encode`` records it), or nothing for arrays.
@@ -331,7 +340,8 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
     """
     t = _to_table(table, mask)
     return _cbrdf._encode(t, bits, components, slices, family, loss, level, placement,
-                          bool(naive_marginals), threads, target_bytes, target_psnr, source_name)
+                          bool(naive_marginals), threads, target_bytes, target_psnr, max_error,
+                          bool(lossless), source_name)
 
 
 class Component:

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -74,6 +75,19 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   CBRDF_RETURN_IF_ERROR(
       check_range("family", s.family, CBRDF_FAMILY_AUTO, int(CopulaFamily::kJoe)));
   CBRDF_RETURN_IF_ERROR(check_range("threads", s.threads, 0, 256));
+  CBRDF_RETURN_IF_ERROR(check_range("lossless", s.lossless, 0, 1));
+  if (s.max_error != 0 && !(s.max_error >= 1e-6 && s.max_error <= 16)) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", s.max_error);
+    return invalid_argument(
+        std::string("cbrdf_encode_settings.max_error must be 1e-06 to 16 (or 0: "
+                    "no residual layer), not ") +
+        text);
+  }
+  if (s.lossless != 0 && s.max_error != 0) {
+    return invalid_argument(
+        "cbrdf_encode_settings.max_error and .lossless exclude each other (lossless has no error)");
+  }
 
   EncoderSettings out;
   out.auto_bits.enabled = s.bits == CBRDF_BITS_AUTO;
@@ -88,6 +102,8 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   }
   // 0: one thread per core, as `cbrdf encode --threads 0`.
   out.fit.threads = s.threads > 0 ? s.threads : thread_limit();
+  out.residual.max_error = s.max_error;
+  out.residual.lossless = s.lossless != 0;
   return out;
 }
 
