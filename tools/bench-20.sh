@@ -29,7 +29,8 @@
 #   smp1 x, smp2 x  scalar sampling loop / batch sampling on 1 and 2 threads (BM_SampleScalar /
 #                   BM_SampleBatch/1, /2)
 #   enc s           default encode, all cores (BM_Default)
-#   tbyt x, tpsn x  --target-bytes 4000 and --target-psnr 45 over the default encode (target <= 5)
+#   tb3k x, tb12k x --target-bytes 3000 and 12000 over the default encode, wall time (target <= 5)
+#   tp45 x, tp50 x  --target-psnr 45 and 50 (tone-mapped dB) over the default encode
 #   k4 s            --components 4 encode (target < 2)
 #   rmod s          `cbrdf render` of the figure-4 layout, every sphere in the material, one thread,
 #                   from the default .cbrdf (best of 3; 1320x240, one sample per pixel)
@@ -121,7 +122,7 @@ render_s() {  # SCENE.json
 }
 
 EVAL_FILTER='BM_(EvalModel|EvalModel4|EvalBatch|SampleScalar|SampleBatch|LookupMeasuredNearest)(/|$)'
-ENC_FILTER='BM_(Default|TargetBytes4000|TargetPsnr45|Components4)/'
+ENC_FILTER='BM_(Default|TargetBytes(3000|12000)|TargetPsnr(45|50)|Components4)/'
 start=$(date +%s)
 for m in "${MATERIALS[@]}"; do
   t0=$(date +%s)
@@ -160,7 +161,8 @@ def find(bs, name):
     # Names as Google Benchmark prints them: BM_EvalBatch/1/real_time, BM_Default/nickel/...
     for b in bs:
         parts = b["name"].split("/")
-        key = "/".join(p for p in parts if p != "real_time" and not p.startswith("iterations:"))
+        key = "/".join(p for p in parts
+                       if p not in ("real_time", "process_time") and not p.startswith("iterations:"))
         if key == name:
             return b
     return None
@@ -179,7 +181,8 @@ def seconds(b):
 COLS = [("eval1 ns", "%.0f", True), ("eval4 ns", "%.0f", True), ("near ns", "%.0f", True),
         ("near/e1", "%.2f", False), ("near/e4", "%.2f", False), ("bat1 x", "%.2f", False),
         ("bat2 x", "%.2f", False), ("smp1 x", "%.2f", False), ("smp2 x", "%.2f", False),
-        ("enc s", "%.2f", True), ("tbyt x", "%.2f", True), ("tpsn x", "%.2f", True),
+        ("enc s", "%.2f", True), ("tb3k x", "%.2f", True), ("tb12k x", "%.2f", True),
+        ("tp45 x", "%.2f", True), ("tp50 x", "%.2f", True),
         ("k4 s", "%.2f", True), ("rmod s", "%.3f", True), ("rnear s", "%.3f", True),
         ("rtri s", "%.3f", True), ("mod/near", "%.2f", True), ("mod/tri", "%.2f", True),
         ("foot B", "%.0f", True), ("tab/foot", "%.0f", False)]
@@ -195,14 +198,16 @@ for m in materials:
     ss = ns_per_pair(ev, "BM_SampleScalar")
     s1, s2 = ns_per_pair(ev, "BM_SampleBatch/1"), ns_per_pair(ev, "BM_SampleBatch/2")
     enc = seconds(find(en, f"BM_Default/{m}"))
-    tb = seconds(find(en, f"BM_TargetBytes4000/{m}"))
+    tb = seconds(find(en, f"BM_TargetBytes3000/{m}"))
+    tb12 = seconds(find(en, f"BM_TargetBytes12000/{m}"))
     tp = seconds(find(en, f"BM_TargetPsnr45/{m}"))
+    tp50 = seconds(find(en, f"BM_TargetPsnr50/{m}"))
     k4 = seconds(find(en, f"BM_Components4/{m}"))
     fb = find(ev, "BM_EvalModel")
     foot = fb.get("footprint_bytes", math.nan) if fb else math.nan
     rm, rn, rt = (float(render[k]) for k in ("model", "nearest", "trilinear"))
     rows.append((m, [e1, e4, near, near / e1, near / e4, e1 / b1, e1 / b2, ss / s1, ss / s2,
-                     enc, tb / enc, tp / enc, k4, rm, rn, rt, rm / rn, rm / rt, foot,
+                     enc, tb / enc, tb12 / enc, tp / enc, tp50 / enc, k4, rm, rn, rt, rm / rn, rm / rt, foot,
                      TABLE_BYTES / foot]))
 
 def cell(fmt, v):
