@@ -1132,6 +1132,26 @@ static cbrdf_model* encode_and_open(const double* table, const cbrdf_encode_sett
   return m;
 }
 
+/* A golden 1.2 file's description: its size, the residual's mode, bounds and chunk bytes (knee
+ * 1e-4). */
+static void check_residual_golden(const char* file, uint64_t file_bytes, int mode, double max_error,
+                                  double min_error, uint64_t residual_bytes) {
+  char path[512];
+  cbrdf_model_info info;
+  cbrdf_model* m;
+  snprintf(path, sizeof path, "%s%s", GOLDEN_DIR, file);
+  m = cbrdf_model_open_file(path);
+  CHECK(m != NULL);
+  if (m == NULL) return;
+  info.struct_size = sizeof info;
+  CHECK_STATUS(cbrdf_model_get_info(m, &info), CBRDF_OK);
+  CHECK(info.version_minor == 2 && info.file_bytes == file_bytes);
+  CHECK(info.residual_mode == mode);
+  CHECK(info.residual_max_error == max_error && info.residual_min_error == min_error);
+  CHECK(info.residual_knee == 1e-4 && info.residual_bytes == residual_bytes);
+  cbrdf_model_free(m);
+}
+
 static void test_residual(const double* table) {
   const size_t count = cbrdf_merl_table_size();
   double* decoded = (double*)malloc(count * sizeof(double));
@@ -1144,31 +1164,12 @@ static void test_residual(const double* table) {
   CHECK(decoded != NULL);
   if (decoded == NULL) return;
 
-  /* The golden 1.2 file, as `cbrdf info --json` describes it. */
-  m = cbrdf_model_open_file(GOLDEN_DIR "v1.2-residual-frank6-b10.cbrdf");
-  CHECK(m != NULL);
-  if (m != NULL) {
-    info.struct_size = sizeof info;
-    CHECK_STATUS(cbrdf_model_get_info(m, &info), CBRDF_OK);
-    CHECK(info.version_minor == 2 && info.file_bytes == 6478);
-    CHECK(info.residual_mode == CBRDF_RESIDUAL_BOUNDED);
-    CHECK(info.residual_max_error == 0.004 && info.residual_knee == 1e-4);
-    CHECK(info.residual_bytes == 3073);
-    CHECK(info.residual_min_error == 0.004);
-    cbrdf_model_free(m);
-  }
-  /* A bound per row: the coarsest row's and the finest row's. */
-  m = cbrdf_model_open_file(GOLDEN_DIR "v1.2-residual-rows-frank6-b10.cbrdf");
-  CHECK(m != NULL);
-  if (m != NULL) {
-    info.struct_size = sizeof info;
-    CHECK_STATUS(cbrdf_model_get_info(m, &info), CBRDF_OK);
-    CHECK(info.version_minor == 2 && info.file_bytes == 6583);
-    CHECK(info.residual_mode == CBRDF_RESIDUAL_ROW_BOUNDED);
-    CHECK(info.residual_max_error == 0.128 && info.residual_min_error == 0.004);
-    CHECK(info.residual_knee == 1e-4 && info.residual_bytes == 3173);
-    cbrdf_model_free(m);
-  }
+  /* The golden 1.2 files, as `cbrdf info --json` describes them: one bound, and a bound per row
+   * (the coarsest row's and the finest row's). */
+  check_residual_golden("v1.2-residual-frank6-b10.cbrdf", 6478, CBRDF_RESIDUAL_BOUNDED, 0.004,
+                        0.004, 3073);
+  check_residual_golden("v1.2-residual-rows-frank6-b10.cbrdf", 6583, CBRDF_RESIDUAL_ROW_BOUNDED,
+                        0.128, 0.004, 3173);
 
   /* Out of range, or both: refused before any work, naming the field. */
   cbrdf_encode_settings_init(&s);

@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
 // `cbrdf encode`: MERL .binary -> .cbrdf.
-#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -78,10 +77,10 @@ Expected<EncodeResult> encode(const BrdfTable& table, const EncoderSettings& st,
   if (!rc.ok()) return rc.status();
   if (!ctx.quiet) {
     char residual_text[96] = "";
-    const std::vector<std::uint8_t>& shifts = rc->encoded.model.residual.row_shift;
-    if (rc->chosen.max_error > 0 && !shifts.empty()) {
+    const Residual& r = rc->encoded.model.residual;
+    if (rc->chosen.max_error > 0 && !r.row_shift.empty()) {
       // Steps per row: no option writes this file again, so name the bounds, not an option.
-      const int top = *std::max_element(shifts.begin(), shifts.end());
+      const int top = r.max_row_shift();
       std::snprintf(residual_text, sizeof residual_text,
                     " and a residual layer bounded per row (%.3g to %.3g)", rc->chosen.max_error,
                     std::ldexp(rc->chosen.max_error, top));
@@ -145,8 +144,7 @@ void print_residual(const EncodeResult& result, std::FILE* info) {
     return;
   }
   // Steps per row (--target-psnr, --target-bytes): the bound over every bin is the coarsest row's.
-  const int top =
-      r.row_shift.empty() ? 0 : *std::max_element(r.row_shift.begin(), r.row_shift.end());
+  const int top = r.max_row_shift();
   std::fprintf(info,
                "residual layer: |log1p(decoded / k) - log1p(source / k)| <= %g on every measured "
                "bin (k = %g; checked), %u bytes, %zu bins stored exactly\n",

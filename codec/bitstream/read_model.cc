@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 // decode_model and inspect_container: the container parser, then each chunk's payload parser,
 // with every error prefixed by the chunk's tag and file offset.
-#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <string>
@@ -66,12 +65,8 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
                            : res.row_shift.empty() ? kResidualModeLog
                                                    : kResidualModeRows;
     // Mode 2: the bound over every bin is the coarsest row's; the finest row's beside it.
-    const int top =
-        res.row_shift.empty() ? 0 : *std::max_element(res.row_shift.begin(), res.row_shift.end());
-    const int low =
-        res.row_shift.empty() ? 0 : *std::min_element(res.row_shift.begin(), res.row_shift.end());
-    d.info.residual_max_error = std::ldexp(res.max_error, top);
-    d.info.residual_min_error = std::ldexp(res.max_error, low);
+    d.info.residual_max_error = std::ldexp(res.max_error, res.max_row_shift());
+    d.info.residual_min_error = std::ldexp(res.max_error, res.min_row_shift());
     d.info.residual_knee = d.model.residual.knee;
     d.info.residual_escapes = d.model.residual.escapes.size();
   }

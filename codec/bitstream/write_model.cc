@@ -56,7 +56,7 @@ Status check_residual(const Model& model) {
     return invalid("residual knee " + number_text(r.knee) + " is outside 1e-12..1e12");
   }
   if (!r.row_shift.empty()) {
-    const std::uint8_t top = *std::max_element(r.row_shift.begin(), r.row_shift.end());
+    const int top = r.max_row_shift();
     if (r.row_shift.size() != kResidualRows || top > kMaxResidualShift ||
         std::ldexp(r.max_error, top) > kMaxResidualError) {
       return invalid("the residual's row shifts (" + std::to_string(r.row_shift.size()) +

@@ -33,6 +33,14 @@ constexpr double kMaxEvaluatedParameter = 1e300;
 
 }  // namespace
 
+int Residual::max_row_shift() const {
+  return row_shift.empty() ? 0 : *std::max_element(row_shift.begin(), row_shift.end());
+}
+
+int Residual::min_row_shift() const {
+  return row_shift.empty() ? 0 : *std::min_element(row_shift.begin(), row_shift.end());
+}
+
 std::size_t NotMeasured::count() const {
   std::size_t n = 0;
   for (std::uint64_t w : bits) n += std::size_t(__builtin_popcountll(w));

@@ -92,6 +92,10 @@ struct CBRDF_EXPORT Residual {
   // and bound are step and max_error times 2^row_shift[r]; empty: one step for every bin.
   std::vector<std::uint8_t> row_shift;
   bool present() const { return max_error > 0.0 || exact != nullptr; }
+  // The largest and smallest row shift (0 without row steps): the bound over every bin is
+  // max_error x 2^max_row_shift(), the finest row's max_error x 2^min_row_shift().
+  int max_row_shift() const;
+  int min_row_shift() const;
   // The step of MERL index i (any channel).
   double step_at(std::size_t i) const {
     return row_shift.empty() ? step : std::ldexp(step, row_shift[i / std::size_t{kPhiDBins}]);
