@@ -1170,6 +1170,9 @@ static void test_residual(const double* table) {
                         0.004, 3073);
   check_residual_golden("v1.2-residual-rows-frank6-b10.cbrdf", 6583, CBRDF_RESIDUAL_ROW_BOUNDED,
                         0.128, 0.004, 3173);
+  /* Interpolated levels: the coarsest row's bound 0.128 times the finest multiplier 4. */
+  check_residual_golden("v1.2-residual-interp-frank6-b10.cbrdf", 7860, CBRDF_RESIDUAL_INTERPOLATED,
+                        0.512, 0.004, 4449);
 
   /* Out of range, or both: refused before any work, naming the field. */
   cbrdf_encode_settings_init(&s);

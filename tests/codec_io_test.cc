@@ -17,6 +17,7 @@
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/version.h"
+#include "residual_levels.h"
 #include "synthetic_model.h"
 #include "test_support.h"
 
@@ -375,6 +376,12 @@ std::uint64_t model_hash(const Model& m) {
     // Mode 2's row steps only when present, so that mode 0 files' hashes stay.
     if (!m.residual.row_shift.empty())
       add(m.residual.row_shift.data(), m.residual.row_shift.size());
+    // Mode 3's fields and its rebuilt residual (the normative reconstruction) when present.
+    if (m.residual.interpolated()) {
+      add(&m.residual.levels, 1);
+      add(&m.residual.fine_multiplier, 1);
+      add(m.residual.values.data(), m.residual.values.size() * 8);
+    }
   }
   const std::uint64_t h = XXH64_digest(st);
   XXH64_freeState(st);
@@ -461,6 +468,28 @@ Model golden_rows6() {
   return m;
 }
 
+// Version 1.2, RESD mode 3: golden_rows6's codes, plus codes at every coarsest-level bin of every
+// tenth theta_h slab, as corrections of an interpolation over 3 levels, finest multiplier 4.
+Model golden_interp6() {
+  Model m = golden_rows6();
+  Residual& r = m.residual;
+  r.levels = 3;
+  r.fine_multiplier = 4;
+  for (int c = 0; c < kChannels; ++c) {
+    for (int h = 0; h < kThetaHBins; h += 10) {
+      for (int d = 0; d < kThetaDBins; d += 8) {
+        for (int p = 0; p < kPhiDBins; p += 8) {
+          const std::size_t i = merl_index(h, d, p);
+          if (m.not_measured.test(c, i)) continue;
+          r.codes[std::size_t(c) * kBinsPerChannel + i] = (h + d + p + c) % 7 - 3;
+        }
+      }
+    }
+  }
+  internal::rebuild_interpolated(&r);
+  return m;
+}
+
 const Golden kGolden[] = {
     {"v1.0-frank6-b10.cbrdf", 0x9fe1a1553716af4dull, 10, golden_frank6},
     {"v1.0-mixed2-b16.cbrdf", 0xd135c0c5b1901d9cull, 16, golden_mixed2},
@@ -468,6 +497,7 @@ const Golden kGolden[] = {
     {"v1.1-mixture3-b12.cbrdf", 0x1a5a936090db3f8dull, 12, golden_mixture3},
     {"v1.2-residual-frank6-b10.cbrdf", 0x46a06259c1d7b4a3ull, 10, golden_residual6},
     {"v1.2-residual-rows-frank6-b10.cbrdf", 0xb907f23340054a63ull, 10, golden_rows6},
+    {"v1.2-residual-interp-frank6-b10.cbrdf", 0x49cdd9ea37766a5dull, 10, golden_interp6},
 };
 
 std::vector<std::uint8_t> read_bytes(const std::filesystem::path& p) {
@@ -517,6 +547,7 @@ TEST(CodecIoGolden, CommittedFilesDecodeToRecordedModels) {
           << "the encoder's " << tag << " payload changed";
     }
     EXPECT_EQ(decoded->residual.codes, built.residual.codes);
+    EXPECT_EQ(decoded->residual.values, built.residual.values);
     const std::uint64_t h = model_hash(*decoded);
     if (regenerate) std::printf("%s 0x%016llxull\n", g.name, static_cast<unsigned long long>(h));
     EXPECT_EQ(h, g.hash) << std::hex << "decoded hash 0x" << h

@@ -26,6 +26,7 @@
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/model.h"
+#include "eval/interp_tables.h"
 #include "heap_meter.h"
 #include "synthetic_model.h"
 #include "test_support.h"
@@ -396,24 +397,30 @@ TEST(ModelEval, BatchEqualsEvalBitForBit) {
       const float fi[3] = {xf[0][k], xf[1][k], xf[2][k]}, fo[3] = {xf[3][k], xf[4][k], xf[5][k]};
       ev.eval_f32(fi, fo, &want_f[3 * k]);
     }
-    for (int threads : {1, 2, 0}) {
-      std::vector<double> r(n), g(n), b(n), rgb(3 * n);
-      ev.eval_batch(n, x[0].data(), x[1].data(), x[2].data(), x[3].data(), x[4].data(), x[5].data(),
-                    r.data(), g.data(), b.data(), threads);
-      ev.eval_batch(n, wi3.data(), wo3.data(), rgb.data(), threads);
-      std::vector<float> rf(n), gf(n), bf(n);
-      ev.eval_batch_f32(n, xf[0].data(), xf[1].data(), xf[2].data(), xf[3].data(), xf[4].data(),
-                        xf[5].data(), rf.data(), gf.data(), bf.data(), threads);
-      int differ = 0, differ_f = 0;
-      for (std::size_t k = 0; k < n; ++k) {
-        const double soa[3] = {r[k], g[k], b[k]};
-        const float soa_f[3] = {rf[k], gf[k], bf[k]};
-        differ += std::memcmp(soa, &want[3 * k], sizeof soa) != 0;
-        differ += std::memcmp(&rgb[3 * k], &want[3 * k], sizeof soa) != 0;
-        differ_f += std::memcmp(soa_f, &want_f[3 * k], sizeof soa_f) != 0;
+    // Every kernel this CPU runs (AVX-512, AVX2, the baseline), then the automatic choice.
+    for (eval::BatchTarget target : {eval::BatchTarget::kAvx512, eval::BatchTarget::kAvx2,
+                                     eval::BatchTarget::kBaseline, eval::BatchTarget::kAuto}) {
+      if (!eval::set_batch_target(target)) continue;
+      SCOPED_TRACE(::testing::Message() << "batch target " << int(target));
+      for (int threads : {1, 2, 0}) {
+        std::vector<double> r(n), g(n), b(n), rgb(3 * n);
+        ev.eval_batch(n, x[0].data(), x[1].data(), x[2].data(), x[3].data(), x[4].data(),
+                      x[5].data(), r.data(), g.data(), b.data(), threads);
+        ev.eval_batch(n, wi3.data(), wo3.data(), rgb.data(), threads);
+        std::vector<float> rf(n), gf(n), bf(n);
+        ev.eval_batch_f32(n, xf[0].data(), xf[1].data(), xf[2].data(), xf[3].data(), xf[4].data(),
+                          xf[5].data(), rf.data(), gf.data(), bf.data(), threads);
+        int differ = 0, differ_f = 0;
+        for (std::size_t k = 0; k < n; ++k) {
+          const double soa[3] = {r[k], g[k], b[k]};
+          const float soa_f[3] = {rf[k], gf[k], bf[k]};
+          differ += std::memcmp(soa, &want[3 * k], sizeof soa) != 0;
+          differ += std::memcmp(&rgb[3 * k], &want[3 * k], sizeof soa) != 0;
+          differ_f += std::memcmp(soa_f, &want_f[3 * k], sizeof soa_f) != 0;
+        }
+        EXPECT_EQ(differ, 0) << "threads " << threads;
+        EXPECT_EQ(differ_f, 0) << "threads " << threads;
       }
-      EXPECT_EQ(differ, 0) << "threads " << threads;
-      EXPECT_EQ(differ_f, 0) << "threads " << threads;
     }
     ev.eval_batch(0, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr,
                   nullptr);  // n == 0 reads nothing

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <tuple>
 #include <utility>
@@ -12,6 +13,7 @@
 #include "cbrdf/fit.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/samples.h"
+#include "rate/secant.h"
 
 namespace cbrdf {
 namespace {
@@ -232,6 +234,90 @@ TEST(RateControl, UnreachableTargetsReportTheClosestAndBadTargetsAreRefused) {
             "max_components 0 is outside 1 to 8");
   EXPECT_EQ(encode_to_target(*table, base, {100, 0, 1, {}}).status().message(),
             "no slice counts to search");
+}
+
+// The residual's bound is searched by the secant on a curve like PSNR against log E: the crossing
+// is found in a few tries, every try stays in the range and, once bracketed, inside the bracket.
+TEST(RateControl, SecantFindsTheCrossingInAFewTries) {
+  const auto psnr = [](double x) { return 40.0 + 30.0 / (1.0 + std::exp(x + 3.0)); };
+  const double x_min = std::log(1e-5), x_max = 0.0;
+  for (const double goal : {42.0, 50.0, 65.0}) {
+    rate::Secant secant(x_min, x_max, -7.0);
+    double x = std::log(0.03), lo = x_min, hi = x_max;
+    int tries = 0;
+    bool found = false;
+    for (; tries < 8 && !found; ++tries) {
+      ASSERT_GE(x, x_min);
+      ASSERT_LE(x, x_max);
+      ASSERT_GT(x, lo - 1e-12) << "outside the bracket";
+      ASSERT_LT(x, hi + 1e-12) << "outside the bracket";
+      const double v = psnr(x);
+      const bool met = v >= goal;
+      found = met && v - goal <= 0.15;
+      (met ? lo : hi) = x;  // met at smaller x (PSNR falls with E)
+      secant.add(x, v, met);
+      const auto next = secant.next(goal + 0.05);
+      if (!found) {
+        ASSERT_TRUE(next.has_value()) << goal;
+        x = *next;
+      }
+    }
+    EXPECT_TRUE(found) << goal << " dB";
+    EXPECT_LE(tries, 5) << goal << " dB";
+  }
+  // Past the end of the range: the value at x_min misses, and nothing more is tried there.
+  rate::Secant secant(x_min, x_max, -7.0);
+  secant.add(x_min, 60.0, false);
+  EXPECT_FALSE(secant.next(100.0).has_value());
+  // A bracket narrower than kClose ends the search.
+  rate::Secant narrow(x_min, x_max, -7.0);
+  narrow.add(-3.0, 50.5, true);
+  narrow.add(-3.0 + 0.5 * rate::Secant::kClose, 49.5, false);
+  EXPECT_FALSE(narrow.next(50.0).has_value());
+}
+
+// The whole ladder at a PSNR beyond what mixtures add to the one-component rows: no mixture is
+// fitted, and the residual layer goes on the one-component model at the settings' slice count;
+// the file reaches the target and is what was measured. A budget: the file fits it.
+TEST(RateControl, LadderPutsTheResidualOnTheOneComponentModelBeyondTheModelsReach) {
+  auto table = make_sample("ward");
+  ASSERT_TRUE(table.ok());
+  EncoderSettings base;
+  base.fit.threads = 2;
+  base.fit.slices = 6;
+  base.fit.impute_iterations = 2;  // cheaper fits
+  auto model = encode_to_target(*table, base, {0, 1000, 1, {6}});
+  ASSERT_TRUE(model.ok());
+  const double goal = model->chosen.psnr_tonemapped + 10.0;  // past kMixtureGainDb (8)
+  auto r = encode_to_target_ladder(*table, base, {0, goal, 2, {6}});
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  EXPECT_TRUE(r->met);
+  EXPECT_GT(r->chosen.max_error, 0);
+  EXPECT_EQ(r->chosen.components, 1);
+  EXPECT_EQ(r->chosen.slices, 6);
+  EXPECT_EQ(r->fits, 1);  // the mixture was not fitted
+  EXPECT_GE(r->chosen.psnr_tonemapped, goal);
+  EXPECT_EQ(double(r->encoded.bytes.size()), r->chosen.bytes);
+  auto decoded = decode_table(r->encoded.bytes);
+  ASSERT_TRUE(decoded.ok());
+  EXPECT_DOUBLE_EQ(sphere_psnr(*table, *decoded).psnr_tonemapped, r->chosen.psnr_tonemapped);
+  // Every try that met the PSNR costs at least the bytes chosen.
+  for (const RateCandidate& c : r->tried) {
+    if (c.max_error > 0 && c.psnr_tonemapped >= goal) {
+      EXPECT_GE(c.bytes, r->chosen.bytes);
+    }
+  }
+
+  // A budget: the file fits it and is what was measured.
+  const double budget = r->chosen.bytes;
+  auto b = encode_to_target_ladder(*table, base, {budget, 0, 1, {6}});
+  ASSERT_TRUE(b.ok()) << b.status().message();
+  EXPECT_TRUE(b->met);
+  EXPECT_LE(b->chosen.bytes, budget);
+  EXPECT_EQ(double(b->encoded.bytes.size()), b->chosen.bytes);
+  decoded = decode_table(b->encoded.bytes);
+  ASSERT_TRUE(decoded.ok());
+  EXPECT_DOUBLE_EQ(sphere_psnr(*table, *decoded).psnr_tonemapped, b->chosen.psnr_tonemapped);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "byte_writer.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
+#include "residual_levels.h"
 #include "synthetic_model.h"
 
 namespace cbrdf {
@@ -44,15 +45,18 @@ Model residual_model() {
   return m;
 }
 
+// The file of a test model, 8 bits, zstd level 3.
+Bytes encode_for_test(const Model& m) {
+  ContainerSettings s;
+  s.bits = 8;
+  s.zstd_level = 3;
+  Expected<Bytes> e = encode_model(m, s);
+  EXPECT_TRUE(e.ok()) << e.status().message();
+  return e.ok() ? *e : Bytes{};
+}
+
 const Bytes& residual_file() {
-  static const Bytes b = [] {
-    ContainerSettings s;
-    s.bits = 8;
-    s.zstd_level = 3;
-    Expected<Bytes> e = encode_model(residual_model(), s);
-    EXPECT_TRUE(e.ok()) << e.status().message();
-    return e.ok() ? *e : Bytes{};
-  }();
+  static const Bytes b = encode_for_test(residual_model());
   return b;
 }
 
@@ -147,8 +151,8 @@ void put_f64(Bytes* b, std::size_t at, double v) {
 }
 
 TEST(ResidualContainer, MalformedPayloadsAreRefused) {
-  expect_error(with_resd([](Bytes* p) { (*p)[0] = 3; }), ErrorCode::kUnsupported,
-               "residual mode 3");
+  expect_error(with_resd([](Bytes* p) { (*p)[0] = 4; }), ErrorCode::kUnsupported,
+               "residual mode 4");
   expect_error(with_resd([](Bytes* p) { (*p)[1] = 2; }), ErrorCode::kCorrupt, "predictor 2");
   expect_error(with_resd([](Bytes* p) { (*p)[2] = 1; }), ErrorCode::kCorrupt, "reserved 1");
   expect_error(with_resd([](Bytes* p) { put_f64(p, 4, std::nan("")); }), ErrorCode::kNumeric,
@@ -208,14 +212,7 @@ Model rows_model() {
 }
 
 const Bytes& rows_file() {
-  static const Bytes b = [] {
-    ContainerSettings s;
-    s.bits = 8;
-    s.zstd_level = 3;
-    Expected<Bytes> e = encode_model(rows_model(), s);
-    EXPECT_TRUE(e.ok()) << e.status().message();
-    return e.ok() ? *e : Bytes{};
-  }();
+  static const Bytes b = encode_for_test(rows_model());
   return b;
 }
 
@@ -273,6 +270,123 @@ TEST(ResidualContainer, MalformedRowStepsAreRefused) {
   EXPECT_EQ(encode_model(bad, s).status().code(), ErrorCode::kInvalidArgument);
   bad.residual.row_shift.resize(100);
   EXPECT_EQ(encode_model(bad, s).status().code(), ErrorCode::kInvalidArgument);
+}
+
+// Mode 3: rows_model()'s codes correcting an interpolation over 2 levels, finest multiplier 3.
+Model interp_model() {
+  Model m = rows_model();
+  m.residual.levels = 2;
+  m.residual.fine_multiplier = 3;
+  internal::rebuild_interpolated(&m.residual);
+  return m;
+}
+
+const Bytes& interp_file() {
+  static const Bytes b = encode_for_test(interp_model());
+  return b;
+}
+
+// The rebuild of one (channel, theta_h) slab written out from the pseudo-code of spec 4.6, mode
+// 3, as a second implementation would: R(d, p) in binary64.
+std::vector<double> spec_slab(const Residual& r, int c, int h) {
+  std::vector<double> R(std::size_t(kThetaDBins) * kPhiDBins, 0.0);
+  auto at = [&](int d, int p) -> double& { return R[std::size_t(d) * kPhiDBins + std::size_t(p)]; };
+  auto set = [&](int d, int p, double P) {
+    const std::size_t i = merl_index(h, d, p);
+    double step = std::ldexp(r.step, r.row_shift[i / kPhiDBins]);
+    if (d % 2 == 1 || p % 2 == 1) step *= r.fine_multiplier;
+    at(d, p) = P + double(r.codes[std::size_t(c) * kBinsPerChannel + i]) * step;
+  };
+  const int S = 1 << r.levels;
+  for (int d = 0; d < 90; d += S) {
+    for (int p = 0; p < 180; p += S) set(d, p, p > 0 ? at(d, p - S) : 0.0);
+  }
+  for (int hh = S / 2; hh >= 1; hh /= 2) {
+    for (int d = 0; d < 90; d += 2 * hh) {
+      for (int p = hh; p < 180; p += 2 * hh) {
+        set(d, p, 0.5 * (at(d, p - hh) + at(d, (p + hh) % 180)));
+      }
+    }
+    for (int d = hh; d < 90; d += 2 * hh) {
+      for (int p = 0; p < 180; p += hh) {
+        set(d, p, d + hh < 90 ? 0.5 * (at(d - hh, p) + at(d + hh, p)) : at(d - hh, p));
+      }
+    }
+  }
+  return R;
+}
+
+Bytes payload_of_resd(const Bytes& file) {
+  Expected<ParsedContainer> pc = parse_container(file);
+  EXPECT_TRUE(pc.ok() && pc->find(kTagResidual) >= 0);
+  return pc.ok() && pc->find(kTagResidual) >= 0 ? pc->payloads[std::size_t(pc->find(kTagResidual))]
+                                                : Bytes{0xFF};
+}
+
+TEST(ResidualContainer, InterpolatedLevelsRoundTripAndRebuildAsSpecified) {
+  const Model want = interp_model();
+  Expected<Model> got = decode_model(interp_file());
+  ASSERT_TRUE(got.ok()) << got.status().message();
+  EXPECT_EQ(payload_of_resd(interp_file())[0], 3);
+  EXPECT_EQ(got->residual.levels, 2);
+  EXPECT_EQ(got->residual.fine_multiplier, 3);
+  EXPECT_EQ(got->residual.codes, want.residual.codes);
+  EXPECT_EQ(got->residual.row_shift, want.residual.row_shift);
+  ASSERT_EQ(got->residual.values.size(), want.residual.values.size());
+  // theta_h 3 holds a band of codes in every row; 0 and 89 only the sparse ones.
+  for (int c = 0; c < kChannels; ++c) {
+    for (int h : {0, 3, 89}) {
+      const std::vector<double> R = spec_slab(got->residual, c, h);
+      const double* v =
+          got->residual.values.data() + std::size_t(c) * kBinsPerChannel + merl_index(h, 0, 0);
+      EXPECT_EQ(std::memcmp(R.data(), v, R.size() * sizeof(double)), 0) << c << " " << h;
+    }
+  }
+  // The table: each measured bin's base value corrected by R, escapes exact.
+  Model base = *got;
+  base.residual = Residual{};
+  const BrdfTable with = got->table(), without = base.table();
+  for (std::size_t i : {merl_index(3, 45, 77), merl_index(3, 46, 80), merl_index(40, 10, 3)}) {
+    ASSERT_FALSE(got->not_measured.test(1, i));
+    const double y =
+        std::log1p(without.stored(1, i) / 0.5) + got->residual.values[kBinsPerChannel + i];
+    EXPECT_EQ(with.stored(1, i), y > 0 ? std::expm1(y) * 0.5 : 0.0) << i;
+  }
+  Expected<ContainerInfo> info = inspect_container(interp_file());
+  ASSERT_TRUE(info.ok()) << info.status().message();
+  EXPECT_EQ(info->residual_mode, 3);
+  EXPECT_EQ(info->residual_max_error, 0.01 * 16 * 3);  // shifts up to 4, multiplier 3
+  EXPECT_EQ(info->residual_min_error, 0.01);
+}
+
+TEST(ResidualContainer, MalformedInterpolatedLevelsAreRefused) {
+  const Bytes& f = interp_file();
+  constexpr std::size_t kLevels = 32 + 8100;  // after the header and the row shifts
+  expect_error(with_resd([](Bytes* p) { (*p)[kLevels] = 0; }, 2, false, f), ErrorCode::kCorrupt,
+               "level count 0");
+  expect_error(with_resd([](Bytes* p) { (*p)[kLevels] = 5; }, 2, false, f), ErrorCode::kCorrupt,
+               "level count 5");
+  expect_error(with_resd([](Bytes* p) { (*p)[kLevels + 1] = 0; }, 2, false, f), ErrorCode::kNumeric,
+               "multiplier 0");
+  expect_error(with_resd([](Bytes* p) { (*p)[kLevels + 1] = 65; }, 2, false, f),
+               ErrorCode::kNumeric, "multiplier 65");
+  // A bound of 1: the rows' 1 x 2^4 is within 16, the finest level's 3 x 16 is not.
+  expect_error(with_resd([](Bytes* p) { put_f64(p, 4, 1.0); }, 2, false, f), ErrorCode::kNumeric,
+               "finest level's multiplier 3");
+  expect_error(with_resd([](Bytes* p) { p->resize(kLevels + 1); }, 2, false, f),
+               ErrorCode::kTruncated, "multiplier");
+  // A mode 2 payload read as mode 3 takes two code bytes as the levels: refused either way.
+  EXPECT_FALSE(decode_model(with_resd([](Bytes* p) { (*p)[0] = 3; }, 2, false, rows_file())).ok());
+  // The writer refuses what no reader accepts.
+  ContainerSettings s;
+  for (auto edit : std::vector<std::function<void(Residual*)>>{
+           [](Residual* r) { r->levels = 5; }, [](Residual* r) { r->fine_multiplier = 0; },
+           [](Residual* r) { r->max_error = 1.0; }, [](Residual* r) { r->row_shift.clear(); },
+           [](Residual* r) { r->values.clear(); }}) {
+    Model bad = interp_model();
+    edit(&bad.residual);
+    EXPECT_EQ(encode_model(bad, s).status().code(), ErrorCode::kInvalidArgument);
+  }
 }
 
 // An escape at a not-measured bin.

@@ -220,6 +220,28 @@ TEST(Residual, OptionsAreCheckedWithOneLineMessages) {
   EXPECT_EQ(r.exit_code, 2);
 }
 
+// Continuous evaluation at the centres of bins with phi_d bin p, over a spread of theta_h and
+// theta_d away from the horizon: the decoded table's values.
+void expect_bin_centres_are_the_table(const Model& model, const BrdfTable& dec, int p) {
+  const ModelEvaluator ev(model);
+  int checked = 0;
+  for (int h = 3; h < 90; h += 7) {
+    for (int d = 2; d < 88; d += 9) {
+      Vec3 a, b;
+      bin_directions(h, d, p, &a, &b);
+      if (a.z <= 0.05 || b.z <= 0.05) continue;
+      double rgb[3];
+      ev.eval(a, b, rgb);
+      for (int c = 0; c < kChannels; ++c) {
+        const double want = dec.physical(c, merl_index(h, d, p));
+        EXPECT_NEAR(rgb[c], want, 1e-6 * want + 1e-12) << h << " " << d;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 50);
+}
+
 // RESD mode 2 (ResidualSettings::row_steps): each row's bound held on every measured bin, checked
 // here from the row shifts the file stores; coarser rows cost fewer bytes than one bound; the
 // evaluator applies each bin's row step.
@@ -257,23 +279,86 @@ TEST(Residual, RowStepsHoldEachRowsBound) {
   EXPECT_EQ(info->residual_min_error, 0.002);
   EXPECT_EQ(info->residual_max_error, 0.002 * 64);
   // Continuous evaluation at bin centres: the decoded table.
-  const ModelEvaluator ev(*model);
-  int checked = 0;
-  for (int h = 3; h < 90; h += 7) {
-    for (int d = 2; d < 88; d += 9) {
-      Vec3 a, b;
-      bin_directions(h, d, 40, &a, &b);
-      if (a.z <= 0.05 || b.z <= 0.05) continue;
-      double rgb[3];
-      ev.eval(a, b, rgb);
-      for (int c = 0; c < kChannels; ++c) {
-        const double want = dec.physical(c, merl_index(h, d, 40));
-        EXPECT_NEAR(rgb[c], want, 1e-6 * want + 1e-12) << h << " " << d;
-      }
-      ++checked;
+  expect_bin_centres_are_the_table(*model, dec, 40);
+}
+
+// RESD mode 3 (target_residual_settings): every bin within its own bound (row shift, times the
+// multiplier on the finest level), checked from the fields the file stores; the reader rebuilds
+// the writer's residual bit for bit; the finest level uses its wider bound; evaluation at bin
+// centres is the table.
+TEST(Residual, InterpolatedLevelsHoldEachBinsBound) {
+  const Encoded& uniform = encoded_at(0.002);
+  EncoderSettings st = settings_for(0.002);
+  st.residual = target_residual_settings(0.002);
+  Expected<EncodeResult> r = encode_table(uniform.source, st);
+  ASSERT_TRUE(r.ok()) << r.status().message();
+  EXPECT_EQ(payload_of(r->bytes, kTagResidual)[0], 3);
+  Expected<Model> model = decode_model(r->bytes);
+  ASSERT_TRUE(model.ok()) << model.status().message();
+  const Residual& res = model->residual;
+  ASSERT_EQ(res.levels, 3);
+  ASSERT_EQ(res.fine_multiplier, 8);
+  EXPECT_EQ(res.row_shift, internal::residual_row_shifts(0.002, 8));
+  EXPECT_EQ(res.values, r->model.residual.values);
+  const BrdfTable dec = model->table();
+  double worst_fine = 0, worst_coarse = 0;
+  for (int c = 0; c < kChannels; ++c) {
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      const double s = uniform.source.stored(c, i);
+      if (!(s >= 0.0)) continue;
+      const double e = std::abs(std::log1p(dec.stored(c, i) / 1e-4) - std::log1p(s / 1e-4));
+      const double row = std::ldexp(0.002, res.row_shift[i / 180]);
+      const bool finest = (i % 180) % 2 == 1 || (i / 180) % 2 == 1;
+      ASSERT_LE(e, finest ? 8 * row : row) << c << " " << i;
+      double& worst = finest ? worst_fine : worst_coarse;
+      worst = std::max(worst, e / row);
     }
   }
-  EXPECT_GT(checked, 50);
+  EXPECT_GT(worst_fine, 6.0);    // the finest level uses its multiplier
+  EXPECT_GT(worst_coarse, 0.9);  // the coarser ones their row's step
+  Expected<ContainerInfo> info = inspect_container(r->bytes);
+  ASSERT_TRUE(info.ok());
+  EXPECT_EQ(info->residual_mode, 3);
+  EXPECT_EQ(info->residual_min_error, 0.002);
+  EXPECT_EQ(info->residual_max_error, 0.002 * 8 * (1 << res.max_row_shift()));
+  expect_bin_centres_are_the_table(*model, dec, 41);  // an odd phi_d: the finest level
+}
+
+// Where the residual is smooth, mode 3's codes are mostly 0: on a smooth residual over a fixed
+// base the file is several times smaller than mode 2's at the same row bounds.
+TEST(Residual, InterpolatedLevelsCostLittleOnASmoothResidual) {
+  EncodeResult base;
+  base.model = testing::make_model({0, 90}, true, 5);
+  const BrdfTable base_table = base.model.table();
+  // The base times a smooth factor: the residual is a smooth function of the bin.
+  BrdfTable src = base_table;
+  for (int c = 0; c < kChannels; ++c) {
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      const BinIndex b = merl_bin(i);
+      if (src.stored(c, i) >= 0.0) {
+        src.set_stored(c, i,
+                       src.stored(c, i) * (1.2 + 0.3 * std::sin(0.05 * b.theta_d) *
+                                                     std::cos(0.03 * b.phi_d + 0.02 * b.theta_h)));
+      }
+    }
+  }
+  EncoderSettings st = settings_for(0.002);
+  Expected<std::vector<std::uint8_t>> base_bytes = encode_model(base.model, st.container);
+  ASSERT_TRUE(base_bytes.ok());
+  base.bytes = *base_bytes;
+  base.bits = st.container.bits;
+  std::size_t sizes[2] = {};
+  for (int interp = 0; interp < 2; ++interp) {
+    st.residual = target_residual_settings(0.002);
+    if (interp == 0) st.residual.levels = 0;
+    EncodeResult r = base;
+    ASSERT_TRUE(internal::add_residual(src, st, &r).ok());
+    Expected<BrdfTable> dec = decode_table(r.bytes);
+    ASSERT_TRUE(dec.ok());
+    EXPECT_LE(checked_max_error(src, *dec), 0.002 * 8 * 64);
+    sizes[interp] = r.bytes.size() - base.bytes.size();
+  }
+  EXPECT_LT(3 * sizes[1], sizes[0]) << sizes[1] << " against mode 2's " << sizes[0];
 }
 
 // The shifts: 0 on the most visible rows, the cap where cos(theta_i) cos(theta_o) vanishes, and

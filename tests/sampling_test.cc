@@ -19,6 +19,7 @@
 #include "cbrdf/analytic.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/samples.h"
+#include "sampling_math.h"
 #include "synthetic_model.h"
 
 namespace cbrdf {
@@ -284,6 +285,100 @@ TEST(Sampling, ChiSquareOnTheBatchPath) {
   }
   EXPECT_EQ(differ, 0);
   EXPECT_GE(rejected, n / 50);  // the wo below the horizon at least
+}
+
+// sample_batch equals sample() bit for bit, and each draw's pdf equals pdf() with weights
+// f cos / pdf, for other table shapes (cell counts that are not multiples of a vector or a cache
+// line, all-table and all-cosine mixtures), wo at normal incidence and below the horizon, and u
+// at and outside the ends of [0, 1) and NaN; the generic path (weights through f).
+TEST(Sampling, BatchEqualsSampleForOtherSettings) {
+  const AnalyticBrdf brdf = *sample_brdf("ggx-sharp");
+  const std::vector<SamplerSettings> settings = {
+      {.theta_o_bins = 8, .theta_h_cells = 13, .phi_h_cells = 7, .cosine_fraction = 0.0},
+      {.theta_o_bins = 5, .theta_h_cells = 40, .phi_h_cells = 129, .cosine_fraction = 1.0},
+      {.theta_o_bins = 3, .theta_h_cells = 17, .phi_h_cells = 33, .cosine_fraction = 0.3}};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double ends[] = {0.0, std::nextafter(1.0, 0.0), 1.0, -0.5, 1.5, nan};
+  for (const SamplerSettings& st : settings) {
+    const BrdfSampler s(analytic_fn(brdf), st);
+    const int n = 2000;
+    std::mt19937_64 rng(st.phi_h_cells);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<double> ox(n), oy(n), oz(n), u1(n), u2(n);
+    for (int k = 0; k < n; ++k) {
+      const Vec3 o = k % 97 == 0   ? Vec3{0, 0, 1}
+                     : k % 89 == 0 ? direction(95, 1.0)
+                                   : direction(89.9 * u(rng), 7 * u(rng));
+      ox[k] = o.x;
+      oy[k] = o.y;
+      oz[k] = o.z;
+      u1[k] = k % 31 == 0 ? ends[(k / 31) % 6] : u(rng);
+      u2[k] = k % 37 == 0 ? ends[(k / 37) % 6] : u(rng);
+    }
+    std::vector<double> x(n), y(n), z(n), pdf(n), w[3];
+    for (auto& c : w) c.resize(n);
+    s.sample_batch(n, ox.data(), oy.data(), oz.data(), u1.data(), u2.data(), x.data(), y.data(),
+                   z.data(), pdf.data(), w[0].data(), w[1].data(), w[2].data(), 1);
+    int differ = 0, valid = 0, table_draws = 0;
+    for (int k = 0; k < n; ++k) {
+      const Vec3 o{ox[k], oy[k], oz[k]};
+      const BrdfSample smp = s.sample(o, u1[k], u2[k]);
+      if (!smp.valid) {
+        differ += pdf[k] != 0 || x[k] != 0 || y[k] != 0 || z[k] != 0 || w[0][k] != 0;
+        continue;
+      }
+      ++valid;
+      // The table shares the density unless the mixture is all cosine.
+      table_draws += std::abs(smp.wi.z * st.cosine_fraction / kPi - smp.pdf) > 1e-12;
+      double f[3];
+      brdf.eval(smp.wi, o, f);
+      differ += x[k] != smp.wi.x || y[k] != smp.wi.y || z[k] != smp.wi.z || pdf[k] != smp.pdf;
+      differ += !(smp.wi.z > 0) || s.pdf(o, smp.wi) != smp.pdf;
+      for (int c = 0; c < 3; ++c) differ += w[c][k] != f[c] * smp.wi.z / smp.pdf;
+    }
+    EXPECT_EQ(differ, 0) << "phi_h_cells " << st.phi_h_cells;
+    EXPECT_GT(valid, n / 2) << "phi_h_cells " << st.phi_h_cells;
+    if (st.cosine_fraction < 1) {
+      EXPECT_GT(table_draws, n / 4) << "phi_h_cells " << st.phi_h_cells;
+    }
+  }
+}
+
+// The sampler's own trigonometry (sampling_math.h, written to vectorize) agrees with libm to a
+// few ulp over the ranges the sampler uses, and at their ends.
+TEST(SamplingMath, AgreesWithLibm) {
+  using sampling_math::acos01, sampling_math::atan2_0_2pi, sampling_math::sincos_0_2pi,
+      sampling_math::SinCos;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double acos_err = 0, sincos_err = 0, atan2_err = 0;
+  for (int i = 0; i < 300000; ++i) {
+    const double x = i % 3 == 0 ? u(rng) : i % 3 == 1 ? 1 - 1e-7 * u(rng) : 1e-4 * u(rng);
+    acos_err = std::max(acos_err, std::abs(acos01(x) - std::acos(x)) / std::acos(x));
+    const double phi = 2 * kPi * u(rng);
+    const SinCos sc = sincos_0_2pi(phi);
+    sincos_err =
+        std::max({sincos_err, std::abs(sc.s - std::sin(phi)), std::abs(sc.c - std::cos(phi))});
+    const double ay = (2 * u(rng) - 1) * (i % 5 == 0 ? 1e-9 : 1.0), ax = 2 * u(rng) - 1;
+    double want = std::atan2(ay, ax);
+    if (want < 0) want += 2 * kPi;
+    if (want > 0) atan2_err = std::max(atan2_err, std::abs(atan2_0_2pi(ay, ax) - want) / want);
+  }
+  EXPECT_LT(acos_err, 1e-15);
+  EXPECT_LT(sincos_err, 1e-15);
+  EXPECT_LT(atan2_err, 1e-15);
+  EXPECT_EQ(acos01(1.0), 0.0);
+  EXPECT_EQ(acos01(0.0), std::acos(0.0));
+  EXPECT_EQ(acos01(2.0), 0.0);  // clamped into [0, 1], NaN to 0
+  EXPECT_EQ(acos01(std::numeric_limits<double>::quiet_NaN()), std::acos(0.0));
+  EXPECT_EQ(sincos_0_2pi(0.0).s, 0.0);
+  EXPECT_EQ(sincos_0_2pi(0.0).c, 1.0);
+  EXPECT_NEAR(sincos_0_2pi(kPi / 2).c, 0.0, 1e-16);
+  EXPECT_EQ(atan2_0_2pi(0.0, 0.0), 0.0);
+  EXPECT_EQ(atan2_0_2pi(0.0, -1.0), kPi);
+  EXPECT_EQ(atan2_0_2pi(-0.0, -1.0), kPi);
+  EXPECT_EQ(atan2_0_2pi(-1.0, 0.0), 1.5 * kPi);
+  EXPECT_LE(atan2_0_2pi(-1e-300, 1.0), 2 * kPi);
 }
 
 // The test above must be able to fail: a density off by a Jacobian factor is rejected.

@@ -64,11 +64,16 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
           "measured bin (k = %g), %u bytes, %zu bins stored exactly\n",
           info->residual_max_error, info->residual_knee, residual_chunk_bytes(*info),
           info->residual_escapes);
-      if (info->residual_mode == 2) {
+      if (info->residual_mode >= 2) {
         std::printf(
             "  a bound per (theta_h, theta_d) row, by its weight in rendering: %g in the finest "
             "rows\n",
             info->residual_min_error);
+      }
+      if (info->residual_mode == 3) {
+        std::printf(
+            "  codes correct an interpolation of coarser bins; the finest level (odd theta_d or "
+            "phi_d) has a multiple of its row's bound\n");
       }
     }
   }

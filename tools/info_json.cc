@@ -30,11 +30,12 @@ nlohmann::json container_info_json(const ContainerInfo& info, std::size_t evalua
   j["colour_scale"] = info.colour_scale;
   j["not_measured_bins"] = info.not_measured_bins;
   if (info.residual_mode >= 0) {
-    // spec 4.6: 0 one bound, 1 exact, 2 a bound per row (max_error the coarsest row's).
+    // spec 4.6: 0 one bound, 1 exact, 2 a bound per row (max_error the coarsest row's), 3 row
+    // bounds with interpolated levels (max_error the coarsest row's finest level's).
     j["residual"] = {
         {"mode", info.residual_mode},
         {"max_error", info.residual_max_error},
-        {"min_error", info.residual_mode == 2 ? info.residual_min_error : info.residual_max_error},
+        {"min_error", info.residual_mode >= 2 ? info.residual_min_error : info.residual_max_error},
         {"knee", info.residual_knee},
         {"escapes", info.residual_escapes},
         {"stored_bytes", residual_chunk_bytes(info)}};

@@ -55,9 +55,12 @@ inline constexpr std::uint8_t kMarginalLayoutComponents = 1;
 inline constexpr int kMaxExtraComponents = 7;
 
 // RESD (spec 4.6, version 1.2): the residual layer's modes, predictor and limits.
-inline constexpr std::uint8_t kResidualModeLog = 0;        // bounded log1p residual
-inline constexpr std::uint8_t kResidualModeExact = 1;      // the exact table (lossless)
-inline constexpr std::uint8_t kResidualModeRows = 2;       // mode 0 with a step per row
+inline constexpr std::uint8_t kResidualModeLog = 0;     // bounded log1p residual
+inline constexpr std::uint8_t kResidualModeExact = 1;   // the exact table (lossless)
+inline constexpr std::uint8_t kResidualModeRows = 2;    // mode 0 with a step per row
+inline constexpr std::uint8_t kResidualModeInterp = 3;  // mode 2, interpolated levels
+inline constexpr int kMaxResidualLevels = 4;  // coarsest spacing 16: phi_d + h stays <= 180
+inline constexpr int kMaxFineMultiplier = 64;
 inline constexpr std::uint8_t kResidualPredictorNone = 0;  // codes as they are
 inline constexpr std::uint8_t kResidualPredictorPhi = 1;   // from the previous phi_d bin
 inline constexpr double kMinResidualError = 1e-6;

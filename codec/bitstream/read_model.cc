@@ -62,10 +62,13 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
     if (!st.ok()) return st.with_context(where(pc, resd));
     const Residual& res = d.model.residual;
     d.info.residual_mode = res.exact               ? kResidualModeExact
+                           : res.interpolated()    ? kResidualModeInterp
                            : res.row_shift.empty() ? kResidualModeLog
                                                    : kResidualModeRows;
-    // Mode 2: the bound over every bin is the coarsest row's; the finest row's beside it.
-    d.info.residual_max_error = std::ldexp(res.max_error, res.max_row_shift());
+    // Mode 2: the bound over every bin is the coarsest row's; the finest row's beside it. Mode 3:
+    // the coarsest row's finest level's.
+    d.info.residual_max_error =
+        double(res.fine_multiplier) * std::ldexp(res.max_error, res.max_row_shift());
     d.info.residual_min_error = std::ldexp(res.max_error, res.min_row_shift());
     d.info.residual_knee = d.model.residual.knee;
     d.info.residual_escapes = d.model.residual.escapes.size();

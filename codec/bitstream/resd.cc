@@ -4,7 +4,8 @@
 // Modes 0 and 2 hold one integer code per measured bin (channel, then MERL index order), each
 // coded as the zigzag of its difference from a prediction out of codes already decoded, as an
 // unsigned LEB128 varint; the chunk's zstd frame does the entropy coding. Mode 2 adds one step
-// shift per (theta_h, theta_d) row before the codes.
+// shift per (theta_h, theta_d) row before the codes; mode 3 adds the level count and the finest
+// level's multiplier after them, and its codes correct an interpolation (residual_levels.h).
 #include <array>
 #include <bit>
 #include <cmath>
@@ -15,6 +16,7 @@
 #include "byte_writer.h"
 #include "chunks.h"
 #include "exact_table.h"
+#include "residual_levels.h"
 
 namespace cbrdf {
 namespace {
@@ -172,6 +174,29 @@ Status read_row_shifts(ByteReader& r, Residual* out) {
   return ok_status();
 }
 
+// Mode 3's level count and finest multiplier, after the row shifts.
+Status read_levels(ByteReader& r, Residual* out) {
+  const std::uint64_t at = r.offset();
+  CBRDF_RETURN_IF_ERROR(r.u8(&out->levels, "level count"));
+  CBRDF_RETURN_IF_ERROR(r.u8(&out->fine_multiplier, "finest level's multiplier"));
+  if (out->levels < 1 || out->levels > kMaxResidualLevels) {
+    return error(ErrorCode::kCorrupt, "level count " + std::to_string(int(out->levels)) +
+                                          " at payload offset " + std::to_string(at) +
+                                          " is not in 1.." + std::to_string(kMaxResidualLevels));
+  }
+  const int m = out->fine_multiplier;
+  if (m < 1 || m > kMaxFineMultiplier ||
+      double(m) * std::ldexp(out->max_error, out->max_row_shift()) > kMaxResidualError) {
+    return error(ErrorCode::kNumeric,
+                 "finest level's multiplier " + std::to_string(m) + " at payload offset " +
+                     std::to_string(at + 1) + " is not in 1.." +
+                     std::to_string(kMaxFineMultiplier) +
+                     " or makes a bound (multiplier x max error x 2^shift) exceed " +
+                     number_text(kMaxResidualError));
+  }
+  return ok_status();
+}
+
 // Mode 1: the exact table, whose not-measured bins must be MASK's.
 Status read_exact(std::span<const std::uint8_t> rest, const NotMeasured& mask, Residual* out) {
   Expected<BrdfTable> t = internal::decode_exact_table(rest);
@@ -201,10 +226,11 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   std::uint32_t escapes = 0;
   CBRDF_RETURN_IF_ERROR(r.u8(&mode, "residual mode"));
   if (mode == kResidualModeExact) return read_exact(payload.subspan(1), mask, out);
-  if (mode != kResidualModeLog && mode != kResidualModeRows) {
-    return error(ErrorCode::kUnsupported, "residual mode " + std::to_string(mode) +
-                                              " is not known to this reader (0 = bounded log "
-                                              "residual, 1 = exact table, 2 = a step per row)");
+  if (mode != kResidualModeLog && mode != kResidualModeRows && mode != kResidualModeInterp) {
+    return error(ErrorCode::kUnsupported,
+                 "residual mode " + std::to_string(mode) +
+                     " is not known to this reader (0 = bounded log residual, 1 = exact table, "
+                     "2 = a step per row, 3 = interpolated levels)");
   }
   CBRDF_RETURN_IF_ERROR(r.u8(&predictor, "predictor"));
   CBRDF_RETURN_IF_ERROR(r.u16(&reserved, "reserved field"));
@@ -215,7 +241,11 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   CBRDF_RETURN_IF_ERROR(
       check_header(predictor, reserved, out->max_error, out->step, out->knee, escapes));
   out->row_shift.clear();
-  if (mode == kResidualModeRows) CBRDF_RETURN_IF_ERROR(read_row_shifts(r, out));
+  out->levels = 0;
+  out->fine_multiplier = 1;
+  out->values.clear();
+  if (mode != kResidualModeLog) CBRDF_RETURN_IF_ERROR(read_row_shifts(r, out));
+  if (mode == kResidualModeInterp) CBRDF_RETURN_IF_ERROR(read_levels(r, out));
   out->codes.assign(kMaskBits, 0);
   std::span<const std::uint8_t> rest;
   const std::uint64_t codes_at = r.offset();
@@ -224,7 +254,9 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   if (!used.ok()) return used.status();
   ByteReader tail(rest.subspan(*used), codes_at + *used, "payload offset");
   CBRDF_RETURN_IF_ERROR(read_escapes(tail, escapes, mask, &out->escapes));
-  return check_trailing(tail.remaining(), file_minor);
+  CBRDF_RETURN_IF_ERROR(check_trailing(tail.remaining(), file_minor));
+  if (out->interpolated()) internal::rebuild_interpolated(out);
+  return ok_status();
 }
 
 std::vector<std::uint8_t> encode_residual_chunk(const Model& model) {
@@ -239,7 +271,10 @@ std::vector<std::uint8_t> encode_residual_chunk(const Model& model) {
   std::vector<std::uint8_t> none = code_stream(model, kResidualPredictorNone);
   std::vector<std::uint8_t> phi = code_stream(model, kResidualPredictorPhi);
   const bool use_phi = entropy_bits(phi) < entropy_bits(none);
-  w.u8(res.row_shift.empty() ? kResidualModeLog : kResidualModeRows);
+  // Mode 3 always carries row shifts (check_residual: all 0 for one step).
+  w.u8(res.interpolated()      ? kResidualModeInterp
+       : res.row_shift.empty() ? kResidualModeLog
+                               : kResidualModeRows);
   w.u8(use_phi ? kResidualPredictorPhi : kResidualPredictorNone);
   w.u16(0);
   w.f64(res.max_error);
@@ -247,6 +282,10 @@ std::vector<std::uint8_t> encode_residual_chunk(const Model& model) {
   w.f64(res.knee);
   w.u32(std::uint32_t(res.escapes.size()));
   if (!res.row_shift.empty()) w.bytes(res.row_shift);
+  if (res.interpolated()) {
+    w.u8(res.levels);
+    w.u8(res.fine_multiplier);
+  }
   w.bytes(use_phi ? phi : none);
   std::uint64_t next = 0;
   for (const ResidualEscape& e : res.escapes) {

@@ -65,6 +65,19 @@ Status check_residual(const Model& model) {
                      std::to_string(int(kMaxResidualShift)) + " with max error x 2^shift <= 16");
     }
   }
+  if (r.interpolated()) {
+    const int m = r.fine_multiplier;
+    if (r.levels > kMaxResidualLevels || r.row_shift.size() != kResidualRows || m < 1 ||
+        m > kMaxFineMultiplier ||
+        double(m) * std::ldexp(r.max_error, r.max_row_shift()) > kMaxResidualError ||
+        r.values.size() != kMaskBits) {
+      return invalid("the interpolated residual needs 1.." + std::to_string(kMaxResidualLevels) +
+                     " levels, " + std::to_string(kResidualRows) +
+                     " row shifts, a finest multiplier of 1.." +
+                     std::to_string(kMaxFineMultiplier) +
+                     " within the bound limit 16, and its rebuilt values");
+    }
+  }
   if (r.codes.size() != kMaskBits) {
     return invalid("the residual has " + std::to_string(r.codes.size()) + " codes, expected " +
                    std::to_string(kMaskBits));

@@ -1,59 +1,281 @@
 // SPDX-License-Identifier: MIT
 // BrdfSampler: per-theta_o tables over half-vector cells (the design is in sampling.h).
+// This file's functions set no errno (their square roots see non-negative values, or values whose
+// results are discarded; CMakeLists.txt adds -fno-math-errno, which the pragma does not give sqrt),
+// may evaluate both sides of a select and contract no multiply-adds: no value changes, and the
+// batch's lane loops vectorize with each lane rounding as sample() does.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-math-errno", "no-trapping-math", "fp-contract=off")
+#endif
 #include "cbrdf/sampling.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <memory>
 #include <mutex>
-#include <numbers>
 #include <utility>
 
 #include "cbrdf/parallel_for.h"
+#include "sampling_math.h"
 
 namespace cbrdf {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using sampling_math::kPi;
+constexpr double kBelowOne = 0x1.fffffffffffffp-1;  // std::nextafter(1.0, 0.0)
 
 // wo's azimuthal frame: x along wo's projection on the surface, y = z cross x. At normal
 // incidence any frame will do; this one is fixed so that sample() and pdf() agree.
-struct AzimuthFrame {
+struct Frame {
   double xx = 1, xy = 0;  // x axis (xx, xy, 0); y axis (-xy, xx, 0)
 };
 
-AzimuthFrame azimuth_frame(const Vec3& wo) {
-  const double r = std::hypot(wo.x, wo.y);
-  if (r < 1e-12) return {};
-  return {wo.x / r, wo.y / r};
+inline Frame azimuth_frame(double x, double y) {
+  const double r = std::sqrt(x * x + y * y);  // |x|, |y| <= 1: no overflow
+  const bool normal = r < 1e-12;
+  return {normal ? 1.0 : x / r, normal ? 0.0 : y / r};
 }
 
-// Upper bound search in a normalized CDF of n + 1 entries: the bin i with cdf[i] <= u < cdf[i+1]
-// and u remapped to [0, 1) within it. Empty bins are never chosen.
-int pick(const double* cdf, int n, double* u) {
-  // std::upper_bound's own steps (libstdc++'s), its probes and result the same, with selects for
-  // its branches: u is random, so they mispredict half the time.
-  const double* it = cdf;
-  std::size_t len = std::size_t(n) + 1;
-  while (len > 0) {
-    const std::size_t half = len >> 1;
-    const bool right = !(*u < it[half]);
-    it = right ? it + half + 1 : it;
-    len = right ? len - half - 1 : half;
-  }
-  const int i = std::clamp(int(it - cdf) - 1, 0, n - 1);
+// The table of cos(theta_o) (any value: NaN and values outside [0, 1] are clamped).
+inline int theta_o_bin(double cos_theta_o, int bins) {
+  const double theta_o = sampling_math::acos01(cos_theta_o);
+  return std::min(int(theta_o * (2 / kPi) * bins), bins - 1);
+}
+
+// The bin i of a non-decreasing CDF of n + 1 entries (cdf[0] = 0 <= u < 1 = cdf[n]) with
+// cdf[i] <= u < cdf[i + 1], so never an empty bin, and u remapped to [0, 1) within it. It is
+// std::upper_bound's bin, found in steps whose number depends on n only, with selects: u is
+// random, so branches on it mispredict half the time. The steps keep cdf[base] <= u with the bin
+// in [base, base + len).
+inline const double* pick_step(const double* base, std::size_t half, double u) {
+  return base[half] <= u ? base + half : base;
+}
+
+inline int pick_end(const double* cdf, const double* base, int n, double* u) {
+  const int i = std::min(int(base - cdf), n - 1);
   const double w = cdf[i + 1] - cdf[i];
-  *u = w > 0 ? std::clamp((*u - cdf[i]) / w, 0.0, std::nextafter(1.0, 0.0)) : 0.5;
+  *u = w > 0 ? std::clamp((*u - cdf[i]) / w, 0.0, kBelowOne) : 0.5;
   return i;
+}
+
+inline int pick(const double* cdf, int n, double* u) {
+  const double* base = cdf;
+  for (std::size_t len = std::size_t(n) + 1; len > 1; len -= len >> 1) {
+    base = pick_step(base, len >> 1, *u);
+  }
+  return pick_end(cdf, base, n, u);
+}
+
+constexpr int kLanes = 128;  // draws in a block of sample_batch
+
+// pick() for kLanes CDFs of n + 1 entries at once (bin[k] of cdf[k] at u[k]), one step for all
+// lanes at a time: the lanes' loads (cache misses, in large tables) are in flight together.
+void pick_lanes(const double* const* cdf, int n, double* u, int* bin) {
+  const double* base[kLanes];
+  for (int k = 0; k < kLanes; ++k) base[k] = cdf[k];
+  for (std::size_t len = std::size_t(n) + 1; len > 1; len -= len >> 1) {
+    const std::size_t half = len >> 1;
+    for (int k = 0; k < kLanes; ++k) base[k] = pick_step(base[k], half, u[k]);
+  }
+  for (int k = 0; k < kLanes; ++k) bin[k] = pick_end(cdf[k], base[k], n, &u[k]);
+}
+
+// Where lanes without a table row or cell search (cosine-weighted or refused draws) search.
+constexpr double kNoCdf[4097] = {};
+
+// A draw's first choice, u1 and u2 clamped into [0, 1): cosine-weighted with probability c (v1 =
+// u1 / c, v2 = u2: the point of sample_cosine_hemisphere) or from the table (v1 is then the row
+// search's u); c = 1 for an empty table. Selects only: a lane loop of it vectorizes.
+struct Choice {
+  double v1, v2;
+  bool table;
+};
+
+inline Choice choose(double c, double u1, double u2) {
+  u1 = std::clamp(u1, 0.0, kBelowOne);
+  const bool cosine = u1 < c;
+  const double v1 = cosine ? u1 / c : (u1 - c) / (1 - c);
+  return {std::min(v1, kBelowOne), std::clamp(u2, 0.0, kBelowOne), !cosine};
+}
+
+struct Dir {
+  double x, y, z;
+};
+
+// A draw's direction wi from its choices (BrdfSampler::Draw): for a table draw (b >= 0) h at
+// cos(theta_h) = ce0 + v1 (ce1 - ce0) and phi_h = (b + v2) dphi in wo's frame, reflected about;
+// for a cosine-weighted one (b < 0) sample_cosine_hemisphere(v1, v2). Both are computed.
+inline Dir draw_direction(double ox, double oy, double oz, Frame f, double b, double v1, double v2,
+                          double ce0, double ce1, double dphi) {
+  const bool cosine = b < 0;
+  const double ct = ce0 + v1 * (ce1 - ce0);
+  const double st = std::sqrt(std::max(0.0, 1 - ct * ct));
+  const double r = std::sqrt(v1), z = std::sqrt(std::max(0.0, 1 - v1));
+  const sampling_math::SinCos sc =
+      sampling_math::sincos_0_2pi(cosine ? 2 * kPi * v2 : (b + v2) * dphi);
+  const double hx = st * sc.c, hy = st * sc.s;
+  const double h_x = f.xx * hx - f.xy * hy, h_y = f.xy * hx + f.xx * hy;
+  const double d = ox * h_x + oy * h_y + oz * ct;
+  return {cosine ? r * sc.c : 2 * d * h_x - ox, cosine ? r * sc.s : 2 * d * h_y - oy,
+          cosine ? z : 2 * d * ct - oz};
+}
+
+// The table cell (a, b) of wi's half vector h = normalize(wi + wo) and wo.h; ok is false where
+// the table's density is 0 there (h or its reflection at or below the horizon).
+struct Located {
+  double d;
+  int a, b;
+  bool ok;
+};
+
+inline Located locate(double ox, double oy, double oz, Frame f, double wx, double wy, double wz,
+                      int nh, int np, double dphi) {
+  double hx = wx + ox, hy = wy + oy, hz = wz + oz;
+  const double len = std::sqrt(hx * hx + hy * hy + hz * hz), inv_len = 1 / len;
+  hx *= inv_len;
+  hy *= inv_len;
+  hz *= inv_len;
+  const double d = ox * hx + oy * hy + oz * hz;
+  const double theta_h = sampling_math::acos01(hz);  // NaN (len 0) clamped: a valid, unused cell
+  const int a = std::min(int(std::sqrt(theta_h * (2 / kPi)) * nh), nh - 1);
+  const double phi = sampling_math::atan2_0_2pi(-f.xy * hx + f.xx * hy, f.xx * hx + f.xy * hy);
+  const int b = std::min(int(phi / dphi), np - 1);
+  const bool ok = (len > 0) & (d > 0) & (hz > 0);  // & vectorizes where && does not
+  return {d, a, b, ok};
+}
+
+// The table's probability of wi's cell as the draws see it, from the CDFs they search (0 where
+// the table's density is 0; row_cdf is null for an empty table).
+inline double cell_probability(const double* row_cdf, const double* cell_cdf, int np,
+                               const Located& at) {
+  if (!at.ok || row_cdf == nullptr) return 0.0;
+  const std::size_t a = std::size_t(at.a), b = std::size_t(at.b);
+  const double* cdf = cell_cdf + a * std::size_t(np + 1);
+  return (row_cdf[a + 1] - row_cdf[a]) * (cdf[b + 1] - cdf[b]);
+}
+
+// pdf(wo, wi) from its cell's probability p and cos(theta_h) edges ce0 > ce1: the table's density
+// of h (p over the cell's solid angle) over 4 wo.h, mixed with the cosine-weighted density.
+inline double mix_pdf(double p, double ce0, double ce1, double d, double c, double wz,
+                      double dphi) {
+  const double table = p != 0.0 ? p / ((ce0 - ce1) * dphi) / (4 * d) : 0.0;
+  return c * wz / kPi + (c < 1.0 ? (1 - c) * table : 0.0);
+}
+
+}  // namespace
+
+// The lanes of a block of batch draws (structure of arrays): inputs, the draws' tables and
+// choices (BrdfSampler::Draw's fields), their directions, pdf cells and pdfs. One object, so that
+// its arrays provably do not alias. Flags are doubles (1 or 0): masks as wide as the values
+// vectorize.
+struct internal::SamplerLanes {
+  alignas(64) double ox[kLanes], oy[kLanes], oz[kLanes], u1[kLanes], u2[kLanes], live[kLanes];
+  alignas(64) double fxx[kLanes], fxy[kLanes];
+  alignas(64) double c[kLanes], b[kLanes], v1[kLanes], v2[kLanes], ce0[kLanes], ce1[kLanes];
+  alignas(64) double table_draw[kLanes];
+  alignas(64) double wx[kLanes], wy[kLanes], wz[kLanes], d[kLanes], ok[kLanes];
+  alignas(64) double p[kLanes], pce0[kLanes], pce1[kLanes], pdf[kLanes];
+  alignas(64) double wi[3][kLanes];
+  alignas(64) int bin[kLanes], cell_a[kLanes], cell_b[kLanes];
+};
+
+namespace {
+using Lanes = internal::SamplerLanes;
+
+// The lane loops, compiled for AVX2 and for the baseline and chosen at load time where the
+// toolchain supports it (GCC on x86-64; not under the sanitizers, whose runtimes and ifunc
+// resolvers do not mix). Every lane computes what sample() computes for its draw, with the same
+// functions: vector lanes round as scalar instructions do.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#define CBRDF_SAMPLING_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define CBRDF_SAMPLING_CLONES
+#endif
+
+CBRDF_SAMPLING_CLONES void lanes_frames(Lanes& l, int bins) {
+  for (int k = 0; k < kLanes; ++k) {
+    const Frame f = azimuth_frame(l.ox[k], l.oy[k]);
+    l.fxx[k] = f.xx;
+    l.fxy[k] = f.xy;
+    l.bin[k] = theta_o_bin(l.oz[k], bins);
+  }
+}
+
+// choose() per lane (c set per lane); a refused lane (live 0) is no table draw.
+CBRDF_SAMPLING_CLONES void lanes_choices(Lanes& l) {
+  for (int k = 0; k < kLanes; ++k) {
+    const Choice ch = choose(l.c[k], l.u1[k], l.u2[k]);
+    l.v1[k] = ch.v1;
+    l.v2[k] = ch.v2;
+    l.b[k] = -1.0;
+    l.ce0[k] = l.ce1[k] = 0.0;
+    l.table_draw[k] = (l.live[k] != 0.0) & ch.table ? 1.0 : 0.0;
+  }
+}
+
+CBRDF_SAMPLING_CLONES void lanes_directions(Lanes& l, int nh, int np, double dphi) {
+  for (int k = 0; k < kLanes; ++k) {
+    const Frame f{l.fxx[k], l.fxy[k]};
+    const Dir w = draw_direction(l.ox[k], l.oy[k], l.oz[k], f, l.b[k], l.v1[k], l.v2[k], l.ce0[k],
+                                 l.ce1[k], dphi);
+    l.wx[k] = w.x;
+    l.wy[k] = w.y;
+    l.wz[k] = w.z;
+    const Located at = locate(l.ox[k], l.oy[k], l.oz[k], f, w.x, w.y, w.z, nh, np, dphi);
+    l.d[k] = at.d;
+    l.cell_a[k] = at.a;
+    l.cell_b[k] = at.b;
+    l.ok[k] = at.ok ? 1.0 : 0.0;
+  }
+}
+
+// sample()'s pdf and validity from the cells' probabilities (p, pce0, pce1); wi is 0 where
+// rejected.
+CBRDF_SAMPLING_CLONES void lanes_pdfs(Lanes& l, double dphi) {
+  for (int k = 0; k < kLanes; ++k) {
+    const double pdf = mix_pdf(l.p[k], l.pce0[k], l.pce1[k], l.d[k], l.c[k], l.wz[k], dphi);
+    const bool valid = (l.live[k] != 0.0) & (l.wz[k] > 0) & (pdf > 0);
+    l.pdf[k] = valid ? pdf : 0.0;
+    l.wi[0][k] = valid ? l.wx[k] : 0.0;
+    l.wi[1][k] = valid ? l.wy[k] : 0.0;
+    l.wi[2][k] = valid ? l.wz[k] : 0.0;
+  }
+}
+
+// A chunk's draws for the evaluator (whole chunks at once: its batch has a cost per call) and
+// their weights.
+constexpr std::size_t kSampleChunk = 1024;  // draws per task of the pool
+struct ChunkDraws {
+  alignas(64) double wi[3][kSampleChunk], wo[3][kSampleChunk], pdf[kSampleChunk];
+  alignas(64) double f[3][kSampleChunk], weight[3][kSampleChunk];
+};
+
+CBRDF_SAMPLING_CLONES void chunk_weights(ChunkDraws& c, std::size_t n) {
+  for (int ch = 0; ch < 3; ++ch) {
+    for (std::size_t k = 0; k < n; ++k) {
+      c.weight[ch][k] = c.pdf[k] > 0 ? c.f[ch][k] * c.wi[2][k] / c.pdf[k] : 0.0;
+    }
+  }
 }
 
 }  // namespace
 
 struct BrdfSampler::Table {
   std::once_flag once;
+  std::atomic<bool> ready{false};
   bool empty = true;             // the BRDF reflects nothing at this theta_o
   std::vector<double> row_cdf;   // theta_h_cells + 1
   std::vector<double> cell_cdf;  // per theta_h row, phi_h_cells + 1 (conditional)
-  std::vector<double> cell_p;    // probability of each cell, row-major
+};
+
+// A draw's choices before its direction: the cosine-weighted share c; for a table draw its
+// cell's column b, its row's cos(theta_h) edges ce0 > ce1 and the fractions v1, v2 of the cell
+// along cos(theta_h) and phi_h; for a cosine-weighted draw b = -1 and (v1, v2) the point of
+// sample_cosine_hemisphere.
+struct BrdfSampler::Draw {
+  double c = 1, b = -1, v1 = 0, v2 = 0, ce0 = 0, ce1 = 0;
 };
 
 BrdfSampler::BrdfSampler(BrdfFn f, const SamplerSettings& settings)
@@ -79,132 +301,126 @@ BrdfSampler::~BrdfSampler() = default;
 BrdfSampler::BrdfSampler(BrdfSampler&&) noexcept = default;
 BrdfSampler& BrdfSampler::operator=(BrdfSampler&&) noexcept = default;
 
-const BrdfSampler::Table& BrdfSampler::table_for(double cos_theta_o) const {
-  const int bins = settings_.theta_o_bins;
-  const double theta_o = std::acos(std::clamp(cos_theta_o, 0.0, 1.0));
-  const int k = std::clamp(int(theta_o / (kPi / 2) * bins), 0, bins - 1);
+const BrdfSampler::Table& BrdfSampler::table_at(int k) const {
   Table& t = tables_[std::size_t(k)];
-  std::call_once(t.once, [&] {
-    const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells, ss = settings_.supersample;
-    const double dphi = 2 * kPi / np;
-    const double to = (k + 0.5) / bins * (kPi / 2);
-    const Vec3 wo{std::sin(to), 0.0, std::cos(to)};
-    t.cell_p.assign(std::size_t(nh) * np, 0.0);
-    double total = 0.0;
-    for (int a = 0; a < nh; ++a) {
-      const double c0 = cos_edges_[a], c1 = cos_edges_[a + 1];
-      for (int b = 0; b < np; ++b) {
-        double sum = 0.0;
-        for (int i = 0; i < ss; ++i) {
-          const double ct = c0 + (i + 0.5) / ss * (c1 - c0);
-          const double st = std::sqrt(std::max(0.0, 1 - ct * ct));
-          for (int j = 0; j < ss; ++j) {
-            const double phi = (b + (j + 0.5) / ss) * dphi;
-            const Vec3 h{st * std::cos(phi), st * std::sin(phi), ct};
-            const double d = dot(wo, h);
-            if (!(d > 0)) continue;
-            const Vec3 wi{2 * d * h.x - wo.x, 2 * d * h.y - wo.y, 2 * d * h.z - wo.z};
-            if (!(wi.z > 0)) continue;
-            double rgb[3] = {0, 0, 0};
-            f_(wi, wo, rgb);
-            const double m = (rgb[0] + rgb[1] + rgb[2]) / 3;
-            if (std::isfinite(m) && m > 0) sum += m * wi.z * 4 * d;
-          }
-        }
-        const double mass = sum / (ss * ss) * (c0 - c1) * dphi;
-        t.cell_p[std::size_t(a) * np + b] = mass;
-        total += mass;
-      }
-    }
-    if (!(total > 0) || !std::isfinite(total)) return;  // stays empty: cosine sampling only
-    t.empty = false;
-    t.row_cdf.assign(std::size_t(nh) + 1, 0.0);
-    t.cell_cdf.assign(std::size_t(nh) * (np + 1), 0.0);
-    double run = 0.0;
-    for (int a = 0; a < nh; ++a) {
-      double* cdf = &t.cell_cdf[std::size_t(a) * (np + 1)];
-      double* p = &t.cell_p[std::size_t(a) * np];
-      double row = 0.0;
-      for (int b = 0; b < np; ++b) {
-        p[b] /= total;
-        row += p[b];
-        cdf[b + 1] = row;
-      }
-      for (int b = 1; b <= np; ++b) cdf[b] = row > 0 ? cdf[b] / row : double(b) / np;
-      cdf[np] = 1.0;
-      run += row;
-      t.row_cdf[a + 1] = run;
-    }
-    for (double& v : t.row_cdf) v /= run;
-    t.row_cdf[nh] = 1.0;
-  });
+  // The flag first: call_once sets up thread-local state on every call, even when done.
+  if (!t.ready.load(std::memory_order_acquire)) {
+    std::call_once(t.once, [&] {
+      build_table(k, t);
+      t.ready.store(true, std::memory_order_release);
+    });
+  }
   return t;
 }
 
-double BrdfSampler::table_pdf(const Table& t, const Vec3& wo, const Vec3& wi) const {
-  Vec3 h{wi.x + wo.x, wi.y + wo.y, wi.z + wo.z};
-  const double len = std::sqrt(dot(h, h));
-  if (!(len > 0)) return 0.0;
-  h = {h.x / len, h.y / len, h.z / len};
-  const double d = dot(wo, h);
-  if (!(d > 0) || !(h.z > 0)) return 0.0;
-  const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
-  const double theta_h = std::acos(std::min(h.z, 1.0));
-  const int a = std::clamp(int(std::sqrt(theta_h / (kPi / 2)) * nh), 0, nh - 1);
-  const AzimuthFrame f = azimuth_frame(wo);
-  double phi = std::atan2(-f.xy * h.x + f.xx * h.y, f.xx * h.x + f.xy * h.y);
-  if (phi < 0) phi += 2 * kPi;
+void BrdfSampler::build_table(int k, Table& t) const {
+  const int bins = settings_.theta_o_bins;
+  const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells, ss = settings_.supersample;
   const double dphi = 2 * kPi / np;
-  const int b = std::clamp(int(phi / dphi), 0, np - 1);
-  const double p = t.cell_p[std::size_t(a) * np + b];
-  if (p == 0.0) return 0.0;
-  return p / ((cos_edges_[a] - cos_edges_[a + 1]) * dphi) / (4 * d);
+  const double to = (k + 0.5) / bins * (kPi / 2);
+  const Vec3 wo{std::sin(to), 0.0, std::cos(to)};
+  std::vector<double> cell_p(std::size_t(nh) * np, 0.0);
+  double total = 0.0;
+  for (int a = 0; a < nh; ++a) {
+    const double c0 = cos_edges_[a], c1 = cos_edges_[a + 1];
+    for (int b = 0; b < np; ++b) {
+      double sum = 0.0;
+      for (int i = 0; i < ss; ++i) {
+        const double ct = c0 + (i + 0.5) / ss * (c1 - c0);
+        const double st = std::sqrt(std::max(0.0, 1 - ct * ct));
+        for (int j = 0; j < ss; ++j) {
+          const double phi = (b + (j + 0.5) / ss) * dphi;
+          const Vec3 h{st * std::cos(phi), st * std::sin(phi), ct};
+          const double d = dot(wo, h);
+          if (!(d > 0)) continue;
+          const Vec3 wi{2 * d * h.x - wo.x, 2 * d * h.y - wo.y, 2 * d * h.z - wo.z};
+          if (!(wi.z > 0)) continue;
+          double rgb[3] = {0, 0, 0};
+          f_(wi, wo, rgb);
+          const double m = (rgb[0] + rgb[1] + rgb[2]) / 3;
+          if (std::isfinite(m) && m > 0) sum += m * wi.z * 4 * d;
+        }
+      }
+      const double mass = sum / (ss * ss) * (c0 - c1) * dphi;
+      cell_p[std::size_t(a) * np + b] = mass;
+      total += mass;
+    }
+  }
+  if (!(total > 0) || !std::isfinite(total)) return;  // stays empty: cosine sampling only
+  t.empty = false;
+  t.row_cdf.assign(std::size_t(nh) + 1, 0.0);
+  t.cell_cdf.assign(std::size_t(nh) * (np + 1), 0.0);
+  double run = 0.0;
+  for (int a = 0; a < nh; ++a) {
+    double* cdf = &t.cell_cdf[std::size_t(a) * (np + 1)];
+    double* p = &cell_p[std::size_t(a) * np];
+    double row = 0.0;
+    for (int b = 0; b < np; ++b) {
+      p[b] /= total;
+      row += p[b];
+      cdf[b + 1] = row;
+    }
+    for (int b = 1; b <= np; ++b) cdf[b] = row > 0 ? cdf[b] / row : double(b) / np;
+    cdf[np] = 1.0;
+    run += row;
+    t.row_cdf[a + 1] = run;
+  }
+  for (double& v : t.row_cdf) v /= run;
+  t.row_cdf[nh] = 1.0;
+}
+
+inline bool BrdfSampler::draw_choice(const Table& t, double u1, double u2, Draw* d) const {
+  d->c = t.empty ? 1.0 : settings_.cosine_fraction;
+  const Choice ch = choose(d->c, u1, u2);
+  d->v1 = ch.v1;
+  d->v2 = ch.v2;
+  return ch.table;
+}
+
+void BrdfSampler::draw_cell(const Table& t, int row, Draw* d) const {
+  const int np = settings_.phi_h_cells;
+  d->b = pick(&t.cell_cdf[std::size_t(row) * (np + 1)], np, &d->v2);
+  d->ce0 = cos_edges_[std::size_t(row)];
+  d->ce1 = cos_edges_[std::size_t(row) + 1];
 }
 
 double BrdfSampler::pdf(const Vec3& wo, const Vec3& wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return 0.0;
-  return pdf_in(table_for(wo.z), wo, wi);
-}
-
-double BrdfSampler::pdf_in(const Table& t, const Vec3& wo, const Vec3& wi) const {
+  const Table& t = table_at(theta_o_bin(wo.z, settings_.theta_o_bins));
+  const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
   const double c = t.empty ? 1.0 : settings_.cosine_fraction;
-  double p = c * wi.z / kPi;
-  if (c < 1.0) p += (1 - c) * table_pdf(t, wo, wi);
-  return p;
+  const Located at =
+      locate(wo.x, wo.y, wo.z, azimuth_frame(wo.x, wo.y), wi.x, wi.y, wi.z, nh, np, 2 * kPi / np);
+  const double p =
+      cell_probability(t.empty ? nullptr : t.row_cdf.data(), t.cell_cdf.data(), np, at);
+  return mix_pdf(p, cos_edges_[std::size_t(at.a)], cos_edges_[std::size_t(at.a) + 1], at.d, c, wi.z,
+                 2 * kPi / np);
 }
 
 BrdfSample BrdfSampler::sample(const Vec3& wo, double u1, double u2) const {
   if (!(wo.z > 0)) return BrdfSample{};
-  return sample_in(table_for(wo.z), wo, u1, u2);
-}
-
-BrdfSample BrdfSampler::sample_in(const Table& t, const Vec3& wo, double u1, double u2) const {
-  BrdfSample s;
+  const Table& t = table_at(theta_o_bin(wo.z, settings_.theta_o_bins));
   // A NaN draw passes std::clamp unchanged and every comparison: refuse it (valid = false)
   // rather than search a table with it.
-  if (std::isnan(u1) || std::isnan(u2)) return s;
-  const double c = t.empty ? 1.0 : settings_.cosine_fraction;
-  const double below_one = std::nextafter(1.0, 0.0);
-  u1 = std::clamp(u1, 0.0, below_one);
-  u2 = std::clamp(u2, 0.0, below_one);
-  if (u1 < c || t.empty) {
-    s.wi = sample_cosine_hemisphere(std::min(u1 / c, below_one), u2);
-  } else {
-    double v1 = std::min((u1 - c) / (1 - c), below_one), v2 = u2;
-    const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
-    const int a = pick(t.row_cdf.data(), nh, &v1);
-    const int b = pick(&t.cell_cdf[std::size_t(a) * (np + 1)], np, &v2);
-    const double ct = cos_edges_[a] + v1 * (cos_edges_[a + 1] - cos_edges_[a]);
-    const double st = std::sqrt(std::max(0.0, 1 - ct * ct));
-    const double phi = (b + v2) * (2 * kPi / np);
-    const double hx = st * std::cos(phi), hy = st * std::sin(phi);
-    const AzimuthFrame f = azimuth_frame(wo);
-    const Vec3 h{f.xx * hx - f.xy * hy, f.xy * hx + f.xx * hy, ct};
-    const double d = dot(wo, h);
-    s.wi = {2 * d * h.x - wo.x, 2 * d * h.y - wo.y, 2 * d * h.z - wo.z};
+  if (std::isnan(u1) || std::isnan(u2)) return BrdfSample{};
+  Draw d;
+  if (draw_choice(t, u1, u2, &d)) {
+    const int row = pick(t.row_cdf.data(), settings_.theta_h_cells, &d.v1);
+    draw_cell(t, row, &d);
   }
-  if (!(s.wi.z > 0)) return s;
-  s.pdf = pdf_in(t, wo, s.wi);  // pdf(wo, s.wi): wo.z > 0 and wi.z > 0 here
+  // The steps of sample_chunk's lanes, one draw at a time.
+  const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
+  const double dphi = 2 * kPi / np;
+  const Frame f = azimuth_frame(wo.x, wo.y);
+  const Dir w = draw_direction(wo.x, wo.y, wo.z, f, d.b, d.v1, d.v2, d.ce0, d.ce1, dphi);
+  BrdfSample s;
+  s.wi = {w.x, w.y, w.z};
+  if (!(w.z > 0)) return s;
+  const Located at = locate(wo.x, wo.y, wo.z, f, w.x, w.y, w.z, nh, np, dphi);
+  const double p =
+      cell_probability(t.empty ? nullptr : t.row_cdf.data(), t.cell_cdf.data(), np, at);
+  s.pdf = mix_pdf(p, cos_edges_[std::size_t(at.a)], cos_edges_[std::size_t(at.a) + 1], at.d, d.c,
+                  w.z, dphi);
   s.valid = s.pdf > 0;
   if (!s.valid) s.pdf = 0;
   return s;
@@ -224,79 +440,128 @@ struct BrdfSampler::BatchIo {
   std::size_t weight_stride = 1;
 };
 
-const BrdfSampler::Table* BrdfSampler::prefetch_rows(double wo_z, double u1) const {
-  if (!(wo_z > 0)) return nullptr;
-  const Table& t = table_for(wo_z);
-  const double c = t.empty ? 1.0 : settings_.cosine_fraction;
-  const double below_one = std::nextafter(1.0, 0.0);
-  u1 = std::clamp(u1, 0.0, below_one);
-  if (!(u1 >= c) || t.empty) return &t;  // no table rows to search (NaN: sample_in refuses it)
-  double v1 = std::min((u1 - c) / (1 - c), below_one);
+void BrdfSampler::draw_lanes(const BatchIo& io, std::size_t base, int m, Lanes& l) const {
+  // Inputs; lanes past m hold a harmless draw (wo at the normal) whose results are dropped, so
+  // that the lane loops run over whole blocks.
+  for (int k = 0; k < kLanes; ++k) {
+    const std::size_t i = base + std::size_t(k);
+    const bool in = k < m;
+    l.ox[k] = in ? io.wo[0][i * io.wo_stride] : 0.0;
+    l.oy[k] = in ? io.wo[1][i * io.wo_stride] : 0.0;
+    l.oz[k] = in ? io.wo[2][i * io.wo_stride] : 1.0;
+    l.u1[k] = in ? io.u[0][i * io.u_stride] : 0.5;
+    l.u2[k] = in ? io.u[1][i * io.u_stride] : 0.5;
+  }
+  lanes_frames(l, settings_.theta_o_bins);
+  // sample()'s steps per lane: its table and choice, then its row and its cell, each search
+  // across the lanes at once (lanes without one search kNoCdf, their results unused).
   const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
-  const int a = pick(t.row_cdf.data(), nh, &v1);
-  const double* cdf = &t.cell_cdf[std::size_t(a) * (np + 1)];
-  const double* p = &t.cell_p[std::size_t(a) * np];
-  constexpr int kLine = 64 / sizeof(double);
-  for (int i = 0; i <= np; i += kLine) __builtin_prefetch(cdf + i);
-  __builtin_prefetch(cdf + np);
-  for (int i = 0; i < np; i += kLine) __builtin_prefetch(p + i);
-  __builtin_prefetch(p + np - 1);
-  return &t;
-}
-
-void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t end) const {
-  // Blocks: the table rows the draws will search brought into the cache together (their misses
-  // overlap, where one draw after another waits for each in turn), the draws (scalar: binary
-  // searches in the tables), then the block's BRDF values through the evaluator's batch path (or
-  // f per draw), then the weights.
-  constexpr std::size_t kBlock = 256;
-  double v[6][kBlock], f[3][kBlock], p[kBlock];
-  const Table* tables[kBlock];
-  for (std::size_t base = begin; base < end; base += kBlock) {
-    const std::size_t m = std::min(kBlock, end - base);
-    for (std::size_t l = 0; l < m; ++l) {
-      const std::size_t k = base + l;
-      tables[l] = prefetch_rows(io.wo[2][k * io.wo_stride], io.u[0][k * io.u_stride]);
+  const double* cdf[kLanes];
+  double u[kLanes];
+  int row[kLanes], cell[kLanes];
+  for (int k = 0; k < kLanes; ++k) {
+    const bool live = l.oz[k] > 0 && !std::isnan(l.u1[k]) && !std::isnan(l.u2[k]);
+    const Table* t = live ? &table_at(l.bin[k]) : nullptr;
+    l.live[k] = live ? 1.0 : 0.0;
+    l.c[k] = t != nullptr && !t->empty ? settings_.cosine_fraction : 1.0;  // as draw_choice
+    cdf[k] = t != nullptr && !t->empty ? t->row_cdf.data() : kNoCdf;
+  }
+  lanes_choices(l);
+  for (int k = 0; k < kLanes; ++k) {
+    cdf[k] = l.table_draw[k] != 0.0 ? cdf[k] : kNoCdf;
+    u[k] = l.table_draw[k] != 0.0 ? l.v1[k] : 0.5;
+  }
+  pick_lanes(cdf, nh, u, row);
+  for (int k = 0; k < kLanes; ++k) {
+    const bool table_draw = l.table_draw[k] != 0.0;
+    if (table_draw) l.v1[k] = u[k];
+    cdf[k] = table_draw ? &tables_[std::size_t(l.bin[k])].cell_cdf[std::size_t(row[k]) * (np + 1)]
+                        : kNoCdf;
+    u[k] = table_draw ? l.v2[k] : 0.5;
+    // The row's lines requested at once: the search's loads then find them in the cache rather
+    // than wait for its probes' misses one after another.
+    if (table_draw) {
+      for (int i = 0; i < np + 1; i += 8) __builtin_prefetch(cdf[k] + i);
+      __builtin_prefetch(cdf[k] + np);
     }
-    for (std::size_t l = 0; l < m; ++l) {
-      const std::size_t k = base + l;
-      const Vec3 o{io.wo[0][k * io.wo_stride], io.wo[1][k * io.wo_stride],
-                   io.wo[2][k * io.wo_stride]};
-      // sample(): its table is tables[l] (null where wo is at or below the horizon).
-      const BrdfSample s = tables[l] == nullptr ? BrdfSample{}
-                                                : sample_in(*tables[l], o, io.u[0][k * io.u_stride],
-                                                            io.u[1][k * io.u_stride]);
-      const bool ok = s.valid && s.pdf > 0;
-      v[0][l] = ok ? s.wi.x : 0.0;
-      v[1][l] = ok ? s.wi.y : 0.0;
-      v[2][l] = ok ? s.wi.z : 0.0;
-      v[3][l] = o.x;
-      v[4][l] = o.y;
-      v[5][l] = o.z;
-      p[l] = ok ? s.pdf : 0.0;
-    }
-    if (evaluator_ != nullptr) {
-      evaluator_->eval_batch(m, v[0], v[1], v[2], v[3], v[4], v[5], f[0], f[1], f[2], 1);
-    } else {
-      for (std::size_t l = 0; l < m; ++l) {
-        double rgb[3] = {0, 0, 0};
-        if (p[l] > 0) f_(Vec3{v[0][l], v[1][l], v[2][l]}, Vec3{v[3][l], v[4][l], v[5][l]}, rgb);
-        for (int c = 0; c < 3; ++c) f[c][l] = rgb[c];
-      }
-    }
-    for (std::size_t l = 0; l < m; ++l) {
-      const std::size_t k = base + l;
-      for (int c = 0; c < 3; ++c) io.wi[c][k * io.wi_stride] = v[c][l];
-      io.pdf[k] = p[l];
-      for (int c = 0; c < 3; ++c) {
-        io.weight[c][k * io.weight_stride] = p[l] > 0 ? f[c][l] * v[2][l] / p[l] : 0.0;
-      }
-    }
+  }
+  pick_lanes(cdf, np, u, cell);
+  for (int k = 0; k < kLanes; ++k) {
+    if (l.table_draw[k] == 0.0) continue;  // as draw_cell
+    l.b[k] = cell[k];
+    l.v2[k] = u[k];
+    l.ce0[k] = cos_edges_[std::size_t(row[k])];
+    l.ce1[k] = cos_edges_[std::size_t(row[k]) + 1];
   }
 }
 
-// Chunks of draws handed to the pool (smaller than the evaluator's: a draw costs more).
-constexpr std::size_t kSampleChunk = 1024;
+void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t end) const {
+  // Blocks of lanes: the draws' tables, rows and cells (scalar searches), their directions and
+  // pdf cells (lane loops), their cells' probabilities (loads) and pdfs (lane loop). Then the
+  // chunk's BRDF values through the evaluator's batch path (or f per draw) and the weights.
+  if (end - begin > kSampleChunk) {  // the pool's chunks are larger beyond 2^20 of them
+    for (std::size_t b = begin; b < end; b += kSampleChunk) {
+      sample_chunk(io, b, std::min(end, b + kSampleChunk));
+    }
+    return;
+  }
+  Lanes l;
+  const auto c = std::make_unique<ChunkDraws>();
+  const std::size_t n = end - begin;
+  const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
+  const double dphi = 2 * kPi / np;
+  for (std::size_t base = 0; base < n; base += kLanes) {
+    const int m = int(std::min<std::size_t>(kLanes, n - base));
+    draw_lanes(io, begin + base, m, l);
+    lanes_directions(l, nh, np, dphi);
+    for (int k = 0; k < kLanes; ++k) {
+      // The cells' CDF entries requested together (a cosine-weighted draw's cell is anywhere).
+      if (l.live[k] == 0.0 || l.ok[k] == 0.0) continue;
+      const Table& t = tables_[std::size_t(l.bin[k])];
+      if (!t.empty) {
+        __builtin_prefetch(&t.cell_cdf[std::size_t(l.cell_a[k]) * (np + 1) + l.cell_b[k]]);
+      }
+    }
+    for (int k = 0; k < kLanes; ++k) {
+      // Only a live lane's table is known to be built.
+      const Located at{l.d[k], l.cell_a[k], l.cell_b[k], l.ok[k] != 0.0};
+      const Table* t = l.live[k] != 0.0 ? &tables_[std::size_t(l.bin[k])] : nullptr;
+      l.p[k] = t != nullptr && !t->empty
+                   ? cell_probability(t->row_cdf.data(), t->cell_cdf.data(), np, at)
+                   : 0.0;
+      l.pce0[k] = cos_edges_[std::size_t(at.a)];
+      l.pce1[k] = cos_edges_[std::size_t(at.a) + 1];
+    }
+    lanes_pdfs(l, dphi);
+    for (int k = 0; k < m; ++k) {
+      for (int i = 0; i < 3; ++i) c->wi[i][base + std::size_t(k)] = l.wi[i][k];
+      c->wo[0][base + std::size_t(k)] = l.ox[k];
+      c->wo[1][base + std::size_t(k)] = l.oy[k];
+      c->wo[2][base + std::size_t(k)] = l.oz[k];
+      c->pdf[base + std::size_t(k)] = l.pdf[k];
+    }
+  }
+  if (evaluator_ != nullptr) {
+    evaluator_->eval_batch(n, c->wi[0], c->wi[1], c->wi[2], c->wo[0], c->wo[1], c->wo[2], c->f[0],
+                           c->f[1], c->f[2], 1);
+  } else {
+    for (std::size_t k = 0; k < n; ++k) {
+      double rgb[3] = {0, 0, 0};
+      if (c->pdf[k] > 0) {
+        f_(Vec3{c->wi[0][k], c->wi[1][k], c->wi[2][k]}, Vec3{c->wo[0][k], c->wo[1][k], c->wo[2][k]},
+           rgb);
+      }
+      for (int i = 0; i < 3; ++i) c->f[i][k] = rgb[i];
+    }
+  }
+  chunk_weights(*c, n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = begin + k;
+    for (int ch = 0; ch < 3; ++ch) io.wi[ch][i * io.wi_stride] = c->wi[ch][k];
+    io.pdf[i] = c->pdf[k];
+    for (int ch = 0; ch < 3; ++ch) io.weight[ch][i * io.weight_stride] = c->weight[ch][k];
+  }
+}
 
 void BrdfSampler::sample_batch(std::size_t n, const double* wo_x, const double* wo_y,
                                const double* wo_z, const double* u1, const double* u2, double* wi_x,
@@ -339,7 +604,12 @@ void BrdfSampler::sample_batch(std::size_t n, const double* wo, const double* u,
 
 Vec3 sample_cosine_hemisphere(double u1, double u2) {
   const double r = std::sqrt(u1), phi = 2 * kPi * u2;
-  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1 - u1))};
+  // The sampler's own sine and cosine (its cosine-weighted draws are this function's values)
+  // inside its range, libm's outside it.
+  const double z = std::sqrt(std::max(0.0, 1 - u1));
+  if (!(phi >= 0 && phi <= 2 * kPi)) return {r * std::cos(phi), r * std::sin(phi), z};
+  const sampling_math::SinCos sc = sampling_math::sincos_0_2pi(phi);
+  return {r * sc.c, r * sc.s, z};
 }
 
 BrdfFn model_brdf_fn(const ModelEvaluator& evaluator) {

@@ -6,8 +6,8 @@
 // channel a family with a parameter inside its domain (edges, huge and tiny values included), K,
 // three marginal tables of assorted shapes (zeros, one-hot, 700-decade ranges, raw doubles), a
 // mask (standard, empty, full, runs, flipped bits) and single or per-bin values (NaN payloads
-// included), plus the quantization bits and, on one input in 32, a residual layer (modes 0, 2). The
-// checks are the codec's promises (codec.h, spec/container.md 4.3): families, parameters, K,
+// included), plus the quantization bits and, on one input in 32, a residual layer (modes 0, 2, 3).
+// The checks are the codec's promises (codec.h, spec/container.md 4.3): families, parameters, K,
 // bounds, mask and values come back bit for bit; each nonzero mass within the documented relative
 // error e^step - 1, each zero mass exactly. One input in two (by a byte) breaks one rule of the
 // model instead, and encode_model must then refuse it with kInvalidArgument.
@@ -27,6 +27,7 @@
 #include "cbrdf/coords.h"
 #include "cbrdf/model.h"
 #include "common.h"
+#include "residual_levels.h"
 
 namespace cbrdf::fuzz {
 
@@ -225,6 +226,15 @@ inline void pick_residual(Model* m, ByteSource& in) {
     const double raw = std::bit_cast<double>(in.u64());
     r.escapes.push_back({b, std::isfinite(raw) && raw >= 0.0 ? raw : 0.5});
   }
+  // Mode 3 (after the escapes, so that older seeds build the models they did): mode 2's codes
+  // correcting an interpolation, 1..4 levels, a finest multiplier within the bound limit 16.
+  if (!r.row_shift.empty() && !in.empty() && in.u8() % 2 == 0) {
+    r.levels = std::uint8_t(1 + in.u8() % 4);
+    const double top = std::ldexp(r.max_error, r.max_row_shift());
+    const int most = int(std::min(64.0, std::floor(16.0 / top)));
+    r.fine_multiplier = std::uint8_t(1 + in.u8() % std::max(most, 1));
+    internal::rebuild_interpolated(&r);
+  }
 }
 
 inline Model build_model(ByteSource& in) {
@@ -277,6 +287,11 @@ inline void check_residual_roundtrip(const Residual& a, const Residual& b, Resul
   r->check(std::memcmp(&a.knee, &b.knee, 8) == 0, "the residual knee changed");
   r->check(a.codes == b.codes, "the residual codes changed");
   r->check(a.row_shift == b.row_shift, "the residual row shifts changed");
+  r->check(a.levels == b.levels && a.fine_multiplier == b.fine_multiplier,
+           "the residual's levels or finest multiplier changed");
+  r->check(a.values.size() == b.values.size() &&
+               std::memcmp(a.values.data(), b.values.data(), a.values.size() * 8) == 0,
+           "the rebuilt interpolated residual changed");
   bool same = a.escapes.size() == b.escapes.size();
   for (std::size_t k = 0; same && k < a.escapes.size(); ++k) {
     same = a.escapes[k].bin == b.escapes[k].bin &&

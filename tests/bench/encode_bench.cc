@@ -2,10 +2,13 @@
 // What encoding costs at the CLI's settings: the default encode, rate control (--target-bytes,
 // --target-psnr) and a 4-component encode, each as a ratio to the default encode of the same
 // material in the same run (the speed issue's targets: rate control at most 5x, a 4-component
-// encode under 2 s). Run: build/tests/bench/cbrdf_encode_bench [threads=N] [MATERIAL...] (names
-// from ../shared/data, default blue-metallic-paint and nickel; "sample:NAME" for a built-in one
-// when ../shared is absent). Each figure is one encode of the table in memory (reading it is not
-// timed), on all cores as `cbrdf encode` runs it, or on N threads (`--threads N`).
+// encode under 2 s). Run: build/tests/bench/cbrdf_encode_bench [threads=N] [model-only]
+// [MATERIAL...] (names from ../shared/data, default blue-metallic-paint and nickel; "sample:NAME"
+// for a built-in one when ../shared is absent). Each figure is one encode of the table in memory
+// (reading it is not timed), on all cores as `cbrdf encode` runs it, or on N threads (`--threads
+// N`). The targets search the whole ladder as `cbrdf encode` does (encode_to_target_ladder: the
+// model, then the model plus the residual layer); model-only: the model's search alone
+// (encode_to_target).
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -57,6 +60,11 @@ int& threads() {
   return n;
 }
 
+bool& model_only() {
+  static bool m = false;  // false: the whole ladder, as the CLI
+  return m;
+}
+
 std::map<std::string, cbrdf::BrdfTable>& tables() {
   static std::map<std::string, cbrdf::BrdfTable> t;
   return t;
@@ -76,6 +84,8 @@ void count(benchmark::State& state, const cbrdf::RateResult& r) {
   state.counters["fits"] = double(r.fits);
   state.counters["bytes"] = r.chosen.bytes;
   state.counters["psnr_tm"] = r.chosen.psnr_tonemapped;
+  state.counters["met"] = r.met ? 1 : 0;
+  state.counters["residual"] = r.chosen.max_error > 0 ? 1 : 0;
 }
 
 void BM_Default(benchmark::State& state, const std::string& m) {
@@ -119,7 +129,8 @@ void BM_Target(benchmark::State& state, const std::string& m, double bytes, doub
   target.max_bytes = bytes;
   target.min_psnr = psnr;
   for (auto _ : state) {
-    auto r = cbrdf::encode_to_target(tables().at(m), st, target);
+    auto r = model_only() ? cbrdf::encode_to_target(tables().at(m), st, target)
+                          : cbrdf::encode_to_target_ladder(tables().at(m), st, target);
     if (!r.ok()) {
       state.SkipWithError("rate control failed");
       break;
@@ -175,6 +186,8 @@ int main(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg.rfind("threads=", 0) == 0) {
       threads() = std::atoi(arg.c_str() + 8);
+    } else if (arg == "model-only") {
+      model_only() = true;
     } else {
       materials.push_back(arg);
     }

@@ -179,9 +179,9 @@ class LadderRun {
 
   Status residual_points() {
     for (double e : st_.max_errors) {
-      ResidualSettings rs;
-      rs.max_error = e;
+      ResidualSettings rs = target_residual_settings(e);
       rs.row_steps = st_.residual_row_steps;
+      if (!st_.residual_interpolated) rs.levels = 0;
       CBRDF_RETURN_IF_ERROR(residual_point({kLadderResidual, format_g("E %g", e)}, rs));
     }
     return ok_status();

@@ -38,6 +38,8 @@ struct LadderSettings {
   // Steps by the rows' visibility (ResidualSettings::row_steps, as --target-psnr encodes); E is
   // then the finest row's bound.
   bool residual_row_steps = true;
+  // Codes correcting an interpolation of coarser bins (RESD mode 3, target_residual_settings).
+  bool residual_interpolated = true;
   std::vector<double> zfp_tolerances = {0.5,  0.2,  0.08, 0.03, 0.012, 0.005,
                                         2e-3, 5e-4, 1e-4, 2e-5, 5e-6};
   bool float16 = true;

@@ -147,18 +147,23 @@ std::string ladder_check_text(const std::vector<LadderMaterial>& ladders) {
 
 std::string ladder_60db_text(const std::vector<LadderMaterial>& ladders) {
   double sum60 = 0, max60 = 0;
-  int n60 = 0;
+  int n60 = 0, above = 0;
   for (const LadderMaterial& m : ladders) {
     const double b = bytes_at(ladder_curve(m, cbrdf_methods()), 60);
     if (!std::isfinite(b)) continue;
     sum60 += b;
     max60 = std::max(max60, b);
+    above += b >= 100000 ? 1 : 0;
     ++n60;
   }
   if (n60 == 0) return "";
-  return "60 dB: cbrdf mean " + fmt("%.1f", sum60 / n60 / 1000) + " KB, largest " +
-         fmt("%.1f", max60 / 1000) + " KB" + (max60 < 100000 ? " ok" : " ABOVE 100 KB") + " [" +
-         std::to_string(n60) + " of " + std::to_string(ladders.size()) + " materials reach 60 dB]";
+  // The target is the mean; the materials above it are named by count beside it.
+  const double mean = sum60 / n60;
+  return "60 dB: cbrdf mean " + fmt("%.1f", mean / 1000) + " KB" +
+         (mean < 100000 ? " ok" : " ABOVE 100 KB") + ", largest " + fmt("%.1f", max60 / 1000) +
+         " KB (" + std::to_string(above) + " of " + std::to_string(n60) +
+         " materials at or above 100 KB) [" + std::to_string(n60) + " of " +
+         std::to_string(ladders.size()) + " materials reach 60 dB]";
 }
 
 std::string ladder_lossless_text(const std::vector<LadderMaterial>& ladders) {

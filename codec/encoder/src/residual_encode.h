@@ -15,16 +15,19 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings, En
 
 // The largest |log1p(decoded / knee) - log1p(source / knee)| over measured bins, stored values;
 // the bins whose error exceeds `bound` go to `violations` (when given), in increasing order.
+// With `residual`, each bin's bound is the residual's at that bin (Residual bound_at); without,
+// `bound`.
 double max_log_error(const BrdfTable& source, const BrdfTable& decoded, double knee,
                      double bound = 0, std::vector<std::uint32_t>* violations = nullptr,
-                     const std::vector<std::uint8_t>* row_shift = nullptr);
+                     const Residual* residual = nullptr);
 
 // RESD mode 2's row shifts (ResidualSettings::row_steps) for the bound `max_error`: per row r =
 // 90 theta_h + theta_d, round(log2(sqrt(W_max / W_r))) clamped to kRowStepShiftCap and to the
 // format's largest bound, with W_r the row's solid-angle measure times the sum over its phi_d
 // bins of cos(theta_i) cos(theta_o) (0 below the horizon). High-rate theory: a step
 // proportional to 1 / sqrt(weight) minimises the weighted squared error at a given rate.
-std::vector<std::uint8_t> residual_row_shifts(double max_error);
+// With a finest-level multiplier m (mode 3), no bound m x max_error x 2^shift exceeds the format's.
+std::vector<std::uint8_t> residual_row_shifts(double max_error, int fine_multiplier = 1);
 inline constexpr int kRowStepShiftCap = 6;
 
 }  // namespace cbrdf::internal

@@ -131,11 +131,12 @@ typedef struct cbrdf_model_info {
   uint64_t file_bytes;        /* size of the .cbrdf file */
   uint64_t not_measured_bins; /* (channel, bin) pairs marked not measured, over all channels */
   /* Since 1.4: the residual layer (container 1.2, chunk RESD; spec/container.md 4.6). */
-  int residual_mode;         /* CBRDF_RESIDUAL_NONE, _BOUNDED, _LOSSLESS or _ROW_BOUNDED */
-  double residual_max_error; /* _BOUNDED, _ROW_BOUNDED: every measured bin decodes within this
+  int residual_mode; /* CBRDF_RESIDUAL_NONE, _BOUNDED, _LOSSLESS, _ROW_BOUNDED or _INTERPOLATED */
+  double residual_max_error; /* all but _LOSSLESS: every measured bin decodes within this
                                 bound of the source, |log1p(decoded / k) - log1p(source / k)|
                                 on stored values; 0 otherwise */
-  double residual_min_error; /* _ROW_BOUNDED: the finest row's bound; _BOUNDED: max_error */
+  double residual_min_error; /* _ROW_BOUNDED, _INTERPOLATED: the finest row's bound (on the
+                                coarser levels); _BOUNDED: max_error */
   double residual_knee;      /* k of that bound, in stored units (0 without a bounded layer) */
   uint64_t residual_bytes;   /* stored bytes of the RESD chunk (0 without one) */
 } cbrdf_model_info;
@@ -147,6 +148,9 @@ typedef struct cbrdf_model_info {
 /* A bound per (theta_h, theta_d) row, coarser where a bin weighs less in rendering (written by
  * the rate control: cbrdf_encode_settings.max_error always writes _BOUNDED). */
 #define CBRDF_RESIDUAL_ROW_BOUNDED 2
+/* Since 1.5: row bounds, the codes correcting an interpolation of coarser bins; the finest level
+ * (odd theta_d or phi_d) has a multiple of its row's bound (written by the rate control). */
+#define CBRDF_RESIDUAL_INTERPOLATED 3
 
 /* Fills *info (see cbrdf_model_info). Returns CBRDF_OK, or CBRDF_ERROR_INVALID_ARGUMENT when model
  * or info is NULL or info->struct_size is smaller than the first version of the struct. */

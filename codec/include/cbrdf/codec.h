@@ -64,9 +64,10 @@ struct ContainerInfo {
   std::size_t not_measured_bins = 0;      // set bits of the mask over all channels
   bool mask_relative_to_horizon = false;  // coded as the XOR with the below-horizon mask
   bool per_bin_values = false;            // one stored value per not-measured bin
-  int residual_mode = -1;  // 'RESD' (1.2): -1 absent, 0 bounded log residual, 1 exact, 2 row steps
+  // 'RESD' (1.2): -1 absent, 0 bounded log residual, 1 exact, 2 row steps, 3 interpolated levels
+  int residual_mode = -1;
   double residual_max_error = 0;     // its bound on |log1p(decoded / knee) - log1p(source / knee)|
-  double residual_min_error = 0;     // mode 2: the finest row's bound (else residual_max_error)
+  double residual_min_error = 0;     // modes 2, 3: the finest row's bound (else residual_max_error)
   double residual_knee = 0;          // in stored units (spec 4.6)
   std::size_t residual_escapes = 0;  // bins it stores exactly
   std::vector<std::pair<std::string, std::string>> metadata;  // mETA keys in file order

@@ -91,7 +91,18 @@ struct CBRDF_EXPORT Residual {
   // Mode 2: per row r = 90 theta_h + theta_d (kThetaHBins * kThetaDBins entries), the row's step
   // and bound are step and max_error times 2^row_shift[r]; empty: one step for every bin.
   std::vector<std::uint8_t> row_shift;
+  // Mode 3 (interpolated): codes are the errors of a prediction that interpolates, level by level,
+  // the residual already rebuilt at coarser bins (spec 4.6). 0: modes 0 and 2; 1..4: the coarsest
+  // level's bins are every 2^levels-th theta_d and phi_d bin of each (channel, theta_h) slab.
+  std::uint8_t levels = 0;
+  // Mode 3: the finest level's step and bound (bins with an odd theta_d or phi_d index) are its
+  // row's times this, 1..64.
+  std::uint8_t fine_multiplier = 1;
+  // Mode 3, derived from the codes by the reader and the writer (not stored): the residual of
+  // every bin in log1p units, channel-major MERL order.
+  std::vector<double> values;
   bool present() const { return max_error > 0.0 || exact != nullptr; }
+  bool interpolated() const { return levels > 0; }
   // The largest and smallest row shift (0 without row steps): the bound over every bin is
   // max_error x 2^max_row_shift(), the finest row's max_error x 2^min_row_shift().
   int max_row_shift() const;
@@ -99,6 +110,20 @@ struct CBRDF_EXPORT Residual {
   // The step of MERL index i (any channel).
   double step_at(std::size_t i) const {
     return row_shift.empty() ? step : std::ldexp(step, row_shift[i / std::size_t{kPhiDBins}]);
+  }
+  // The bound at MERL index i (any channel): max_error x 2^row shift, times fine_multiplier on
+  // mode 3's finest level (odd theta_d or phi_d).
+  double bound_at(std::size_t i) const {
+    const double b = row_shift.empty()
+                         ? max_error
+                         : std::ldexp(max_error, row_shift[i / std::size_t{kPhiDBins}]);
+    const bool finest = ((i % kPhiDBins) | (i / kPhiDBins)) & 1;
+    return interpolated() && finest ? b * double(fine_multiplier) : b;
+  }
+  // The residual of bin b = c x kBinsPerChannel + i in log1p units: code x step (modes 0, 2) or
+  // the interpolated reconstruction (mode 3).
+  double value_at(std::size_t b) const {
+    return interpolated() ? values[b] : double(codes[b]) * step_at(b % kBinsPerChannel);
   }
 };
 

@@ -16,8 +16,9 @@
 //    of mean_rgb(f(wi, wo)) cos(theta_i) 4 (wo.h) over supersample x supersample points times the
 //    cell's solid angle: the integrand f cos_i dwi written over dh (dwi = 4 |wo.h| dh).
 //  - Within a cell h is uniform in solid angle (uniform in cos(theta_h) and phi_h), so
-//    pdf_h = mass / (delta cos * delta phi) exactly, and wi = 2 (wo.h) h - wo has
-//    pdf(wo, wi) = pdf_h(h) / (4 (wo.h)) with h = normalize(wi + wo).
+//    pdf_h = P / (delta cos * delta phi) exactly, P the cell's probability as the draws see it
+//    (its row's step of the row CDF times its step of the row's cell CDF), and
+//    wi = 2 (wo.h) h - wo has pdf(wo, wi) = pdf_h(h) / (4 (wo.h)) with h = normalize(wi + wo).
 //  - A defensive fraction `cosine_fraction` of draws is cosine-weighted in wi, so the density is
 //    positive wherever wi is above the horizon (the table may miss a thin feature or differ from
 //    the BRDF at other theta_o in its bin). The full density is
@@ -26,7 +27,10 @@
 //    false). pdf() is 0 there, so it integrates over the upper hemisphere to 1 minus the rejected
 //    probability, the mass of cells that reflect below the horizon.
 // Cost: building a table evaluates the BRDF theta_h_cells * phi_h_cells * supersample^2 times
-// (23,040 by default); a draw or a pdf is two binary searches and a few square roots.
+// (23,040 by default); a draw is two binary searches, a pdf none, and both a few square roots and
+// polynomial acos, sincos and atan2 (no libm calls). sample_batch takes the same steps for blocks
+// of draws, its searches one step for all draws at a time and its arithmetic in vector lanes
+// (AVX2 where available), so that its results equal sample()'s bit for bit.
 #pragma once
 
 #include <cstddef>
@@ -39,6 +43,9 @@
 #include "cbrdf/model.h"
 
 namespace cbrdf {
+namespace internal {
+struct SamplerLanes;  // sampling.cc: a block of batch draws
+}  // namespace internal
 
 struct SamplerSettings {
   int theta_o_bins = 32;         // tables over theta_o in [0, 90 deg)
@@ -88,19 +95,21 @@ class CBRDF_EXPORT BrdfSampler {
 
  private:
   struct Table;
+  struct Draw;
   struct BatchIo;
   friend BrdfSampler make_model_sampler(const ModelEvaluator&, const SamplerSettings&);
   friend BrdfSampler make_model_sampler(std::shared_ptr<const ModelEvaluator>,
                                         const SamplerSettings&);
-  const Table& table_for(double cos_theta_o) const;
+  // The table of theta_o bin k, built on first use (thread-safe).
+  const Table& table_at(int k) const;
+  void build_table(int k, Table& t) const;
+  // A draw's choices (sampling.cc): cosine-weighted or from t (true; d->v1 is then the row
+  // search's u), and in t its cell in a row.
+  bool draw_choice(const Table& t, double u1, double u2, Draw* d) const;
+  void draw_cell(const Table& t, int row, Draw* d) const;
   void sample_chunk(const BatchIo& io, std::size_t begin, std::size_t end) const;
-  // The table of wo_z (null at or below the horizon), with the row a draw of sample() at
-  // (wo_z, u1) will search prefetched (sample_chunk).
-  const Table* prefetch_rows(double wo_z, double u1) const;
-  // sample() and pdf() with wo's table t (wo.z > 0; for pdf_in wi.z > 0 too).
-  BrdfSample sample_in(const Table& t, const Vec3& wo, double u1, double u2) const;
-  double pdf_in(const Table& t, const Vec3& wo, const Vec3& wi) const;
-  double table_pdf(const Table& t, const Vec3& wo, const Vec3& wi) const;
+  // Draws [base, base + m) of a batch loaded into lanes, their tables and choices made.
+  void draw_lanes(const BatchIo& io, std::size_t base, int m, internal::SamplerLanes& l) const;
 
   BrdfFn f_;
   SamplerSettings settings_;

@@ -314,12 +314,11 @@ cbrdf_status cbrdf_model_get_info(const cbrdf_model* model, cbrdf_model_info* in
     out.not_measured_bins = model->info.not_measured_bins;
     const cbrdf::ContainerInfo& ci = model->info;
     out.residual_mode = ci.residual_mode < 0 ? CBRDF_RESIDUAL_NONE : ci.residual_mode;
-    const bool bounded = ci.residual_mode == CBRDF_RESIDUAL_BOUNDED ||
-                         ci.residual_mode == CBRDF_RESIDUAL_ROW_BOUNDED;
+    const bool rows = ci.residual_mode == CBRDF_RESIDUAL_ROW_BOUNDED ||
+                      ci.residual_mode == CBRDF_RESIDUAL_INTERPOLATED;
+    const bool bounded = rows || ci.residual_mode == CBRDF_RESIDUAL_BOUNDED;
     out.residual_max_error = bounded ? ci.residual_max_error : 0;
-    out.residual_min_error = ci.residual_mode == CBRDF_RESIDUAL_ROW_BOUNDED ? ci.residual_min_error
-                             : bounded                                      ? ci.residual_max_error
-                                                                            : 0;
+    out.residual_min_error = rows ? ci.residual_min_error : bounded ? ci.residual_max_error : 0;
     out.residual_knee = bounded ? ci.residual_knee : 0;
     for (const cbrdf::ChunkInfo& c : ci.layout.chunks) {
       if (c.tag == cbrdf::kTagResidual) out.residual_bytes = c.stored_bytes;

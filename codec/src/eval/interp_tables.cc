@@ -1,17 +1,20 @@
 // SPDX-License-Identifier: MIT
 // This file's functions set no errno (its square roots never see a negative argument) and may
-// evaluate both sides of a select (neither changes a value: no reassociation, no contraction), so
-// that the batch's position loop vectorizes: the build's other flags are kept.
+// evaluate both sides of a select (neither changes a value: no reassociation), so that the batch's
+// position loop vectorizes; they contract no multiply-add (the AVX-512 kernels have FMA
+// instructions, and eval and eval_batch must round alike). The build's other flags are kept.
 #if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize("no-math-errno", "no-trapping-math")
+#pragma GCC optimize("no-math-errno", "no-trapping-math", "fp-contract=off")
 #endif
 #include "eval/interp_tables.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <type_traits>
 
 #include "cbrdf/parallel_for.h"
 #include "density/frank_grid.h"
@@ -244,17 +247,22 @@ inline Position<T> position(T ix, T iy, T iz, T ox, T oy, T oz) {
 }
 
 // ---- Batches (InterpTables::eval_batch) ----------------------------------------------------
-// A chunk of pairs is evaluated in blocks of kBlock: (1) the grid positions of the whole block,
-// branch-free loops (the coordinates, three atan2 polynomials and four square roots per pair)
-// that the compiler vectorizes across pairs; (2) per pair, the two bins' rows of each axis
-// interpolated and the copula ratios formed, kGroup slots at a time (the slice tables' grouped
-// layout), vectorized across slots (in float32 two pairs at a time, one per half of an 8-wide
-// vector; the paper's model, one slot per channel, adds its lanes straight to the sums). Every
-// value is formed by the same operations in the same order as eval's, so the results are equal
-// bit for bit: vector lanes round as scalar instructions do, and neither path contracts
-// multiply-adds (x86-64 without -mfma; the AVX2 clones do not enable FMA). A pair across a slice
-// boundary is two slice evaluations, as in eval; pairs below the horizon are 0; pairs across the
-// phi_d period (1 in 180) and models with generic terms go through eval's own code.
+// A chunk of pairs is evaluated in blocks of kBlock, each block by one call of a function compiled
+// for AVX-512, AVX2 and the baseline (chosen once per process): (1) the block's inputs copied into
+// one object, the grid positions of the whole block, branch-free loops (the coordinates, three
+// atan2 polynomials and four square roots per pair) that the compiler vectorizes across pairs,
+// then per pair its slice, row offsets and kind; (2) the pairs listed, without branches, by kind:
+// inside one slice (nearly all), across a slice boundary, below the horizon, the rest; (3) per
+// pair, the two bins' rows of each axis interpolated and the copula ratios formed, kGroup slots at
+// a time (the slice tables' grouped layout), vectorized across slots, two pairs at a time (one per
+// half of an 8-wide vector) where the CPU has such vectors natively; for the paper's model (one
+// slot per channel in every slice) the sums and their saturation are formed across the vector
+// too, and the results written straight to the outputs. Every value is formed by the same
+// operations in the same order as eval's, so the results are equal bit for bit: vector lanes round
+// as scalar instructions do, and no path contracts multiply-adds (fp-contract=off above: AVX-512
+// has FMA instructions). A pair across a slice boundary is two slice evaluations, as in eval; pairs
+// below the horizon are 0; pairs across the phi_d period (1 in 180) and models with generic terms
+// go back to the caller, which evaluates them with eval's own code.
 constexpr int kBlock = 32;
 
 // One block's inputs and stage (1)'s results, in one object: its arrays provably do not alias, so
@@ -266,7 +274,35 @@ struct BlockState {
   alignas(64) T ph[kBlock], pd[kBlock], pp[kBlock];
   alignas(64) T fh[kBlock], fd[kBlock], fp[kBlock];
   alignas(64) int h0[kBlock], d0[kBlock], p0[kBlock];
+  alignas(64) int sl[kBlock], oh[kBlock], od[kBlock], op[kBlock];  // block_rows
+  alignas(64) int kind[kBlock];                                    // a LaneKind
 };
+
+// How a lane is evaluated: 0 (below the horizon), by eval's own code, across a slice boundary (two
+// slice evaluations), inside one slice.
+enum LaneKind : int { kZero, kRest, kAcross, kInside };
+
+// Pairs base .. base + m (m <= kBlock) of the batch into b.in, zero-padded to kBlock.
+template <class T>
+[[gnu::always_inline]] inline void load_block(BlockState<T>& b, const BatchArgs<T>& args,
+                                              std::size_t base, std::size_t end, int m) {
+  const std::size_t is = args.in_stride;
+  for (int a = 0; a < 6; ++a) {
+    const T* src = args.in[a] + base * is;
+    if (is == 1 && m == kBlock) {
+      for (int l = 0; l < kBlock; ++l) b.in[a][l] = src[l];  // a fixed size: moved inline
+      // The block after next, into the cache while this one is evaluated: six streams of
+      // pairs outrun the hardware's prefetching.
+      if (base + 3 * kBlock <= end) {
+        for (int l = 0; l < kBlock; l += int(64 / sizeof(T)))
+          __builtin_prefetch(src + 2 * kBlock + l);
+      }
+    } else {
+      for (int l = 0; l < m; ++l) b.in[a][l] = src[std::size_t(l) * is];
+      for (int l = m; l < kBlock; ++l) b.in[a][l] = T(0);
+    }
+  }
+}
 
 // Stage (1): positions, bin indices and fractions, as position() and eval_impl form them. The
 // square roots have loops of their own: with -fno-math-errno they vectorize too, without it they
@@ -309,27 +345,16 @@ template <class T>
   }
 }
 
-// The block's slice evaluations (stages 2 and 3): a pair inside a slice is one job (its slice,
-// weight 1); a pair whose theta_d bins lie in two slices is two, in eval_impl's order: the lower
-// slice at fd = 0 with weight 1 - fd, then the upper one at its first bin with weight fd.
-template <class T>
-struct BlockJobs {
-  int count = 0;
-  const SliceTables<T>* slice[2 * kBlock];
-  int lane[2 * kBlock], jl[2 * kBlock];
-  T fd[2 * kBlock], weight[2 * kBlock];
-};
-
-// Per job, per group of kGroup slots, the interpolated terms of the two bins' rows on each axis,
-// g1 g2 g3, 1 - h, 1 + h and the ratio k g (1 + h) / (1 - h)^3, each a vector operation across
-// the group's slots (GCC/Clang vector types: the same operations, in the same order, as
-// add_slice's per slot, so each lane rounds as the scalar code does); then per channel the sum
-// over its R slots in add_slice's order, added times the job's weight to the pair's
-// acc[c * kBlock + l] (zero before the first job). In float32 two jobs whose slices have as many
-// groups share one 8-wide vector, a job per half. `v` holds 2 G kGroup values.
+// Per slice evaluation, per group of kGroup slots, the interpolated terms of the two bins' rows on
+// each axis, g1 g2 g3, 1 - h, 1 + h and the ratio k g (1 + h) / (1 - h)^3, each a vector
+// operation across the group's slots (GCC/Clang vector types: the same operations, in the same
+// order, as add_slice's per slot, so each lane rounds as the scalar code does); then per channel
+// the sum over its R slots in add_slice's order. In float32 two evaluations whose slices have as
+// many groups share one 8-wide vector, one per half. `v` holds 2 G kGroup values.
 // Helpers write vectors through pointers rather than return them: GCC warns (-Wpsabi) about
 // returning a 32-byte vector by value where AVX is not enabled, in the baseline clone.
 using V4d = double __attribute__((vector_size(32)));
+using V8d = double __attribute__((vector_size(64)));
 using V4f = float __attribute__((vector_size(16)));
 using V8f = float __attribute__((vector_size(32)));
 
@@ -344,56 +369,70 @@ template <class V>
   std::memcpy(v, p, sizeof *v);
 }
 
-// Two 4-lane float vectors from pa and pb as one 8-lane one.
-[[gnu::always_inline]] inline void load_two(V8f* v, const float* pa, const float* pb) {
-  V4f a, b;
+// The 4-lane and 8-lane vectors of T.
+template <class T>
+struct Lanes;
+template <>
+struct Lanes<double> {
+  using V4 = V4d;
+  using V8 = V8d;
+};
+template <>
+struct Lanes<float> {
+  using V4 = V4f;
+  using V8 = V8f;
+};
+
+// Two 4-lane vectors from pa and pb as one 8-lane one.
+template <class T>
+[[gnu::always_inline]] inline void load_two(typename Lanes<T>::V8* v, const T* pa, const T* pb) {
+  typename Lanes<T>::V4 a, b;
   load_vec(&a, pa);
   load_vec(&b, pb);
   *v = __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
 }
 
-// A job's row pointers and fractions.
+// A slice evaluation's row pointers and fractions.
 template <class T>
 struct JobRows {
   const T* r[3];  // bin rows of theta_h, theta_d, phi_d (the next bin's row at + row())
   T a[3];         // fractions
   const T* k;     // constants
   std::size_t n;  // row length
-  int groups, slots, lane;
-  T weight;
+  int groups, slots;
 };
 
+// Slice st at theta_h bin h0, theta_d bin jl (inside the slice) and phi_d bin p0, fractions fh,
+// fd and fp.
 template <class T>
-inline JobRows<T> job_rows(const BlockState<T>& b, const BlockJobs<T>& jobs, int j) {
-  const SliceTables<T>* st = jobs.slice[j];
+[[gnu::always_inline]] inline JobRows<T> job_rows(const SliceTables<T>& st, int h0, int jl, int p0,
+                                                  T fh, T fd, T fp) {
   JobRows<T> r;
-  r.lane = jobs.lane[j];
-  r.n = st->row();
-  r.r[0] = st->h.data() + std::size_t(b.h0[r.lane]) * r.n;
-  r.r[1] = st->d.data() + std::size_t(jobs.jl[j]) * r.n;
-  r.r[2] = st->p.data() + std::size_t(b.p0[r.lane]) * r.n;
-  r.a[0] = b.fh[r.lane];
-  r.a[1] = jobs.fd[j];
-  r.a[2] = b.fp[r.lane];
-  r.k = st->consts.data();
-  r.groups = st->groups;
-  r.slots = st->slots_per_channel;
-  r.weight = jobs.weight[j];
+  r.n = st.row();
+  r.r[0] = st.h.data() + std::size_t(h0) * r.n;
+  r.r[1] = st.d.data() + std::size_t(jl) * r.n;
+  r.r[2] = st.p.data() + std::size_t(p0) * r.n;
+  r.a[0] = fh;
+  r.a[1] = fd;
+  r.a[2] = fp;
+  r.k = st.consts.data();
+  r.groups = st.groups;
+  r.slots = st.slots_per_channel;
   return r;
 }
 
-// Per channel the sum of a job's R slot values v, times its weight, into acc.
+// Per channel the sum of R slot values v, in add_slice's order.
 template <class T>
-inline void add_sums(const T* v, int R, T weight, int lane, T* acc) {
+inline void slot_sums(const T* v, int R, T sums[3]) {
   for (int c = 0; c < kChannels; ++c) {
     T sum = 0;
     for (int r = 0; r < R; ++r) sum += v[c * R + r];
-    acc[c * kBlock + lane] += weight * sum;
+    sums[c] = sum;
   }
 }
 
-// The loads of one job's rows (V4d, V4f), or of two jobs' (V8f: job A in the low half, B in
-// the high one).
+// The loads of one evaluation's rows (V4d, V4f), or of two evaluations' (V8f: A in the low half,
+// B in the high one).
 template <class V, class T>
 struct OneJob {
   const JobRows<T>& J;
@@ -407,29 +446,28 @@ struct OneJob {
   [[gnu::always_inline]] void constant(V* v, std::size_t off) const { load_vec(v, J.k + off); }
 };
 
+template <class T>
 struct TwoJobs {
-  const JobRows<float>& A;
-  const JobRows<float>& B;
-  [[gnu::always_inline]] void load(V8f* v, int x, int bin, std::size_t off) const {
-    load_two(v, A.r[x] + (bin ? A.n : 0) + off, B.r[x] + (bin ? B.n : 0) + off);
+  using V4 = typename Lanes<T>::V4;
+  using V8 = typename Lanes<T>::V8;
+  const JobRows<T>& A;
+  const JobRows<T>& B;
+  [[gnu::always_inline]] void load(V8* v, int x, int bin, std::size_t off) const {
+    load_two<T>(v, A.r[x] + (bin ? A.n : 0) + off, B.r[x] + (bin ? B.n : 0) + off);
   }
-  [[gnu::always_inline]] void fractions(V8f* a, V8f* b, int x) const {
-    V4f fa, fb, ga, gb;
+  [[gnu::always_inline]] void fractions(V8* a, V8* b, int x) const {
+    V4 fa, fb, ga, gb;
     splat(&fa, A.a[x]);
     splat(&fb, B.a[x]);
-    splat(&ga, float(1 - A.a[x]));
-    splat(&gb, float(1 - B.a[x]));
+    splat(&ga, T(1 - A.a[x]));
+    splat(&gb, T(1 - B.a[x]));
     *a = __builtin_shufflevector(fa, fb, 0, 1, 2, 3, 4, 5, 6, 7);
     *b = __builtin_shufflevector(ga, gb, 0, 1, 2, 3, 4, 5, 6, 7);
   }
-  [[gnu::always_inline]] void constant(V8f* v, std::size_t off) const {
-    if (A.k == B.k) {  // one slice (the usual case): one load, repeated
-      V4f a;
-      load_vec(&a, A.k + off);
-      *v = __builtin_shufflevector(a, a, 0, 1, 2, 3, 0, 1, 2, 3);
-    } else {
-      load_two(v, A.k + off, B.k + off);
-    }
+  [[gnu::always_inline]] void constant(V8* v, std::size_t off) const {
+    // Both loads even where the slices are one: the lanes' slices vary at random, and a branch
+    // on them would mispredict often.
+    load_two<T>(v, A.k + off, B.k + off);
   }
 };
 
@@ -472,15 +510,16 @@ template <class V, class S>
   *ratio = k0 * (g1 * g2 * g3) * oph / (omh * omh * omh);
 }
 
-// One job: with one group of one slot per channel (the paper's model) channel c is lane c, added
-// straight from the vector; else the groups' values go through v.
+// One slice evaluation's per-channel sums: with one group of one slot per channel (the paper's
+// model) channel c is lane c, taken straight from the vector; else the groups' values go
+// through v.
 template <class V, class T>
-[[gnu::always_inline]] inline void job_values(const JobRows<T>& J, T* v, T* acc) {
+[[gnu::always_inline]] inline void job_sums(const JobRows<T>& J, T* v, T sums[3]) {
   const OneJob<V, T> s{J};
   if (J.groups == 1 && J.slots == 1) {
     V ratio;
     group_ratio(s, 0, &ratio);
-    for (int c = 0; c < kChannels; ++c) acc[c * kBlock + J.lane] += J.weight * (T(0) + ratio[c]);
+    for (int c = 0; c < kChannels; ++c) sums[c] = T(0) + ratio[c];
     return;
   }
   for (int gi = 0; gi < J.groups; ++gi) {
@@ -488,94 +527,322 @@ template <class V, class T>
     group_ratio(s, gi, &ratio);
     std::memcpy(v + gi * kGroup, &ratio, sizeof ratio);
   }
-  add_sums(v, J.slots, J.weight, J.lane, acc);
+  slot_sums(v, J.slots, sums);
 }
 
-[[gnu::always_inline]] inline void block_values(const BlockState<double>& b,
-                                                const BlockJobs<double>& jobs, double* v,
-                                                double* acc) {
-  for (int j = 0; j < jobs.count; ++j) job_values<V4d>(job_rows(b, jobs, j), v, acc);
-}
-
-// Two float32 jobs of as many groups in 8-wide vectors.
-[[gnu::always_inline]] inline void job_pair_values(const JobRows<float>& A, const JobRows<float>& B,
-                                                   float* v, float* acc) {
-  const TwoJobs s{A, B};
+// Two slice evaluations of as many groups in 8-wide vectors.
+template <class T>
+[[gnu::always_inline]] inline void job_pair_sums(const JobRows<T>& A, const JobRows<T>& B, T* v,
+                                                 T sa[3], T sb[3]) {
+  using V8 = typename Lanes<T>::V8;
+  const TwoJobs<T> s{A, B};
   if (A.groups == 1 && A.slots == 1 && B.slots == 1) {
-    V8f ratio;
+    V8 ratio;
     group_ratio(s, 0, &ratio);
     for (int c = 0; c < kChannels; ++c) {
-      acc[c * kBlock + A.lane] += A.weight * (0.0f + ratio[c]);
-      acc[c * kBlock + B.lane] += B.weight * (0.0f + ratio[kGroup + c]);
+      sa[c] = T(0) + ratio[c];
+      sb[c] = T(0) + ratio[kGroup + c];
     }
     return;
   }
-  float* vb = v + A.groups * kGroup;
+  T* vb = v + A.groups * kGroup;
   for (int gi = 0; gi < A.groups; ++gi) {
-    V8f ratio;
+    V8 ratio;
     group_ratio(s, gi, &ratio);
-    float r[2 * kGroup];
+    T r[2 * kGroup];
     std::memcpy(r, &ratio, sizeof r);
-    std::memcpy(v + gi * kGroup, r, sizeof(float) * kGroup);
-    std::memcpy(vb + gi * kGroup, r + kGroup, sizeof(float) * kGroup);
+    std::memcpy(v + gi * kGroup, r, sizeof(T) * kGroup);
+    std::memcpy(vb + gi * kGroup, r + kGroup, sizeof(T) * kGroup);
   }
-  add_sums(v, A.slots, A.weight, A.lane, acc);
-  add_sums(vb, B.slots, B.weight, B.lane, acc);
+  slot_sums(v, A.slots, sa);
+  slot_sums(vb, B.slots, sb);
 }
 
-[[gnu::always_inline]] inline void block_values(const BlockState<float>& b,
-                                                const BlockJobs<float>& jobs, float* v,
-                                                float* acc) {
-  int j = 0;
-  for (; j + 1 < jobs.count; j += 2) {
-    const JobRows<float> A = job_rows(b, jobs, j), B = job_rows(b, jobs, j + 1);
+// A slice's tables as a lane reads them.
+template <class T>
+struct SliceView {
+  const T *h, *d, *p, *k;
+  std::size_t n;  // row length
+  int groups, slots;
+};
+
+// Per theta_d bin j: its slice, the slice's row length, and the offset of j's row in the slice's
+// theta_d axis.
+struct BinRows {
+  int slice[kThetaDBins], n[kThetaDBins], d[kThetaDBins];
+  int last[kThetaDBins];  // 1: the next bin is in another slice (or there is none)
+};
+
+// What a block's evaluation reads of the evaluator.
+template <class T>
+struct BlockContext {
+  const SliceTables<T>* tables;  // per slice
+  const SliceView<T>* views;     // per slice
+  const BinRows* bins;           // per theta_d bin
+  bool any_generic;
+  bool uniform;  // every slice has one group of one slot per channel (the paper's model)
+};
+
+// Per lane, its slice and the offsets of its bins' rows (a loop across the block).
+template <class T>
+[[gnu::always_inline]] inline void block_rows(const BinRows& bins, bool any_generic,
+                                              BlockState<T>& b) {
+  for (int l = 0; l < kBlock; ++l) {
+    const int j = b.d0[l], n = bins.n[j];
+    // Across the phi_d period, or with generic terms: eval's own code.
+    const bool rest = any_generic || !(b.p0[l] + 1 < kPhiDBins || b.fp[l] == 0);
+    const bool across = bins.last[j] != 0 && b.fd[l] != 0;
+    const bool above = b.in[2][l] > 0 && b.in[5][l] > 0;
+    b.kind[l] = above ? (rest ? kRest : (across ? kAcross : kInside)) : kZero;
+    b.sl[l] = bins.slice[j];
+    b.oh[l] = b.h0[l] * n;
+    b.od[l] = bins.d[j];
+    b.op[l] = b.p0[l] * n;
+  }
+}
+
+// Lane l of a block inside one slice: its evaluation in its slice (weight 1).
+template <class T>
+[[gnu::always_inline]] inline JobRows<T> inside_rows(const BlockContext<T>& cx,
+                                                     const BlockState<T>& b, int l) {
+  const SliceView<T>& v = cx.views[b.sl[l]];
+  JobRows<T> r;
+  r.n = v.n;
+  r.r[0] = v.h + b.oh[l];
+  r.r[1] = v.d + b.od[l];
+  r.r[2] = v.p + b.op[l];
+  r.a[0] = b.fh[l];
+  r.a[1] = b.fd[l];
+  r.a[2] = b.fp[l];
+  r.k = v.k;
+  r.groups = v.groups;
+  r.slots = v.slots;
+  return r;
+}
+
+// Every lane of x saturated as saturate() does.
+template <class V, class T>
+[[gnu::always_inline]] inline void saturate_vec(V* x) {
+  constexpr T kMax = std::numeric_limits<T>::max();
+  V max, zero;
+  splat(&max, kMax);
+  splat(&zero, T(0));
+  *x = *x < max ? *x : (*x == *x ? max : zero);
+}
+
+// Two lanes of the paper's model (one slot per channel, one slice each): eval_impl's
+// rgb[c] = 0 + 1 * (0 + ratio), saturated, formed across both lanes' vectors, then stored.
+template <class T>
+[[gnu::always_inline]] inline void pair_store_one_slot(const JobRows<T>& A, const JobRows<T>& B,
+                                                       T* const out[3], std::size_t oa,
+                                                       std::size_t ob) {
+  using V8 = typename Lanes<T>::V8;
+  const TwoJobs<T> s{A, B};
+  V8 ratio, zero, one;
+  group_ratio(s, 0, &ratio);
+  splat(&zero, T(0));
+  splat(&one, T(1));
+  V8 rgb = zero + one * (zero + ratio);
+  saturate_vec<V8, T>(&rgb);
+  for (int c = 0; c < kChannels; ++c) {
+    out[c][oa] = rgb[c];
+    out[c][ob] = rgb[kGroup + c];
+  }
+}
+
+// One lane of the paper's model, as pair_store_one_slot.
+template <class T>
+[[gnu::always_inline]] inline void store_one_slot(const JobRows<T>& A, T* const out[3],
+                                                  std::size_t o) {
+  using V4 = typename Lanes<T>::V4;
+  const OneJob<V4, T> s{A};
+  V4 ratio, zero, one;
+  group_ratio(s, 0, &ratio);
+  splat(&zero, T(0));
+  splat(&one, T(1));
+  V4 rgb = zero + one * (zero + ratio);
+  saturate_vec<V4, T>(&rgb);
+  for (int c = 0; c < kChannels; ++c) out[c][o] = rgb[c];
+}
+
+// eval_impl's rgb[c] = 0 + 1 * sum (one slice, weight 1), saturated, at out[c][o].
+template <class T>
+[[gnu::always_inline]] inline void store_inside(const T sums[3], T* const out[3], std::size_t o) {
+  for (int c = 0; c < kChannels; ++c) out[c][o] = saturate(T(0) + T(1) * sums[c]);
+}
+
+// Stage (3) for the lanes inside one slice; with kPairs two at a time (one per half of 8-wide
+// vectors) where their slices have as many groups. Without a native 8-wide vector of T (double
+// below AVX-512) the pairs' vectors would be split and go through memory: one at a time.
+template <class T, bool kPairs>
+[[gnu::always_inline]] inline void inside_values(const BlockContext<T>& cx, const BlockState<T>& b,
+                                                 const int* lanes, int count, T* const out[3],
+                                                 std::size_t os, T* v) {
+  using V4 = typename Lanes<T>::V4;
+  int x = 0;
+  if (cx.uniform) {
+    for (; kPairs && x + 1 < count; x += 2) {
+      pair_store_one_slot(inside_rows(cx, b, lanes[x]), inside_rows(cx, b, lanes[x + 1]), out,
+                          std::size_t(lanes[x]) * os, std::size_t(lanes[x + 1]) * os);
+    }
+    for (; x < count; ++x)
+      store_one_slot(inside_rows(cx, b, lanes[x]), out, std::size_t(lanes[x]) * os);
+    return;
+  }
+  for (; kPairs && x + 1 < count; x += 2) {
+    const JobRows<T> A = inside_rows(cx, b, lanes[x]), B = inside_rows(cx, b, lanes[x + 1]);
+    T sa[3], sb[3];
     if (A.groups == B.groups) {
-      job_pair_values(A, B, v, acc);
+      job_pair_sums(A, B, v, sa, sb);
     } else {
-      job_values<V4f>(A, v, acc);
-      job_values<V4f>(B, v, acc);
+      job_sums<V4>(A, v, sa);
+      job_sums<V4>(B, v, sb);
+    }
+    store_inside(sa, out, std::size_t(lanes[x]) * os);
+    store_inside(sb, out, std::size_t(lanes[x + 1]) * os);
+  }
+  for (; x < count; ++x) {
+    T s[3];
+    job_sums<V4>(inside_rows(cx, b, lanes[x]), v, s);
+    store_inside(s, out, std::size_t(lanes[x]) * os);
+  }
+}
+
+// A block of m pairs (base .. base + m of the batch): stages (1) to (3). Writes the results of all
+// but the pairs eval's own code evaluates, whose lanes it returns in rest (their count).
+template <class T, bool kPairs>
+[[gnu::always_inline]] inline int block_eval(const BlockContext<T>& cx, BlockState<T>& b,
+                                             const BatchArgs<T>& args, std::size_t base,
+                                             std::size_t end, T* v, int* rest) {
+  const int m = int(std::min<std::size_t>(kBlock, end - base));
+  load_block(b, args, base, end, m);
+  block_positions(b);
+  block_rows(*cx.bins, cx.any_generic, b);
+  const std::size_t os = args.out_stride;
+  T* const out[3] = {args.out[0] + base * os, args.out[1] + base * os, args.out[2] + base * os};
+  // Stage (2): the lanes of each kind, listed without branches.
+  int zero[kBlock], inside[kBlock], across[kBlock];
+  int nz = 0, ni = 0, na = 0, nr = 0;
+  for (int l = 0; l < m; ++l) {
+    const int k = b.kind[l];
+    zero[nz] = rest[nr] = across[na] = inside[ni] = l;
+    nz += k == kZero;
+    nr += k == kRest;
+    na += k == kAcross;
+    ni += k == kInside;
+  }
+  for (int x = 0; x < nz; ++x) {
+    for (int c = 0; c < kChannels; ++c) out[c][std::size_t(zero[x]) * os] = T(0);
+  }
+  inside_values<T, kPairs>(cx, b, inside, ni, out, os, v);
+  // Across a boundary, in eval_impl's order: the lower slice at fd = 0 with weight 1 - fd, then
+  // the upper one at its first bin with weight fd.
+  for (int x = 0; x < na; ++x) {
+    const int l = across[x], d0 = b.d0[l];
+    const SliceTables<T>& lo = cx.tables[cx.bins->slice[d0]];
+    const SliceTables<T>& hi = cx.tables[cx.bins->slice[d0 + 1]];
+    const JobRows<T> A =
+        job_rows(lo, b.h0[l], d0 - lo.theta_d_begin, b.p0[l], b.fh[l], T(0), b.fp[l]);
+    const JobRows<T> B =
+        job_rows(hi, b.h0[l], d0 + 1 - hi.theta_d_begin, b.p0[l], b.fh[l], T(0), b.fp[l]);
+    T s0[3], s1[3];
+    if (kPairs && A.groups == B.groups) {
+      job_pair_sums(A, B, v, s0, s1);
+    } else {
+      job_sums<typename Lanes<T>::V4>(A, v, s0);
+      job_sums<typename Lanes<T>::V4>(B, v, s1);
+    }
+    const T fd = b.fd[l], weight = 1 - fd;
+    for (int c = 0; c < kChannels; ++c) {
+      T acc = T(0) + weight * s0[c];
+      acc += fd * s1[c];
+      out[c][std::size_t(l) * os] = saturate(acc);
     }
   }
-  if (j < jobs.count) job_values<V4f>(job_rows(b, jobs, j), v, acc);
+  return nr;
 }
 
-// The stages' entry points, compiled for AVX2 and for the baseline and chosen at load time where
-// the toolchain supports it (GCC on x86-64; not under the sanitizers, whose runtimes and ifunc
-// resolvers do not mix).
+// The block's entry points, compiled for AVX-512, AVX2 and the baseline where the toolchain
+// supports it (GCC on x86-64; not under the sanitizers), and chosen once by a CPU check. Lanes are
+// paired (8-wide vectors) where the target has such vectors natively: floats with AVX2, doubles
+// with AVX-512; elsewhere the halves would be split and go through memory.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
     !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
-#define CBRDF_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#define CBRDF_VECTOR_TARGETS 1
 #else
-#define CBRDF_VECTOR_CLONES
+#define CBRDF_VECTOR_TARGETS 0
 #endif
 
-CBRDF_VECTOR_CLONES void block_positions_f64(BlockState<double>& b) {
-  block_positions(b);
+template <class T, bool kPairs>
+int block_eval_base(const BlockContext<T>& cx, BlockState<T>& b, const BatchArgs<T>& args,
+                    std::size_t base, std::size_t end, T* v, int* rest) {
+  return block_eval<T, kPairs>(cx, b, args, base, end, v, rest);
 }
-CBRDF_VECTOR_CLONES void block_positions_f32(BlockState<float>& b) {
-  block_positions(b);
+
+#if CBRDF_VECTOR_TARGETS
+template <class T, bool kPairs>
+[[gnu::target("avx2")]] int block_eval_avx2(const BlockContext<T>& cx, BlockState<T>& b,
+                                            const BatchArgs<T>& args, std::size_t base,
+                                            std::size_t end, T* v, int* rest) {
+  return block_eval<T, kPairs>(cx, b, args, base, end, v, rest);
 }
-CBRDF_VECTOR_CLONES void block_values_f64(const BlockState<double>& b,
-                                          const BlockJobs<double>& jobs, double* v, double* acc) {
-  block_values(b, jobs, v, acc);
+template <class T, bool kPairs>
+[[gnu::target("avx512f")]] int block_eval_avx512(const BlockContext<T>& cx, BlockState<T>& b,
+                                                 const BatchArgs<T>& args, std::size_t base,
+                                                 std::size_t end, T* v, int* rest) {
+  return block_eval<T, kPairs>(cx, b, args, base, end, v, rest);
 }
-CBRDF_VECTOR_CLONES void block_values_f32(const BlockState<float>& b, const BlockJobs<float>& jobs,
-                                          float* v, float* acc) {
-  block_values(b, jobs, v, acc);
+#endif
+
+template <class T>
+using BlockEvalFn = int (*)(const BlockContext<T>&, BlockState<T>&, const BatchArgs<T>&,
+                            std::size_t, std::size_t, T*, int*);
+
+bool target_supported(BatchTarget t) {
+#if CBRDF_VECTOR_TARGETS
+  __builtin_cpu_init();  // the CPU model may not be read yet where a static constructor calls this
+#endif
+  switch (t) {
+    case BatchTarget::kAuto:
+    case BatchTarget::kBaseline:
+      return true;
+#if CBRDF_VECTOR_TARGETS
+    case BatchTarget::kAvx512:
+      return __builtin_cpu_supports("avx512f");
+    case BatchTarget::kAvx2:
+      return __builtin_cpu_supports("avx2");
+#endif
+    default:
+      return false;
+  }
 }
-inline void block_positions_any(BlockState<double>& b) {
-  block_positions_f64(b);
+
+// The entry point for a supported target other than kAuto.
+template <class T>
+BlockEvalFn<T> block_eval_for(BatchTarget t) {
+#if CBRDF_VECTOR_TARGETS
+  if (t == BatchTarget::kAvx512) return block_eval_avx512<T, true>;
+  if (t == BatchTarget::kAvx2) return block_eval_avx2<T, std::is_same_v<T, float>>;
+#endif
+  (void)t;
+  return block_eval_base<T, false>;
 }
-inline void block_positions_any(BlockState<float>& b) {
-  block_positions_f32(b);
+
+// The best target this CPU runs.
+BatchTarget best_target() {
+  for (BatchTarget t : {BatchTarget::kAvx512, BatchTarget::kAvx2}) {
+    if (target_supported(t)) return t;
+  }
+  return BatchTarget::kBaseline;
 }
-inline void block_values_any(const BlockState<double>& b, const BlockJobs<double>& jobs, double* v,
-                             double* acc) {
-  block_values_f64(b, jobs, v, acc);
-}
-inline void block_values_any(const BlockState<float>& b, const BlockJobs<float>& jobs, float* v,
-                             float* acc) {
-  block_values_f32(b, jobs, v, acc);
+
+std::atomic<BatchTarget> g_batch_target{BatchTarget::kAuto};  // set_batch_target
+
+template <class T>
+BlockEvalFn<T> pick_block_eval() {
+  static const BlockEvalFn<T> best = block_eval_for<T>(best_target());
+  const BatchTarget t = g_batch_target.load(std::memory_order_relaxed);
+  return t == BatchTarget::kAuto ? best : block_eval_for<T>(t);
 }
 
 }  // namespace
@@ -672,6 +939,8 @@ InterpTables::InterpTables(const Model& model) {
     cast_all(st.p, &sf.p);
     cast_all(st.consts, &sf.consts);
   }
+  for (int j = 0; j < kThetaDBins; ++j)
+    last_in_slice_[j] = j + 1 >= f64_[std::size_t(slice_of_bin_[j])].theta_d_end;
 }
 
 InterpTables::~InterpTables() = default;
@@ -770,76 +1039,36 @@ void InterpTables::eval_at(const Position<float>& pos, float rgb[3]) const {
 template <class T>
 void InterpTables::eval_chunk(const std::vector<SliceTables<T>>& tables, std::size_t begin,
                               std::size_t end, const BatchArgs<T>& args) const {
-  // Per block: the inputs and stage (1)'s results, the slice evaluations, the sums.
   BlockState<T> bs;
-  auto& in = bs.in;
-  const T *ph = bs.ph, *pd = bs.pd, *pp = bs.pp, *fd = bs.fd, *fp = bs.fp;
-  const int *d0 = bs.d0, *p0 = bs.p0;
-  alignas(64) T acc[kChannels * kBlock];
-  BlockJobs<T> jobs;
+  std::vector<SliceView<T>> views(tables.size());
+  BinRows bins;
+  bool uniform = true;
+  for (std::size_t s = 0; s < tables.size(); ++s) {
+    const SliceTables<T>& st = tables[s];
+    views[s] = {st.h.data(), st.d.data(), st.p.data(),         st.consts.data(),
+                st.row(),    st.groups,   st.slots_per_channel};
+    uniform = uniform && st.groups == 1 && st.slots_per_channel == 1;
+  }
+  for (int j = 0; j < kThetaDBins; ++j) {
+    const SliceTables<T>& st = tables[std::size_t(slice_of_bin_[j])];
+    bins.slice[j] = slice_of_bin_[j];
+    bins.n[j] = int(st.row());
+    bins.d[j] = (j - st.theta_d_begin) * int(st.row());
+    bins.last[j] = last_in_slice_[j];
+  }
+  const BlockContext<T> cx{tables.data(), views.data(), &bins, any_generic_, uniform};
   std::vector<T> values(2 * std::size_t(3 * max_slots_per_channel_ + kGroup));
-  enum : unsigned char { kInside, kBelow, kApart };
-  unsigned char kind[kBlock];
-  const std::size_t is = args.in_stride, os = args.out_stride;
-  const auto add_job = [&](const SliceTables<T>* st, int l, int jl, T f, T w) {
-    const int j = jobs.count++;
-    jobs.slice[j] = st;
-    jobs.lane[j] = l;
-    jobs.jl[j] = jl;
-    jobs.fd[j] = f;
-    jobs.weight[j] = w;
-  };
+  int rest[kBlock];
+  const std::size_t os = args.out_stride;
+  const BlockEvalFn<T> fn = pick_block_eval<T>();
   for (std::size_t base = begin; base < end; base += kBlock) {
-    const int m = int(std::min<std::size_t>(kBlock, end - base));
-    for (int a = 0; a < 6; ++a) {
-      const T* src = args.in[a] + base * is;
-      if (is == 1 && m == kBlock) {
-        for (int l = 0; l < kBlock; ++l) in[a][l] = src[l];  // a fixed size: moved inline
-        // The block after next, into the cache while this one is evaluated: six streams of
-        // pairs outrun the hardware's prefetching.
-        if (base + 3 * kBlock <= end) {
-          for (int l = 0; l < kBlock; l += int(64 / sizeof(T)))
-            __builtin_prefetch(src + 2 * kBlock + l);
-        }
-      } else {
-        for (int l = 0; l < m; ++l) in[a][l] = src[std::size_t(l) * is];
-      }
-      for (int l = m; l < kBlock; ++l) in[a][l] = T(0);
-    }
-    block_positions_any(bs);
-    jobs.count = 0;
-    for (int l = 0; l < m; ++l) {
-      if (!(in[2][l] > 0) || !(in[5][l] > 0)) {
-        kind[l] = kBelow;
-        continue;
-      }
-      const SliceTables<T>& st = tables[std::size_t(slice_of_bin_[d0[l]])];
-      if (any_generic_ || !(p0[l] + 1 < kPhiDBins || fp[l] == 0)) {
-        kind[l] = kApart;
-        continue;
-      }
-      kind[l] = kInside;
-      for (int c = 0; c < kChannels; ++c) acc[c * kBlock + l] = T(0);
-      const int jl = d0[l] - st.theta_d_begin;
-      if (d0[l] + 1 < st.theta_d_end || fd[l] == 0) {
-        add_job(&st, l, jl, fd[l], T(1));
-      } else {
-        const SliceTables<T>& next = tables[std::size_t(slice_of_bin_[d0[l] + 1])];
-        add_job(&st, l, jl, T(0), 1 - fd[l]);
-        add_job(&next, l, d0[l] + 1 - next.theta_d_begin, T(0), fd[l]);
-      }
-    }
-    block_values_any(bs, jobs, values.data(), acc);
-    T* const out[3] = {args.out[0], args.out[1], args.out[2]};  // not reloaded after each store
-    for (int l = 0; l < m; ++l) {
-      T rgb[3] = {T(0), T(0), T(0)};
-      if (kind[l] == kInside) {
-        for (int c = 0; c < kChannels; ++c) rgb[c] = saturate(acc[c * kBlock + l]);
-      } else if (kind[l] == kApart) {
-        eval_at(Position<T>{ph[l], pd[l], pp[l]}, rgb);
-      }
+    const int nr = fn(cx, bs, args, base, end, values.data(), rest);
+    for (int r = 0; r < nr; ++r) {
+      const int l = rest[r];
+      T rgb[3];
+      eval_at(Position<T>{bs.ph[l], bs.pd[l], bs.pp[l]}, rgb);
       const std::size_t o = (base + std::size_t(l)) * os;
-      for (int c = 0; c < kChannels; ++c) out[c][o] = rgb[c];
+      for (int c = 0; c < kChannels; ++c) args.out[c][o] = rgb[c];
     }
   }
 }
@@ -859,6 +1088,12 @@ void InterpTables::eval_batch(std::size_t n, const BatchArgs<double>& args, int 
 void InterpTables::eval_batch(std::size_t n, const BatchArgs<float>& args, int threads) const {
   internal::parallel_chunks(n, kChunk, threads,
                             [&](std::size_t b, std::size_t e) { eval_chunk(f32_, b, e, args); });
+}
+
+bool set_batch_target(BatchTarget t) {
+  if (!target_supported(t)) return false;
+  g_batch_target.store(t, std::memory_order_relaxed);
+  return true;
 }
 
 std::size_t InterpTables::footprint_bytes() const {

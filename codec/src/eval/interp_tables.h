@@ -115,6 +115,14 @@ struct BatchArgs {
   std::size_t out_stride = 1;
 };
 
+// The instruction sets eval_batch's kernels are compiled for (GCC on x86-64; elsewhere only the
+// baseline). kAuto, the default, is the best this CPU runs.
+enum class BatchTarget { kAuto, kAvx512, kAvx2, kBaseline };
+
+// Makes every later eval_batch use the kernels for `t` (tests compare each with eval), or, with
+// kAuto, the best again. False, and nothing changed, where this build or CPU cannot run `t`.
+bool set_batch_target(BatchTarget t);
+
 class InterpTables {
  public:
   explicit InterpTables(const Model& model);
@@ -124,8 +132,9 @@ class InterpTables {
   void eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const;
   void eval(const float wi[3], const float wo[3], float rgb[3]) const;
   // n pairs at once, bit for bit equal to eval per pair: blocks of pairs with the grid positions
-  // computed across the block and each pair's slots kGroup at a time (vectorized), split into
-  // chunks over at most `threads` threads of the library's pool (<= 0: the thread limit).
+  // computed across the block and each pair's slots kGroup at a time (vectorized, two pairs per
+  // 8-wide vector where the CPU has them), split into chunks over at most `threads` threads of the
+  // library's pool (<= 0: the thread limit).
   void eval_batch(std::size_t n, const BatchArgs<double>& args, int threads) const;
   void eval_batch(std::size_t n, const BatchArgs<float>& args, int threads) const;
 
@@ -149,7 +158,8 @@ class InterpTables {
   std::vector<std::vector<GenericTerm>> generic_;  // per slice
   bool any_generic_ = false;
   int slice_of_bin_[kThetaDBins] = {};
-  int max_slots_per_channel_ = 1;  // R over all slices
+  unsigned char last_in_slice_[kThetaDBins] = {};  // bin j + 1 is in another slice (or none)
+  int max_slots_per_channel_ = 1;                  // R over all slices
 };
 
 }  // namespace cbrdf::eval

@@ -8,7 +8,11 @@
 namespace cbrdf::eval {
 
 double apply_residual(double base_stored, std::int32_t code, double step, double knee) {
-  const double y = std::log1p(base_stored / knee) + double(code) * step;
+  return apply_residual_value(base_stored, double(code) * step, knee);
+}
+
+double apply_residual_value(double base_stored, double residual, double knee) {
+  const double y = std::log1p(base_stored / knee) + residual;
   // y <= 0 only below a zero base: the source was >= 0, so clamping at 0 only brings it closer.
   const double v = y > 0.0 ? std::expm1(y) * knee : 0.0;
   constexpr double kMax = std::numeric_limits<double>::max();
@@ -25,10 +29,10 @@ void apply_residual_to_table(const Model& model, BrdfTable* table) {
   const NotMeasured& nm = model.not_measured;
   for (int c = 0; c < kChannels; ++c) {
     double* data = table->channel_data(c);
-    const std::int32_t* codes = r.codes.data() + std::size_t(c) * kBinsPerChannel;
+    const std::size_t first = std::size_t(c) * kBinsPerChannel;
     for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
       if (nm.test(c, i)) continue;
-      data[i] = apply_residual(data[i], codes[i], r.step_at(i), r.knee);
+      data[i] = apply_residual_value(data[i], r.value_at(first + i), r.knee);
     }
   }
   double* all = table->stored_values().data();
@@ -48,9 +52,7 @@ double ResidualEval::at_bin(int channel, std::size_t index, double physical) con
       std::lower_bound(esc.begin(), esc.end(), bin,
                        [](const ResidualEscape& e, std::uint32_t b) { return e.bin < b; });
   if (it != esc.end() && it->bin == bin) return it->stored * scale;
-  return apply_residual(physical / scale, residual_->codes[bin], residual_->step_at(index),
-                        residual_->knee) *
-         scale;
+  return apply_residual_value(physical / scale, residual_->value_at(bin), residual_->knee) * scale;
 }
 
 namespace {
@@ -66,6 +68,18 @@ void interpolate(const Residual& r, const GridPosition& g, double out[3]) {
   const int p1 = p0 + 1 == kPhiDBins ? 0 : p0 + 1;
   const double fh = h - h0, fd = d - d0, fp = p - p0;
   const bool rows = !r.row_shift.empty();
+  if (r.interpolated()) {
+    for (int c = 0; c < kChannels; ++c) {
+      const double* v = r.values.data() + std::size_t(c) * kBinsPerChannel;
+      auto row = [&](int i, int j) {
+        return v[merl_index(i, j, p0)] * (1 - fp) + v[merl_index(i, j, p1)] * fp;
+      };
+      const double lo = row(h0, d0) * (1 - fd) + row(h0, d0 + 1) * fd;
+      const double hi = row(h0 + 1, d0) * (1 - fd) + row(h0 + 1, d0 + 1) * fd;
+      out[c] = lo * (1 - fh) + hi * fh;
+    }
+    return;
+  }
   for (int c = 0; c < kChannels; ++c) {
     const std::int32_t* q = r.codes.data() + std::size_t(c) * kBinsPerChannel;
     // Mode 2 scales each bin by its row's step (the product is exact for mode 0's 1.0).

@@ -19,6 +19,8 @@ namespace cbrdf::eval {
 // y = log1p(base / k) + code * step, value = y > 0 ? expm1(y) k : 0, saturated at the largest
 // double.
 double apply_residual(double base_stored, std::int32_t code, double step, double knee);
+// The same with the bin's residual given (Residual::value_at; code x step in modes 0 and 2).
+double apply_residual_value(double base_stored, double residual, double knee);
 
 // Applies a model's residual to the base table: every measured bin reconstructed, then the
 // escapes' exact values. Not-measured bins are left as they are.

@@ -42,7 +42,17 @@ struct ResidualSettings {
   // solid-angle measure times cos(theta_i) cos(theta_o), so max_error bounds the most visible
   // rows only. What --target-psnr and --target-bytes use; --max-error keeps one bound.
   bool row_steps = false;
+  // > 0: RESD mode 3, codes that correct a level-by-level interpolation of the residual (1..4
+  // levels, the coarsest every 2^levels-th theta_d and phi_d bin), so that smooth regions cost
+  // almost nothing; the finest level's (odd theta_d or phi_d) step and bound are
+  // fine_multiplier (1..64) times its row's. What --target-psnr and --target-bytes use.
+  int levels = 0;
+  int fine_multiplier = 1;
 };
+
+// The residual the rate control (--target-psnr, --target-bytes) and the report's ladder write at
+// bound E of the finest rows: row steps, 3 levels, the finest level's bound 8 times its row's.
+CBRDF_EXPORT ResidualSettings target_residual_settings(double max_error);
 
 struct EncoderSettings {
   FitSettings fit;

@@ -63,9 +63,14 @@ CBRDF_EXPORT Expected<RateResult> encode_to_target(const BrdfTable& table,
 
 // The whole ladder (residual_rate.cc): encode_to_target, then, when the model alone misses the
 // PSNR (or a budget leaves room beyond it), the chosen model plus the residual layer with its
-// bound E bisected in log scale over 1e-5..1: the largest E reaching the PSNR, or the smallest
-// whose file fits the budget (kept only when it beats the model alone). chosen.max_error > 0
-// names the layer chosen.
+// bound E searched over 1e-5..1 by the secant on PSNR (or the residual's log bytes) against log E,
+// about 3 tries: the largest E reaching the PSNR (within 0.15 dB), or the smallest whose file
+// fits the budget (within 2% of it; kept only when it beats the model alone). When no model
+// reaches the PSNR, the residual goes on the one-component model at the settings' slice count and
+// --bits auto's bits (a third to a half of the bytes of one on the closest model on the real
+// materials); a PSNR more than any mixture adds (8 dB) above the best one-component row fits no
+// mixture. When even the smallest E misses the PSNR, the closest file is chosen.
+// chosen.max_error > 0 names the layer.
 CBRDF_EXPORT Expected<RateResult> encode_to_target_ladder(const BrdfTable& table,
                                                           const EncoderSettings& base,
                                                           const RateTarget& target);

@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: MIT
+// RESD mode 3 (spec 4.6): the residual rebuilt level by level, each bin predicted by interpolating
+// bins rebuilt before it. One routine serves the reader (codes in, residual out) and the writer
+// (residual in, codes and its own rebuilt residual out), so both compute the same binary64 values.
+#pragma once
+
+#include <cstdint>
+
+#include "cbrdf/export.h"
+#include "cbrdf/model.h"
+
+namespace cbrdf::internal {
+
+// The bin's level multiplier: fine_multiplier where theta_d or phi_d is odd (the finest level),
+// else 1.
+inline bool finest_level(std::size_t i) {
+  return ((i % kPhiDBins) | (i / kPhiDBins)) & 1;
+}
+
+// Rebuilds residual.values from residual.codes (levels, steps, row shifts and fine multiplier
+// taken from `residual`). Codes at not-measured bins are 0 and their values predictions only.
+CBRDF_INTERNAL_EXPORT void rebuild_interpolated(Residual* residual);
+
+// The writer's side: `target` holds the residual to code (kMaskBits values, NaN where any value
+// will do, e.g. not-measured bins). Sets residual.codes to round((target - prediction) / step),
+// clamped to -2^28..2^28 (0 where the target is NaN), and residual.values to the rebuilt values.
+CBRDF_INTERNAL_EXPORT void quantize_interpolated(const double* target, Residual* residual);
+
+}  // namespace cbrdf::internal
