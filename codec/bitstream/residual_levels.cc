@@ -23,13 +23,8 @@ struct Slab {
   // The bin at (d, p) from its prediction: decode its code, or choose it (encoding).
   void visit(int d, int p, double prediction) {
     const std::size_t i = std::size_t(d) * kCols + std::size_t(p);
-    const double st = finest_level(i) ? step[d] * fine : step[d];
-    if (target) {
-      const double t = target[i];
-      const double top = double(kMaxResidualCode);
-      codes[i] =
-          t == t ? std::int32_t(std::clamp(std::nearbyint((t - prediction) / st), -top, top)) : 0;
-    }
+    const double st = Residual::finest_level(i) ? step[d] * fine : step[d];
+    if (target) codes[i] = residual_code(target[i] - prediction, st);
     values[i] = prediction + double(codes[i]) * st;
   }
   double at(int d, int p) const { return values[std::size_t(d) * kCols + std::size_t(p)]; }

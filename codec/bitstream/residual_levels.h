@@ -4,17 +4,21 @@
 // (residual in, codes and its own rebuilt residual out), so both compute the same binary64 values.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "cbrdf/export.h"
 #include "cbrdf/model.h"
+#include "chunks.h"
 
 namespace cbrdf::internal {
 
-// The bin's level multiplier: fine_multiplier where theta_d or phi_d is odd (the finest level),
-// else 1.
-inline bool finest_level(std::size_t i) {
-  return ((i % kPhiDBins) | (i / kPhiDBins)) & 1;
+// The code of residual r at step `step`: round(r / step) clamped to -2^28..2^28, 0 for NaN (a
+// bin whose value does not matter). Modes 0, 2 and 3 alike.
+inline std::int32_t residual_code(double r, double step) {
+  const double top = double(kMaxResidualCode);
+  return r == r ? std::int32_t(std::clamp(std::nearbyint(r / step), -top, top)) : 0;
 }
 
 // Rebuilds residual.values from residual.codes (levels, steps, row shifts and fine multiplier

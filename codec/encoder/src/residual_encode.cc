@@ -18,26 +18,8 @@ namespace {
 // (about 1e-6 E) absorbs the reconstruction's rounding; the decode check catches the rest.
 constexpr double kStepFraction = 1.0 - 1.0 / 1024.0 / 1024.0;
 
-// The codes of the source against the decoded base table: round((log1p(src) - log1p(base)) /
-// step) per measured bin, clamped to the format's range (a clamped bin becomes an escape).
-std::vector<std::int32_t> quantize_residual(const BrdfTable& source, const BrdfTable& base,
-                                            const NotMeasured& mask, const Residual& res) {
-  std::vector<std::int32_t> codes(kMaskBits, 0);
-  const double top = double(kMaxResidualCode);
-  for (int c = 0; c < kChannels; ++c) {
-    const double* s = source.channel_data(c);
-    const double* b = base.channel_data(c);
-    std::int32_t* q = codes.data() + std::size_t(c) * kBinsPerChannel;
-    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
-      if (mask.test(c, i)) continue;
-      const double r = std::log1p(s[i] / res.knee) - std::log1p(b[i] / res.knee);
-      q[i] = std::int32_t(std::clamp(std::nearbyint(r / res.step_at(i)), -top, top));
-    }
-  }
-  return codes;
-}
-
-// Mode 3's target: the residual of every measured bin, NaN at the others (any value will do).
+// The residual to code: log1p(src / k) - log1p(base / k) at every measured bin against the
+// decoded base table, NaN at the others (code 0 in modes 0 and 2; any value will do in mode 3).
 std::vector<double> residual_target(const BrdfTable& source, const BrdfTable& base,
                                     const NotMeasured& mask, double knee) {
   std::vector<double> t(kMaskBits, std::numeric_limits<double>::quiet_NaN());
@@ -54,8 +36,9 @@ std::vector<double> residual_target(const BrdfTable& source, const BrdfTable& ba
 
 }  // namespace
 
-double max_log_error(const BrdfTable& source, const BrdfTable& decoded, double knee, double bound,
-                     std::vector<std::uint32_t>* violations, const Residual* residual) {
+double max_log_error(const BrdfTable& source, const BrdfTable& decoded, const Residual& residual,
+                     std::vector<std::uint32_t>* violations) {
+  const double knee = residual.knee;
   double worst = 0;
   for (int c = 0; c < kChannels; ++c) {
     const double* s = source.channel_data(c);
@@ -63,7 +46,7 @@ double max_log_error(const BrdfTable& source, const BrdfTable& decoded, double k
     for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
       if (!(s[i] >= 0.0)) continue;  // not measured
       const double e = std::abs(std::log1p(d[i] / knee) - std::log1p(s[i] / knee));
-      const double b = residual ? residual->bound_at(i) : bound;
+      const double b = residual.bound_at(i);
       // A NaN error (never expected) counts as a violation.
       if (violations && !(e <= b)) {
         violations->push_back(std::uint32_t(std::size_t(c) * kBinsPerChannel + i));
@@ -161,13 +144,17 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings,
   } else if (model.residual.interpolated()) {
     model.residual.row_shift.assign(kResidualRows, 0);  // mode 3 always has them
   }
+  const std::vector<double> target =
+      residual_target(source, base_table, model.not_measured, model.residual.knee);
   if (model.residual.interpolated()) {
-    const std::vector<double> target =
-        residual_target(source, base_table, model.not_measured, model.residual.knee);
     quantize_interpolated(target.data(), &model.residual);
   } else {
-    model.residual.codes =
-        quantize_residual(source, base_table, model.not_measured, model.residual);
+    // One code per bin; a code clamped to the format's range becomes an escape below.
+    model.residual.codes.assign(kMaskBits, 0);
+    for (std::size_t b = 0; b < kMaskBits; ++b) {
+      model.residual.codes[b] =
+          residual_code(target[b], model.residual.step_at(b % kBinsPerChannel));
+    }
   }
   model.residual.escapes.clear();
   // Write, decode, check every bin; bins that miss the bound (rounding at the margin, or a code
@@ -178,7 +165,7 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings,
     Expected<BrdfTable> decoded = decode_table(*bytes);
     if (!decoded.ok()) return decoded.status();
     std::vector<std::uint32_t> bad;
-    max_log_error(source, *decoded, model.residual.knee, bound, &bad, &model.residual);
+    max_log_error(source, *decoded, model.residual, &bad);
     if (bad.empty()) {
       result->bytes = std::move(bytes).value();
       return ok_status();

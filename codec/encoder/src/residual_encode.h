@@ -13,13 +13,11 @@ namespace cbrdf::internal {
 // decoded file misses the bound after the fix-up (it cannot: escapes store those bins exactly).
 Status add_residual(const BrdfTable& source, const EncoderSettings& settings, EncodeResult* result);
 
-// The largest |log1p(decoded / knee) - log1p(source / knee)| over measured bins, stored values;
-// the bins whose error exceeds `bound` go to `violations` (when given), in increasing order.
-// With `residual`, each bin's bound is the residual's at that bin (Residual bound_at); without,
-// `bound`.
-double max_log_error(const BrdfTable& source, const BrdfTable& decoded, double knee,
-                     double bound = 0, std::vector<std::uint32_t>* violations = nullptr,
-                     const Residual* residual = nullptr);
+// The largest |log1p(decoded / k) - log1p(source / k)| over measured bins, stored values, k the
+// residual's knee; the bins whose error exceeds their bound (Residual::bound_at) go to
+// `violations` (when given), in increasing order.
+double max_log_error(const BrdfTable& source, const BrdfTable& decoded, const Residual& residual,
+                     std::vector<std::uint32_t>* violations = nullptr);
 
 // RESD mode 2's row shifts (ResidualSettings::row_steps) for the bound `max_error`: per row r =
 // 90 theta_h + theta_d, round(log2(sqrt(W_max / W_r))) clamped to kRowStepShiftCap and to the

@@ -117,9 +117,10 @@ struct CBRDF_EXPORT Residual {
     const double b = row_shift.empty()
                          ? max_error
                          : std::ldexp(max_error, row_shift[i / std::size_t{kPhiDBins}]);
-    const bool finest = ((i % kPhiDBins) | (i / kPhiDBins)) & 1;
-    return interpolated() && finest ? b * double(fine_multiplier) : b;
+    return interpolated() && finest_level(i) ? b * double(fine_multiplier) : b;
   }
+  // Mode 3's finest level at MERL index i: an odd theta_d or phi_d.
+  static bool finest_level(std::size_t i) { return ((i % kPhiDBins) | (i / kPhiDBins)) & 1; }
   // The residual of bin b = c x kBinsPerChannel + i in log1p units: code x step (modes 0, 2) or
   // the interpolated reconstruction (mode 3).
   double value_at(std::size_t b) const {
