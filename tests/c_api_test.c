@@ -846,6 +846,7 @@ static void test_encode_settings(const double* table) {
       {"components", offsetof(cbrdf_encode_settings, components), 0, 9, "1 to 8"},
       {"family", offsetof(cbrdf_encode_settings, family), -2, 5, "-1 to 4"},
       {"threads", offsetof(cbrdf_encode_settings, threads), -1, 257, "0 to 256"},
+      {"mixture_copulas", offsetof(cbrdf_encode_settings, mixture_copulas), -1, 2, "0 to 1"},
   };
   size_t f;
 
@@ -853,7 +854,7 @@ static void test_encode_settings(const double* table) {
   cbrdf_encode_settings_init(&s);
   CHECK(s.struct_size == sizeof s);
   CHECK(s.bits == CBRDF_BITS_AUTO && s.zstd_level == 19 && s.slices == 6 && s.components == 1);
-  CHECK(s.family == CBRDF_FAMILY_FRANK && s.threads == 1);
+  CHECK(s.family == CBRDF_FAMILY_FRANK && s.threads == 1 && s.mixture_copulas == 1);
 
   /* Each field out of its range on either side: refused before any work, naming field and
    * range. */
@@ -1030,6 +1031,31 @@ static void test_encode(const double* table) {
     }
     cbrdf_model_free(m);
   }
+  /* Two components with their copulas left at independence: every mixture's thetas are 0. */
+  s.family = CBRDF_FAMILY_FRANK;
+  s.components = 2;
+  s.mixture_copulas = 0;
+  CHECK_STATUS(cbrdf_encode_merl_file(merl_path, cbrdf_path, &s), CBRDF_OK);
+  m = cbrdf_model_open_file(cbrdf_path);
+  CHECK(m != NULL);
+  if (m != NULL) {
+    int mixtures = 0, c, n = 0, r;
+    for (k = 0; k < 3; ++k) {
+      for (c = 0; c < 3; ++c) {
+        CHECK_STATUS(cbrdf_model_get_component_count(m, k, c, &n), CBRDF_OK);
+        if (n < 2) continue;
+        ++mixtures;
+        for (r = 0; r < n; ++r) {
+          CHECK_STATUS(cbrdf_model_get_component(m, k, c, r, &family, &theta, &scale), CBRDF_OK);
+          CHECK(family == CBRDF_FAMILY_FRANK && theta == 0.0 && scale > 0);
+        }
+      }
+    }
+    CHECK(mixtures > 0);
+    cbrdf_model_free(m);
+  }
+  s.components = 1;
+  s.mixture_copulas = 1;
   /* Settings NULL: the defaults (6 slices, 12 bits). */
   CHECK_STATUS(cbrdf_encode_merl_file(merl_path, cbrdf_path, NULL), CBRDF_OK);
   m = cbrdf_model_open_file(cbrdf_path);

@@ -100,7 +100,7 @@ TEST(Cli, MixturesAndDataChosenSlices) {
   EXPECT_TRUE(fs::exists(sl));
   for (const std::string bad :
        {"--components 9", "--components two", "--components 0", "--slices 0", "--slices 91",
-        "--slices many", "--slice-placement random"}) {
+        "--slices many", "--slice-placement random", "--mixture-copulas none"}) {
     const fs::path out = tmp / "bad.cbrdf";
     r = run_cli("encode '" + bin.string() + "' -o '" + out.string() + "' " + bad);
     EXPECT_EQ(r.exit_code, 2) << bad;
@@ -110,6 +110,16 @@ TEST(Cli, MixturesAndDataChosenSlices) {
   r = run_cli("encode '" + bin.string() + "' -o '" + (tmp / "x.cbrdf").string() +
               "' --components 9");
   EXPECT_NE(r.err.find("--components must be 1 to 8 or auto, not '9'"), std::string::npos) << r.err;
+  r = run_cli("encode '" + bin.string() + "' -o '" + (tmp / "x.cbrdf").string() +
+              "' --mixture-copulas none");
+  EXPECT_NE(r.err.find("unknown --mixture-copulas 'none' (fit or independence)"), std::string::npos)
+      << r.err;
+  // Copulas left at independence: a 2-component file without the copula parameters' bytes.
+  const fs::path plain = tmp / "plain.cbrdf";
+  r = run_cli("encode '" + bin.string() + "' -o '" + plain.string() +
+              "' --slices 3 --components 2 --mixture-copulas independence --no-metrics");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_LT(fs::file_size(plain), fs::file_size(two));
 }
 
 TEST(Cli, BadInputIsOneLineExitOneAndNoOutputFile) {

@@ -342,6 +342,40 @@ TEST(Mixture, FitLadderEqualsSeparateFitsAndReusesTheFactorization) {
   EXPECT_EQ(refused.fit(1).status().code(), ErrorCode::kInvalidArgument);
 }
 
+// mixture_copulas = false (rate control's search) leaves every copula of a mixture at
+// independence and fits no copula: the objective is the factorization's, never below the full
+// fit's; the ladder gives fit_model's model with the setting too.
+TEST(Mixture, MixturesWithoutCopulaFitKeepIndependenceAndTheFactorization) {
+  const BrdfTable table = make_sample("ggx-sharp").value();
+  FitSettings st;
+  st.slices = 3;
+  st.threads = 2;
+  st.components = 2;
+  FitReport full_report, plain_report;
+  const Model full = fit_model(table, st, &full_report).value();
+  st.mixture_copulas = false;
+  const Model plain = fit_model(table, st, &plain_report).value();
+  FitLadder ladder(table, st);
+  expect_same_model(ladder.fit(2).value(), plain);
+  int mixtures = 0, fitted_copulas = 0;
+  for (std::size_t s = 0; s < plain.slices.size(); ++s) {
+    for (int c = 0; c < kChannels; ++c) {
+      const ChannelSlice& x = plain.slices[s].channel[std::size_t(c)];
+      const ChannelSlice& y = full.slices[s].channel[std::size_t(c)];
+      if (y.components() > 1) {
+        for (int r = 0; r < y.components(); ++r) fitted_copulas += y.component(r).theta != 0.0;
+      }
+      EXPECT_LE(full_report.slices[s][std::size_t(c)].objective,
+                plain_report.slices[s][std::size_t(c)].objective);
+      if (x.components() < 2) continue;
+      ++mixtures;
+      for (int r = 0; r < x.components(); ++r) EXPECT_EQ(x.component(r).theta, 0.0);
+    }
+  }
+  EXPECT_GT(mixtures, 0);
+  EXPECT_GT(fitted_copulas, 0) << "the full fit should move some copula off independence";
+}
+
 TEST(Mixture, SettingsAreValidated) {
   const BrdfTable table = make_sample("lambertian").value();
   FitSettings st;

@@ -359,6 +359,13 @@ std::vector<Vec3> batch_directions(int random_pairs) {
                                                       {{0, s, s}, {0, -s, s}},
                                                       {{0.6, 0.0, 0.8}, {-0.6, 1e-17, 0.8}},
                                                       {{NAN, 0, 1}, {0, 0, 1}}};
+  // Among the random pairs (every 37th: inside whole blocks of the batch kernels, which handle
+  // such pairs apart from the rest) and again at the end (in the last, partial block).
+  for (int k = 0; k < random_pairs; k += 37) {
+    const auto& [wi, wo] = special[std::size_t(k / 37) % special.size()];
+    d[2 * std::size_t(k)] = wi;
+    d[2 * std::size_t(k) + 1] = wo;
+  }
   for (const auto& [wi, wo] : special) {
     d.push_back(wi);
     d.push_back(wo);

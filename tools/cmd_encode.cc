@@ -27,6 +27,8 @@ struct EncodeOptions {
   std::string max_error;                  // the residual layer's bound, parsed here
   bool lossless = false;
   std::string bits = "auto";  // 6 to 16 or auto, parsed here
+  // --mixture-copulas as given (empty: not given; a target then searches at independence).
+  std::string mixture_copulas;
 };
 
 // A positive finite number, or nullopt. `what` names the option in the message.
@@ -58,6 +60,8 @@ std::optional<std::string> parse_rate_target(const EncodeOptions& o, RateTarget*
       return bad;
     }
   }
+  // Given explicitly, --mixture-copulas applies to the search too.
+  if (!o.mixture_copulas.empty()) target->mixture_copulas = o.mixture_copulas == "fit";
   // Rate control chooses the slice count itself.
   if ((target->max_bytes > 0 || target->min_psnr > 0) && o.encoder.slices == "auto") {
     return std::string(
@@ -87,12 +91,25 @@ Expected<EncodeResult> encode(const BrdfTable& table, const EncoderSettings& st,
     } else if (rc->chosen.max_error > 0) {
       std::snprintf(residual_text, sizeof residual_text, " --max-error %.3g", rc->chosen.max_error);
     }
+    // The options that make this file again (the residual's row bounds aside).
+    const char* copulas = rc->chosen.components > 1 && !target.mixture_copulas
+                              ? " --mixture-copulas independence"
+                              : "";
     std::fprintf(info,
-                 "searched %zu settings: chose --slices %d --components %d --bits %d%s: %.0f "
+                 "searched %zu settings: chose --slices %d --components %d%s --bits %d%s: %.0f "
                  "bytes, %.2f dB tone-mapped%s\n",
-                 rc->tried.size(), rc->chosen.slices, rc->chosen.components, rc->chosen.bits,
-                 residual_text, rc->chosen.bytes, rc->chosen.psnr_tonemapped,
+                 rc->tried.size(), rc->chosen.slices, rc->chosen.components, copulas,
+                 rc->chosen.bits, residual_text, rc->chosen.bytes, rc->chosen.psnr_tonemapped,
                  rc->met ? "" : " (the target could not be met: this is the closest)");
+    // With -v, each setting measured, in search order: what the search weighed.
+    if (ctx.verbose) {
+      for (const RateCandidate& c : rc->tried) {
+        std::fprintf(info, "  tried --slices %d --components %d --bits %d", c.slices, c.components,
+                     c.bits);
+        if (c.max_error > 0) std::fprintf(info, " residual E %.3g", c.max_error);
+        std::fprintf(info, ": %.0f bytes, %.2f dB tone-mapped\n", c.bytes, c.psnr_tonemapped);
+      }
+    }
   }
   return std::move(rc->encoded);
 }
@@ -173,6 +190,7 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
     }
   }
   eo.lossless = o.lossless;
+  if (!o.mixture_copulas.empty()) eo.mixture_copulas = o.mixture_copulas;
   auto st = encoder_settings(eo);
   if (!st.ok()) return usage_error("encode: " + st.status().message());
 
@@ -222,6 +240,11 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
   cmd->add_option("--family", o->encoder.family,
                   "Copula family: frank, clayton, gumbel, joe, independence, auto")
       ->capture_default_str();
+  cmd->add_option("--mixture-copulas", o->mixture_copulas,
+                  "With 2 or more components: fit each component's copula (fit, the default) or "
+                  "leave them at independence (independence: about half the fit's time and 6% "
+                  "fewer bytes, for about the same tone-mapped PSNR per byte; what --target-bytes "
+                  "and --target-psnr search unless given)");
   cmd->add_option("--bits", o->bits,
                   "Bits per quantized marginal value, 6 to 16 (quality), or auto: the fewest bits "
                   "that cost at most 0.05 dB tone-mapped and 0.5 dB linear sphere PSNR against "

@@ -41,12 +41,11 @@ const std::vector<std::uint64_t>& below_horizon_bits() {
 }
 
 std::uint64_t mask_hash(const std::vector<std::uint64_t>& bits) {
-  // Hash the byte stream, not the words, so the definition does not depend on host endianness.
-  std::vector<std::uint8_t> bytes(kMaskBytes);
-  for (std::size_t i = 0; i < kMaskBytes; ++i) {
-    bytes[i] = std::uint8_t(bits[i >> 3] >> (8 * (i & 7)));
-  }
-  return XXH64(bytes.data(), bytes.size(), 0);
+  // The hash is of the byte stream (least significant byte of each word first), not of the
+  // words, so that its definition does not depend on the host; on a little-endian host the
+  // words' memory is that stream.
+  static_assert(std::endian::native == std::endian::little);
+  return XXH64(bits.data(), kMaskBytes, 0);
 }
 
 namespace {
@@ -54,13 +53,39 @@ namespace {
 // Flips every channel's below-horizon bins: the mask relative to the below-horizon reference, and
 // back.
 void xor_below_horizon(std::vector<std::uint64_t>* bits) {
+  // Word by word: each channel's copy of the reference starts at a bit offset that is not a
+  // multiple of 64, so every word of it is split over two words of the mask.
   const std::vector<std::uint64_t>& g = below_horizon_bits();
   for (int c = 0; c < kChannels; ++c) {
     const std::size_t base = std::size_t(c) * kBinsPerChannel;
-    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
-      if (mask_bit(g, i)) (*bits)[(base + i) >> 6] ^= std::uint64_t{1} << ((base + i) & 63);
+    for (std::size_t k = 0; k < g.size(); ++k) {
+      const std::size_t at = base + 64 * k, w = at >> 6, shift = at & 63;
+      (*bits)[w] ^= g[k] << shift;
+      if (shift != 0 && (g[k] >> (64 - shift)) != 0) (*bits)[w + 1] ^= g[k] >> (64 - shift);
     }
   }
+}
+
+// The lengths of the runs of equal bits in the first kMaskBits bits, alternately clear and set,
+// starting with a clear run (possibly empty). Word by word: the next bit that differs from the
+// current run's is the lowest set bit of the word XOR the run's fill.
+std::vector<std::uint32_t> mask_runs(const std::vector<std::uint64_t>& coded) {
+  std::vector<std::uint32_t> runs;
+  bool current = false;
+  std::size_t start = 0, b = 0;
+  while (b < kMaskBits) {
+    const std::uint64_t fill = current ? ~std::uint64_t{0} : 0;
+    std::size_t w = b >> 6;
+    std::uint64_t x = (coded[w] ^ fill) & (~std::uint64_t{0} << (b & 63));
+    while (x == 0 && ++w < coded.size()) x = coded[w] ^ fill;
+    const std::size_t next = x == 0 ? kMaskBits : 64 * w + std::size_t(std::countr_zero(x));
+    if (next >= kMaskBits) break;  // bits past the mask (a set run's padding reads as a change)
+    runs.push_back(std::uint32_t(next - start));
+    start = b = next;
+    current = !current;
+  }
+  runs.push_back(std::uint32_t(kMaskBits - start));
+  return runs;
 }
 
 // The fixed fields before the mask: reference, form, values mode, count and hash.
@@ -204,22 +229,9 @@ std::vector<std::uint8_t> encode_mask_chunk(const NotMeasured& mask) {
   const bool use_reference = set_xored <= set;
   const std::vector<std::uint64_t>& coded = use_reference ? xored : mask.bits;
 
-  // Runs alternate clear/set starting with a clear run (possibly empty).
-  std::vector<std::uint32_t> runs;
+  const std::vector<std::uint32_t> runs = mask_runs(coded);
   std::size_t run_bytes = 4;
-  bool current = false;
-  std::uint32_t len = 0;
-  for (std::size_t b = 0; b < kMaskBits; ++b) {
-    if (mask_bit(coded, b) != current) {
-      runs.push_back(len);
-      run_bytes += varint_bytes(len);
-      current = !current;
-      len = 0;
-    }
-    ++len;
-  }
-  runs.push_back(len);
-  run_bytes += varint_bytes(len);
+  for (std::uint32_t r : runs) run_bytes += varint_bytes(r);
   const bool use_runs = run_bytes < kMaskBytes;
 
   const bool per_bin = mask.values.size() != 1;

@@ -268,32 +268,53 @@ std::size_t ModelEvaluator::footprint_bytes() const {
   return n;
 }
 
+void ModelEvaluator::model_row(int ch, std::size_t s, int i, int j, double* row, double* c) const {
+  const Slice& slice = model_->slices[s];
+  const Part& p = *parts_[s][std::size_t(ch)];
+  const double inv_scale = 1.0 / kMerlScale[std::size_t(ch)];
+  std::fill(row, row + kPhiDBins, 0.0);
+  for (const Term& term : p.terms) {
+    const Component& cs = *term.cs;
+    const double f12 = cs.scale * cs.pdf_h[std::size_t(i)] *
+                       cs.pdf_d[std::size_t(j - slice.theta_d_begin)] * inv_scale;
+    if (f12 == 0.0) continue;
+    // A whole phi_d row at once: the copula's per-row factors are shared and it vectorizes.
+    term.copula->row(i, j - slice.theta_d_begin, c, nullptr);
+    for (int k = 0; k < kPhiDBins; ++k) row[k] += saturate(f12 * c[k] * cs.pdf_p[k]);
+  }
+  if (p.terms.size() > 1) {
+    for (int k = 0; k < kPhiDBins; ++k) row[k] = saturate(row[k]);
+  }
+}
+
+void ModelEvaluator::table_rows(std::span<const std::uint32_t> rows, double* out) const {
+  std::vector<double> c(kPhiDBins);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const int i = int(rows[r] / kThetaDBins), j = int(rows[r] % kThetaDBins);
+    const std::size_t s = std::size_t(slice_of_bin_[std::size_t(j)]);
+    const bool covered = j >= model_->slices[s].theta_d_begin && j < model_->slices[s].theta_d_end;
+    for (int ch = 0; ch < kChannels; ++ch) {
+      double* row = out + (r * kChannels + std::size_t(ch)) * kPhiDBins;
+      if (covered) {
+        model_row(ch, s, i, j, row, c.data());
+      } else {
+        std::fill(row, row + kPhiDBins, 0.0);  // as table() leaves a row no slice covers
+      }
+    }
+  }
+}
+
 BrdfTable ModelEvaluator::table() const {
   BrdfTable t;
   const NotMeasured& nm = model_->not_measured;
   std::vector<double> c(kPhiDBins);
   for (int ch = 0; ch < kChannels; ++ch) {
     double* out = t.channel_data(ch);
-    const double inv_scale = 1.0 / kMerlScale[ch];
     for (std::size_t s = 0; s < model_->slices.size(); ++s) {
       const Slice& slice = model_->slices[s];
-      const Part& p = *parts_[s][ch];
       for (int i = 0; i < kThetaHBins; ++i) {
         for (int j = slice.theta_d_begin; j < slice.theta_d_end; ++j) {
-          double* row = out + merl_index(i, j, 0);
-          std::fill(row, row + kPhiDBins, 0.0);
-          for (const Term& term : p.terms) {
-            const Component& cs = *term.cs;
-            const double f12 =
-                cs.scale * cs.pdf_h[i] * cs.pdf_d[j - slice.theta_d_begin] * inv_scale;
-            if (f12 == 0.0) continue;
-            // A whole phi_d row at once: the copula's per-row factors are shared and it vectorizes.
-            term.copula->row(i, j - slice.theta_d_begin, c.data(), nullptr);
-            for (int k = 0; k < kPhiDBins; ++k) row[k] += saturate(f12 * c[k] * cs.pdf_p[k]);
-          }
-          if (p.terms.size() > 1) {
-            for (int k = 0; k < kPhiDBins; ++k) row[k] = saturate(row[k]);
-          }
+          model_row(ch, s, i, j, out + merl_index(i, j, 0), c.data());
         }
       }
     }

@@ -67,11 +67,26 @@ inline int pick(const double* cdf, int n, double* u) {
   return pick_end(cdf, base, n, u);
 }
 
+// The lane loops (and the searches' steps across lanes), compiled for AVX-512, AVX2 and the
+// baseline and chosen at load time where the toolchain supports it (GCC on x86-64; not under the
+// sanitizers, whose runtimes and ifunc resolvers do not mix). A draw takes about a dozen square
+// roots and divisions, which AVX-512 does at twice AVX2's rate per lane where the CPU has
+// full-width units. Every lane computes what sample() computes for its draw, with the same
+// functions: vector lanes round as scalar instructions do (no multiply-add is contracted: the
+// pragma above).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#define CBRDF_SAMPLING_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define CBRDF_SAMPLING_CLONES
+#endif
+
 constexpr int kLanes = 128;  // draws in a block of sample_batch
 
 // pick() for kLanes CDFs of n + 1 entries at once (bin[k] of cdf[k] at u[k]), one step for all
-// lanes at a time: the lanes' loads (cache misses, in large tables) are in flight together.
-void pick_lanes(const double* const* cdf, int n, double* u, int* bin) {
+// lanes at a time: the lanes' loads (cache misses, in large tables) are in flight together, and
+// with AVX-512 a step is a vector loop of gathers.
+CBRDF_SAMPLING_CLONES void pick_lanes(const double* const* cdf, int n, double* u, int* bin) {
   const double* base[kLanes];
   for (int k = 0; k < kLanes; ++k) base[k] = cdf[k];
   for (std::size_t len = std::size_t(n) + 1; len > 1; len -= len >> 1) {
@@ -183,17 +198,6 @@ struct internal::SamplerLanes {
 namespace {
 using Lanes = internal::SamplerLanes;
 
-// The lane loops, compiled for AVX2 and for the baseline and chosen at load time where the
-// toolchain supports it (GCC on x86-64; not under the sanitizers, whose runtimes and ifunc
-// resolvers do not mix). Every lane computes what sample() computes for its draw, with the same
-// functions: vector lanes round as scalar instructions do.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
-#define CBRDF_SAMPLING_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define CBRDF_SAMPLING_CLONES
-#endif
-
 CBRDF_SAMPLING_CLONES void lanes_frames(Lanes& l, int bins) {
   for (int k = 0; k < kLanes; ++k) {
     const Frame f = azimuth_frame(l.ox[k], l.oy[k]);
@@ -211,7 +215,7 @@ CBRDF_SAMPLING_CLONES void lanes_choices(Lanes& l) {
     l.v2[k] = ch.v2;
     l.b[k] = -1.0;
     l.ce0[k] = l.ce1[k] = 0.0;
-    l.table_draw[k] = (l.live[k] != 0.0) & ch.table ? 1.0 : 0.0;
+    l.table_draw[k] = ((l.live[k] != 0.0) & ch.table) ? 1.0 : 0.0;
   }
 }
 
@@ -478,11 +482,11 @@ void BrdfSampler::draw_lanes(const BatchIo& io, std::size_t base, int m, Lanes& 
     cdf[k] = table_draw ? &tables_[std::size_t(l.bin[k])].cell_cdf[std::size_t(row[k]) * (np + 1)]
                         : kNoCdf;
     u[k] = table_draw ? l.v2[k] : 0.5;
-    // The row's lines requested at once: the search's loads then find them in the cache rather
-    // than wait for its probes' misses one after another.
+    // The lines of the search's first two probes (at a half, then a quarter or three quarters of
+    // the row) requested at once, rather than its misses waited for one after another; fewer
+    // requests than the row's every line, which cost more than the later probes' misses save.
     if (table_draw) {
-      for (int i = 0; i < np + 1; i += 8) __builtin_prefetch(cdf[k] + i);
-      __builtin_prefetch(cdf[k] + np);
+      for (int i = 1; i < 4; ++i) __builtin_prefetch(cdf[k] + std::size_t(i) * (np + 1) / 4);
     }
   }
   pick_lanes(cdf, np, u, cell);
@@ -506,7 +510,7 @@ void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t
     return;
   }
   Lanes l;
-  const auto c = std::make_unique<ChunkDraws>();
+  const std::unique_ptr<ChunkDraws> c(new ChunkDraws);  // not zeroed: every entry read is written
   const std::size_t n = end - begin;
   const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
   const double dphi = 2 * kPi / np;

@@ -35,6 +35,22 @@ def test_encode_options_match_the_command(work, tmp_path):
     assert all(len(c.components) == 2 for s in m.slices for c in s.channels)
 
 
+def test_mixture_copulas_at_independence_match_the_command(work, tmp_path):
+    out = tmp_path / "k2i.cbrdf"
+    run_cli("encode", work / "plastic.binary", "-o", out, "--bits", "8", "--slices", "3",
+            "--components", "2", "--mixture-copulas", "independence", "--no-metrics")
+    data = cbrdf.encode(str(work / "plastic.binary"), bits=8, slices=3, components=2,
+                        mixture_copulas="independence")
+    assert data == out.read_bytes()
+    m = cbrdf.decode(data)
+    mixtures = [c for s in m.slices for c in s.channels if len(c.components) == 2]
+    assert mixtures and all(k.theta == 0.0 for c in mixtures for k in c.components)
+    fitted = cbrdf.encode(str(work / "plastic.binary"), bits=8, slices=3, components=2)
+    assert len(data) < len(fitted)
+    with pytest.raises(cbrdf.Error, match="unknown --mixture-copulas 'some'"):
+        cbrdf.encode(work / "plastic.binary", mixture_copulas="some")
+
+
 def test_default_bits_are_chosen_from_the_data_as_the_command_does(work, tmp_path):
     out = tmp_path / "auto.cbrdf"
     run_cli("encode", work / "plastic.binary", "-o", out, "--no-metrics")

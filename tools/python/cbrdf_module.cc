@@ -669,8 +669,10 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
                  const py::object& slices, const std::string& family, const std::string& loss,
                  int level, const std::string& placement, bool naive_marginals, int threads,
                  const py::object& target_bytes, const py::object& target_psnr,
-                 const py::object& max_error, bool lossless, const py::object& source_name) {
+                 const py::object& max_error, bool lossless, const py::object& source_name,
+                 const py::object& mixture_copulas) {
   EncoderOptions o;
+  if (!mixture_copulas.is_none()) o.mixture_copulas = mixture_copulas.cast<std::string>();
   o.slices = count_text(slices, "slices");
   o.components = count_text(components, "components");
   o.family = family;
@@ -697,6 +699,8 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
   if (!target_psnr.is_none()) {
     target.min_psnr = target_value(target_psnr, "target_psnr", 1000.0, "1000");
   }
+  // Given explicitly, mixture_copulas applies to the search too (as --mixture-copulas).
+  if (!mixture_copulas.is_none()) target.mixture_copulas = o.mixture_copulas == "fit";
   const bool targeted = target.max_bytes > 0 || target.min_psnr > 0;
   if (targeted && o.slices == "auto") {
     raise_invalid(
@@ -929,7 +933,7 @@ PYBIND11_MODULE(_cbrdf, m) {
         py::arg("slices"), py::arg("family"), py::arg("loss"), py::arg("level"),
         py::arg("placement"), py::arg("naive_marginals"), py::arg("threads"),
         py::arg("target_bytes"), py::arg("target_psnr"), py::arg("max_error"), py::arg("lossless"),
-        py::arg("source_name"));
+        py::arg("source_name"), py::arg("mixture_copulas"));
 
   m.def("_sphere_metrics", &sphere_metrics, py::arg("reference"), py::arg("test"), py::arg("size"),
         py::arg("light_angles"));

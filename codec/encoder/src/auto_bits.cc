@@ -27,7 +27,8 @@ bool within(double test_db, double reference_db, double max_loss_db) {
 Expected<AutoBitsChoice> choose_bits(const BrdfTable& source, const Model& model,
                                      const ContainerSettings& container,
                                      const AutoBitsSettings& settings) {
-  const ImageMetrics reference = sphere_psnr(source, model.table());
+  const SphereScorer scorer(source);
+  const ImageMetrics reference = scorer.score(model);
   std::map<int, Probe> probes;
   auto probe = [&](int bits) -> Expected<const Probe*> {
     ContainerSettings c = container;
@@ -36,7 +37,7 @@ Expected<AutoBitsChoice> choose_bits(const BrdfTable& source, const Model& model
     if (!bytes.ok()) return bytes.status();
     auto decoded = decode_model(*bytes);
     if (!decoded.ok()) return decoded.status();
-    const ImageMetrics m = sphere_psnr(source, decoded->table());
+    const ImageMetrics m = scorer.score(*decoded);
     Probe p{within(m.psnr_tonemapped, reference.psnr_tonemapped, settings.max_tonemapped_loss_db) &&
                 within(m.psnr_linear, reference.psnr_linear, settings.max_linear_loss_db),
             std::move(bytes).value()};

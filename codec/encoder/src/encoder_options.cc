@@ -64,6 +64,11 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
                    " or auto, not '" + o.components + "'");
   }
   set_counts(*slices, *components, &st.fit);
+  if (o.mixture_copulas == "independence") {
+    st.fit.mixture_copulas = false;
+  } else if (o.mixture_copulas != "fit") {
+    return invalid("unknown --mixture-copulas '" + o.mixture_copulas + "' (fit or independence)");
+  }
   if (o.loss == "linear") {
     st.fit.loss = FitLoss::kLinear;
   } else if (o.loss == "cosine") {

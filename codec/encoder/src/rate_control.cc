@@ -27,7 +27,7 @@ constexpr double kForecastMargin = 0.06;
 class Search {
  public:
   Search(const BrdfTable& table, const EncoderSettings& base, const RateTarget& target)
-      : table_(table), base_(base), target_(target), by_bytes_(target.max_bytes > 0) {}
+      : base_(base), target_(target), by_bytes_(target.max_bytes > 0), scorer_(table) {}
 
   bool met(const RateCandidate& c) const {
     return by_bytes_ ? c.bytes <= target_.max_bytes : c.psnr_tonemapped >= target_.min_psnr;
@@ -42,7 +42,7 @@ class Search {
     if (!bytes.ok()) return bytes.status();
     auto decoded = decode_model(*bytes);
     if (!decoded.ok()) return decoded.status();
-    const ImageMetrics im = sphere_psnr(table_, decoded->table());
+    const ImageMetrics im = scorer_.score(*decoded);
     RateCandidate c{slices,        bits, components, double(bytes->size()), im.psnr_tonemapped,
                     im.psnr_linear};
     result_.tried.push_back(c);
@@ -89,10 +89,10 @@ class Search {
     return a_met ? a.bytes < b.bytes : a.psnr_tonemapped > b.psnr_tonemapped;
   }
 
-  const BrdfTable& table_;
   const EncoderSettings& base_;
   const RateTarget& target_;
   const bool by_bytes_;
+  const SphereScorer scorer_;  // the table's sphere renders, made once for every measurement
   RateResult result_;
   bool have_ = false;
 };
@@ -348,6 +348,7 @@ class Grid {
     if (lane == lanes_.end()) {
       FitSettings fs = base_.fit;
       set_counts({slices, false}, {1, false}, &fs);
+      fs.mixture_copulas = target_.mixture_copulas;
       lane = lanes_.emplace(slices, Lane{FitLadder(table_, fs), kNone}).first;
     }
     FitReport report;

@@ -34,9 +34,9 @@ constexpr double kBudgetTolerance = 0.02;
 
 // The base file with a residual at bound e, measured (PSNR only when asked: a byte budget needs
 // only the try chosen decoded).
-Expected<RateCandidate> try_error(const BrdfTable& table, const EncoderSettings& base_settings,
-                                  const RateResult& base, double e, bool with_psnr,
-                                  EncodeResult* out) {
+Expected<RateCandidate> try_error(const BrdfTable& table, const SphereScorer& scorer,
+                                  const EncoderSettings& base_settings, const RateResult& base,
+                                  double e, bool with_psnr, EncodeResult* out) {
   EncoderSettings st = base_settings;
   st.residual = target_residual_settings(e);
   st.container.bits = base.chosen.bits;
@@ -48,7 +48,7 @@ Expected<RateCandidate> try_error(const BrdfTable& table, const EncoderSettings&
   if (with_psnr) {
     Expected<BrdfTable> decoded = decode_table(out->bytes);
     if (!decoded.ok()) return decoded.status();
-    const ImageMetrics im = sphere_psnr(table, *decoded);
+    const ImageMetrics im = scorer.score(*decoded);
     c.psnr_tonemapped = im.psnr_tonemapped;
     c.psnr_linear = im.psnr_linear;
   }
@@ -56,10 +56,10 @@ Expected<RateCandidate> try_error(const BrdfTable& table, const EncoderSettings&
 }
 
 // The chosen try of a byte budget, decoded and measured.
-Expected<RateCandidate> measure(const BrdfTable& table, const RateResult& r) {
+Expected<RateCandidate> measure(const SphereScorer& scorer, const RateResult& r) {
   Expected<BrdfTable> decoded = decode_table(r.encoded.bytes);
   if (!decoded.ok()) return decoded.status();
-  const ImageMetrics im = sphere_psnr(table, *decoded);
+  const ImageMetrics im = scorer.score(*decoded);
   RateCandidate c = r.chosen;
   c.psnr_tonemapped = im.psnr_tonemapped;
   c.psnr_linear = im.psnr_linear;
@@ -71,14 +71,14 @@ class ResidualSearch {
  public:
   ResidualSearch(const BrdfTable& table, const EncoderSettings& settings, const RateTarget& target,
                  RateResult* model)
-      : table_(table), settings_(settings), target_(target), model_(*model) {}
+      : table_(table), scorer_(table), settings_(settings), target_(target), model_(*model) {}
 
   // A try at E: kept when it meets the target and beats the best so far. At a budget only its
   // bytes are known (not measured: `tried` lists the settings measured).
   Expected<RateCandidate> attempt(double e) {
     const bool by_bytes = target_.max_bytes > 0;
     EncodeResult encoded;
-    auto c = try_error(table_, settings_, model_, e, !by_bytes, &encoded);
+    auto c = try_error(table_, scorer_, settings_, model_, e, !by_bytes, &encoded);
     if (!c.ok()) return c;
     if (!by_bytes) model_.tried.push_back(*c);
     if (meets(*c) && (!best_ || better(*c, best_->chosen))) {
@@ -101,9 +101,11 @@ class ResidualSearch {
   }
   const std::optional<RateResult>& best() const { return best_; }
   RateResult& model() { return model_; }
+  const SphereScorer& scorer() const { return scorer_; }
 
  private:
   const BrdfTable& table_;
+  const SphereScorer scorer_;  // the table's renders, made once for every try
   const EncoderSettings& settings_;
   const RateTarget& target_;
   RateResult& model_;
@@ -167,7 +169,7 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
     auto c = search.attempt(kLargestError);
     if (!c.ok()) return c.status();
     if (!search.best()) return result;
-    auto psnr = measure(table, *search.best());
+    auto psnr = measure(search.scorer(), *search.best());
     if (!psnr.ok()) return psnr.status();
     result.tried.push_back(*psnr);
     if (psnr->psnr_tonemapped <= result.chosen.psnr_tonemapped) return result;
@@ -189,7 +191,7 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
   if (by_bytes) {
     // Only the try chosen is decoded; it must beat the model alone within the budget.
     if (best.chosen.max_error != kLargestError) {
-      auto c = measure(table, best);
+      auto c = measure(search.scorer(), best);
       if (!c.ok()) return c.status();
       best.chosen = *c;
       result.tried.push_back(*c);

@@ -197,45 +197,78 @@ Renderer table_renderer(const BrdfTable& table, const SphereSetup& setup) {
   };
 }
 
-ImageMetrics compare(const Renderer& render_reference, const Renderer& render_test,
-                     const SphereSetup& setup);
-
 double mean(const std::vector<double>& v) {
   double s = 0;
   for (double x : v) s += x;
   return v.empty() ? 0.0 : s / double(v.size());
 }
 
-ImageMetrics compare(const Renderer& render_reference, const Renderer& render_test,
-                     const SphereSetup& setup) {
+// What one light's comparison needs of the reference, made once per reference.
+struct ReferenceLight {
+  double angle = 0, scale = 1.0;
+  Image image, tonemapped;
+  double exposure = 1.0;
+  std::array<double, 3> peak{};  // per channel, over the sphere's pixels
+};
+
+ReferenceLight reference_light(const Renderer& render_reference, double angle,
+                               const std::vector<std::uint8_t>& mask) {
+  ReferenceLight r;
+  r.angle = angle;
+  double ref_peak = 0;
+  r.image = render_reference(angle, 1.0, &ref_peak);
+  r.scale = render_scale(ref_peak);
+  if (r.scale != 1.0) r.image = render_reference(angle, r.scale, nullptr);
+  r.exposure = tonemap_exposure(r.image, &mask);
+  r.tonemapped = tonemap(r.image, r.exposure);
+  for (int c = 0; c < 3; ++c) {
+    double peak = 0;
+    for (std::size_t i = 0; i < r.image.pixel_count(); ++i) {
+      if (mask[i]) peak = std::max(peak, double(r.image.data[i * 3 + std::size_t(c)]));
+    }
+    r.peak[std::size_t(c)] = peak;
+  }
+  return r;
+}
+
+LightMetrics score_light(const ReferenceLight& r, const Image& tst,
+                         const std::vector<std::uint8_t>& mask) {
+  LightMetrics lm;
+  lm.light_angle_deg = r.angle;
+  lm.exposure = r.exposure;
+  const Image tst_tm = tonemap(tst, r.exposure);
+  for (int c = 0; c < 3; ++c) {
+    lm.psnr_linear[std::size_t(c)] = psnr(r.image, tst, c, r.peak[std::size_t(c)], &mask);
+    lm.psnr_tonemapped[std::size_t(c)] = psnr(r.tonemapped, tst_tm, c, 1.0, &mask);
+  }
+  return lm;
+}
+
+// The summary over lights: means of the dB values over lights and channels.
+ImageMetrics summarize(std::vector<LightMetrics> per_light) {
   ImageMetrics m;
-  const std::vector<std::uint8_t> mask = sphere_mask(setup.size);
   std::vector<double> linear, tonemapped;
-  for (double angle : setup.light_angles_deg) {
-    double ref_peak = 0;
-    Image ref = render_reference(angle, 1.0, &ref_peak);
-    const double scale = render_scale(ref_peak);
-    if (scale != 1.0) ref = render_reference(angle, scale, nullptr);
-    const Image tst = render_test(angle, scale, nullptr);
-    LightMetrics lm;
-    lm.light_angle_deg = angle;
-    lm.exposure = tonemap_exposure(ref, &mask);
-    const Image ref_tm = tonemap(ref, lm.exposure), tst_tm = tonemap(tst, lm.exposure);
+  for (const LightMetrics& lm : per_light) {
     for (int c = 0; c < 3; ++c) {
-      double peak = 0;
-      for (std::size_t i = 0; i < ref.pixel_count(); ++i) {
-        if (mask[i]) peak = std::max(peak, double(ref.data[i * 3 + std::size_t(c)]));
-      }
-      lm.psnr_linear[std::size_t(c)] = psnr(ref, tst, c, peak, &mask);
-      lm.psnr_tonemapped[std::size_t(c)] = psnr(ref_tm, tst_tm, c, 1.0, &mask);
       linear.push_back(lm.psnr_linear[std::size_t(c)]);
       tonemapped.push_back(lm.psnr_tonemapped[std::size_t(c)]);
     }
-    m.per_light.push_back(lm);
   }
+  m.per_light = std::move(per_light);
   m.psnr_linear = mean(linear);
   m.psnr_tonemapped = mean(tonemapped);
   return m;
+}
+
+ImageMetrics compare(const Renderer& render_reference, const Renderer& render_test,
+                     const SphereSetup& setup) {
+  const std::vector<std::uint8_t> mask = sphere_mask(setup.size);
+  std::vector<LightMetrics> per_light;
+  for (double angle : setup.light_angles_deg) {
+    const ReferenceLight r = reference_light(render_reference, angle, mask);
+    per_light.push_back(score_light(r, render_test(angle, r.scale, nullptr), mask));
+  }
+  return summarize(std::move(per_light));
 }
 
 }  // namespace
@@ -293,6 +326,80 @@ ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfTable& test,
 
 ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfFn& test, const SphereSetup& setup) {
   return compare(table_renderer(reference, setup), fn_renderer(test, setup), setup);
+}
+
+struct SphereScorer::Impl {
+  const BrdfTable* reference = nullptr;
+  SphereSetup setup;
+  std::vector<std::uint8_t> mask;
+  std::vector<ReferenceLight> lights;
+  std::vector<std::shared_ptr<const std::vector<LitPixel>>> bins;  // per light
+  std::vector<std::uint32_t> rows;  // the phi_d rows (theta_h * 90 + theta_d) the lights read
+  std::vector<std::int32_t> slot;   // row -> its index in rows, -1 when not read
+};
+
+SphereScorer::SphereScorer(const BrdfTable& reference, SphereSetup setup)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.reference = &reference;
+  m.setup = std::move(setup);
+  m.mask = sphere_mask(m.setup.size);
+  if (m.mask.empty()) return;  // no sphere: score() measures as sphere_psnr does
+  const Renderer render = table_renderer(reference, m.setup);
+  m.slot.assign(std::size_t(kThetaHBins) * kThetaDBins, -1);
+  for (double angle : m.setup.light_angles_deg) {
+    m.lights.push_back(reference_light(render, angle, m.mask));
+    m.bins.push_back(cached_bins(m.setup.size, angle, m.setup.threads));
+    for (const LitPixel& p : *m.bins.back()) m.slot[p.bin / kPhiDBins] = 0;
+  }
+  for (std::size_t row = 0; row < m.slot.size(); ++row) {
+    if (m.slot[row] == 0) {
+      m.slot[row] = std::int32_t(m.rows.size());
+      m.rows.push_back(std::uint32_t(row));
+    }
+  }
+}
+
+SphereScorer::~SphereScorer() = default;
+SphereScorer::SphereScorer(SphereScorer&&) noexcept = default;
+SphereScorer& SphereScorer::operator=(SphereScorer&&) noexcept = default;
+
+ImageMetrics SphereScorer::score(const BrdfTable& test) const {
+  const Impl& m = *impl_;
+  if (m.mask.empty()) return sphere_psnr(*m.reference, test, m.setup);
+  const Renderer render = table_renderer(test, m.setup);
+  std::vector<LightMetrics> per_light;
+  for (const ReferenceLight& r : m.lights) {
+    per_light.push_back(score_light(r, render(r.angle, r.scale, nullptr), m.mask));
+  }
+  return summarize(std::move(per_light));
+}
+
+ImageMetrics SphereScorer::score(const Model& test) const {
+  const Impl& m = *impl_;
+  if (m.mask.empty() || test.residual.present()) return score(test.table());
+  // table_renderer's arithmetic on the values table() would store at the rows read: the model's
+  // value where measured, 0 where not.
+  const ModelEvaluator ev(std::shared_ptr<const Model>(std::shared_ptr<const Model>(), &test));
+  std::vector<double> values(m.rows.size() * kChannels * kPhiDBins);
+  ev.table_rows(m.rows, values.data());
+  std::vector<LightMetrics> per_light;
+  for (std::size_t l = 0; l < m.lights.size(); ++l) {
+    const ReferenceLight& r = m.lights[l];
+    Image img(m.setup.size, m.setup.size);
+    for (const LitPixel& p : *m.bins[l]) {
+      const std::size_t at = std::size_t(m.slot[p.bin / kPhiDBins]) * kChannels,
+                        k = p.bin % kPhiDBins;
+      for (int c = 0; c < kChannels; ++c) {
+        const double stored =
+            test.not_measured.test(c, p.bin) ? -1.0 : values[(at + std::size_t(c)) * kPhiDBins + k];
+        const double v = stored >= 0.0 ? stored * kMerlScale[std::size_t(c)] * r.scale : 0.0;
+        img.data[std::size_t(p.pixel) * 3 + std::size_t(c)] = float(v * p.cos_i);
+      }
+    }
+    per_light.push_back(score_light(r, img, m.mask));
+  }
+  return summarize(std::move(per_light));
 }
 
 }  // namespace cbrdf

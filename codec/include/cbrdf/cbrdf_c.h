@@ -298,6 +298,10 @@ typedef struct cbrdf_encode_settings {
                        with k = 1e-4 (a relative bound), 1e-6 to 16; 0 (the default): none */
   int lossless;     /* 1: the decoded table equals the source bit for bit (excludes
                        max_error); 0 (the default): not */
+  /* Since 1.6. */
+  int mixture_copulas; /* with components > 1: 1 (the default) fits each component's copula, 0
+                          leaves them at independence (about half the fit's time and 6% fewer
+                          bytes at the same bits, for about the same tone-mapped PSNR per byte) */
 } cbrdf_encode_settings;
 
 /* Sets every field to its default (as `cbrdf encode` without options, except threads = 1) and

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "cbrdf/brdf_table.h"
@@ -200,12 +201,21 @@ class CBRDF_EXPORT ModelEvaluator {
   std::size_t footprint_bytes() const;
   // The full table (see Model::table()).
   BrdfTable table() const;
+  // The model's part of table() at some phi_d rows only: for rows[r] = theta_h * 90 + theta_d
+  // (each below 90 * 90), out[(r * 3 + channel) * 180 + phi_d] gets the value table() stores
+  // there, bit for bit, wherever the bin is measured and the model has no residual layer (the
+  // residual and the not-measured values are not applied). For measuring a model through a few
+  // rows (metrics.h, SphereScorer) without its 35 MB table.
+  void table_rows(std::span<const std::uint32_t> rows, double* out) const;
   // The model evaluated.
   const Model& model() const { return *model_; }
   const std::shared_ptr<const Model>& shared_model() const { return model_; }
 
  private:
   struct Part;
+  // table()'s values of one channel in the phi_d row (theta_h i, theta_d j) of slice s; c:
+  // kPhiDBins of scratch.
+  void model_row(int channel, std::size_t s, int i, int j, double* row, double* c) const;
   std::shared_ptr<const Model> model_;
   std::vector<int> slice_of_bin_;  // theta_d bin -> slice
   std::vector<std::array<std::unique_ptr<Part>, kChannels>> parts_;

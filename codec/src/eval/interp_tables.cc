@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <numbers>
@@ -21,6 +22,31 @@
 #include "density/grid_copula.h"
 
 namespace cbrdf::eval {
+
+// A slice's tables as a lane reads them.
+template <class T>
+struct SliceView {
+  const T *h, *d, *p, *k;
+  std::size_t n;  // row length
+  int groups, slots;
+};
+
+// Per theta_d bin j: its slice and the offset of j's row in the slice's theta_d axis.
+struct BinRows {
+  int slice[kThetaDBins], d[kThetaDBins];
+  int last[kThetaDBins];  // 1: the next bin is in another slice (or there is none)
+};
+
+// What eval_batch reads of the evaluator beyond its tables, prepared once.
+struct InterpTables::BatchViews {
+  BinRows bins;
+  std::vector<SliceView<double>> f64;
+  std::vector<SliceView<float>> f32;
+  bool uniform = true;  // every slice has one group of one slot per channel (the paper's model)
+  const std::vector<SliceView<double>>& of(double) const { return f64; }
+  const std::vector<SliceView<float>>& of(float) const { return f32; }
+};
+
 namespace {
 
 // Parameters are evaluated clamped to [-1e300, 1e300] (model.cc, spec/container.md).
@@ -249,20 +275,24 @@ inline Position<T> position(T ix, T iy, T iz, T ox, T oy, T oz) {
 // ---- Batches (InterpTables::eval_batch) ----------------------------------------------------
 // A chunk of pairs is evaluated in blocks of kBlock, each block by one call of a function compiled
 // for AVX-512, AVX2 and the baseline (chosen once per process): (1) the block's inputs copied into
-// one object, the grid positions of the whole block, branch-free loops (the coordinates, three
-// atan2 polynomials and four square roots per pair) that the compiler vectorizes across pairs,
-// then per pair its slice, row offsets and kind; (2) the pairs listed, without branches, by kind:
-// inside one slice (nearly all), across a slice boundary, below the horizon, the rest; (3) per
-// pair, the two bins' rows of each axis interpolated and the copula ratios formed, kGroup slots at
-// a time (the slice tables' grouped layout), vectorized across slots, two pairs at a time (one per
-// half of an 8-wide vector) where the CPU has such vectors natively; for the paper's model (one
-// slot per channel in every slice) the sums and their saturation are formed across the vector
-// too, and the results written straight to the outputs. Every value is formed by the same
-// operations in the same order as eval's, so the results are equal bit for bit: vector lanes round
-// as scalar instructions do, and no path contracts multiply-adds (fp-contract=off above: AVX-512
-// has FMA instructions). A pair across a slice boundary is two slice evaluations, as in eval; pairs
-// below the horizon are 0; pairs across the phi_d period (1 in 180) and models with generic terms
-// go back to the caller, which evaluates them with eval's own code.
+// one object, then one branch-free loop that the compiler vectorizes across pairs: the grid
+// positions (the coordinates, three atan2 polynomials and four square roots per pair), bin
+// indices, fractions and each pair's kind but one (below the horizon, the rest, inside one
+// slice); (2) per pair, the two bins' rows of each axis interpolated and the copula ratios formed,
+// kGroup slots at a time (the slice tables' grouped layout), vectorized across slots, two pairs at
+// a time (one per half of an 8-wide vector) where the CPU has such vectors natively. For the
+// paper's model (one slot per channel in every slice) at unit output stride, every pair of the
+// block is evaluated as if inside its slice, eight at a time: their fractions permuted from
+// vectors of eight pairs', their sums and saturation formed across the vectors, and the results
+// transposed in registers and stored as whole vectors per channel; then the few pairs of other
+// kinds (found from bit masks) are written over: below the horizon 0, across a slice boundary
+// (known from the bins' entries the evaluations read) two slice evaluations, as in eval. Other
+// models and strides list the pairs by kind, without branches, and write each pair's values.
+// Every value is formed by the same operations in the same order as eval's, so the results are
+// equal bit for bit: vector lanes round as scalar instructions do, and no path contracts
+// multiply-adds (fp-contract=off above: AVX-512 has FMA instructions). Pairs across the phi_d
+// period (1 in 180) and models with generic terms go back to the caller, which evaluates them
+// with eval's own code.
 constexpr int kBlock = 32;
 
 // One block's inputs and stage (1)'s results, in one object: its arrays provably do not alias, so
@@ -270,12 +300,10 @@ constexpr int kBlock = 32;
 template <class T>
 struct BlockState {
   alignas(64) T in[6][kBlock];  // wi x, y, z, wo x, y, z
-  alignas(64) T rho2[kBlock], rho[kBlock], len[kBlock], chord[kBlock];
   alignas(64) T ph[kBlock], pd[kBlock], pp[kBlock];
   alignas(64) T fh[kBlock], fd[kBlock], fp[kBlock];
   alignas(64) int h0[kBlock], d0[kBlock], p0[kBlock];
-  alignas(64) int sl[kBlock], oh[kBlock], od[kBlock], op[kBlock];  // block_rows
-  alignas(64) int kind[kBlock];                                    // a LaneKind
+  alignas(64) int kind[kBlock];  // a LaneKind
 };
 
 // How a lane is evaluated: 0 (below the horizon), by eval's own code, across a slice boundary (two
@@ -304,35 +332,22 @@ template <class T>
   }
 }
 
-// Stage (1): positions, bin indices and fractions, as position() and eval_impl form them. The
-// square roots have loops of their own: with -fno-math-errno they vectorize too, without it they
-// stay scalar and the other loops still vectorize.
+// Stage (1): positions, bin indices and fractions, as position() and eval_impl form them, and
+// each lane's kind but for kAcross (mark_across), in one loop (with -fno-math-errno its square
+// roots vectorize). Bitwise &, not &&: no branches.
 template <class T>
-[[gnu::always_inline]] inline void block_positions(BlockState<T>& b) {
+[[gnu::always_inline]] inline void block_positions(BlockState<T>& b, bool any_generic) {
+  const T inside = any_generic ? T(kRest) : T(kInside);
   for (int l = 0; l < kBlock; ++l) {
-    const Squares<T> q =
-        position_squares(b.in[0][l], b.in[1][l], b.in[2][l], b.in[3][l], b.in[4][l], b.in[5][l]);
-    b.rho2[l] = q.rho2;
-    b.len[l] = q.len2;
-    b.chord[l] = q.chord2;
-  }
-  for (int l = 0; l < kBlock; ++l) {
-    b.rho[l] = std::sqrt(b.rho2[l]);
-    b.len[l] = std::sqrt(b.len[l]);
-    b.chord[l] = std::sqrt(b.chord[l]);
-  }
-  for (int l = 0; l < kBlock; ++l) {
-    const Position<T> g =
-        position_angles(b.in[0][l], b.in[1][l], b.in[2][l], b.in[3][l], b.in[4][l], b.in[5][l],
-                        b.rho2[l], b.rho[l], b.len[l], b.chord[l]);
-    b.ph[l] = g.h;
-    b.pd[l] = g.d;
-    b.pp[l] = g.p;
-  }
-  for (int l = 0; l < kBlock; ++l) b.ph[l] = std::sqrt(b.ph[l]);
-  for (int l = 0; l < kBlock; ++l) {
-    const T h = position_h(b.ph[l]), d = b.pd[l], p = b.pp[l];
+    const T ix = b.in[0][l], iy = b.in[1][l], iz = b.in[2][l];
+    const T ox = b.in[3][l], oy = b.in[4][l], oz = b.in[5][l];
+    const Squares<T> q = position_squares(ix, iy, iz, ox, oy, oz);
+    const Position<T> g = position_angles(ix, iy, iz, ox, oy, oz, q.rho2, std::sqrt(q.rho2),
+                                          std::sqrt(q.len2), std::sqrt(q.chord2));
+    const T h = position_h(std::sqrt(g.h)), d = g.d, p = g.p;
     b.ph[l] = h;
+    b.pd[l] = d;
+    b.pp[l] = p;
     const int i = std::min(int(h), kThetaHBins - 1);
     const int j = std::min(int(d), kThetaDBins - 1);
     const int k = std::min(int(p), kPhiDBins - 1);
@@ -342,6 +357,10 @@ template <class T>
     b.fh[l] = h - T(i);
     b.fd[l] = d - T(j);
     b.fp[l] = p - T(k);
+    // Across the phi_d period (k is its last bin and fp > 0: p > 179), or with generic terms:
+    // eval's own code. Selects between values of T, so that every mask has T's lanes.
+    const T rest = p > T(kPhiDBins - 1) ? T(kRest) : inside;
+    b.kind[l] = int(((iz > 0) & (oz > 0)) ? rest : T(kZero));
   }
 }
 
@@ -558,21 +577,6 @@ template <class T>
   slot_sums(vb, B.slots, sb);
 }
 
-// A slice's tables as a lane reads them.
-template <class T>
-struct SliceView {
-  const T *h, *d, *p, *k;
-  std::size_t n;  // row length
-  int groups, slots;
-};
-
-// Per theta_d bin j: its slice, the slice's row length, and the offset of j's row in the slice's
-// theta_d axis.
-struct BinRows {
-  int slice[kThetaDBins], n[kThetaDBins], d[kThetaDBins];
-  int last[kThetaDBins];  // 1: the next bin is in another slice (or there is none)
-};
-
 // What a block's evaluation reads of the evaluator.
 template <class T>
 struct BlockContext {
@@ -583,34 +587,34 @@ struct BlockContext {
   bool uniform;  // every slice has one group of one slot per channel (the paper's model)
 };
 
-// Per lane, its slice and the offsets of its bins' rows (a loop across the block).
+// Whether lane l, if inside, is across a slice boundary instead.
 template <class T>
-[[gnu::always_inline]] inline void block_rows(const BinRows& bins, bool any_generic,
-                                              BlockState<T>& b) {
+[[gnu::always_inline]] inline bool lane_across(const BinRows& bins, const BlockState<T>& b, int l) {
+  return (bins.last[b.d0[l]] != 0) & (b.fd[l] != 0);
+}
+
+// The inside lanes across a slice boundary marked kAcross.
+template <class T>
+[[gnu::always_inline]] inline void mark_across(const BinRows& bins, BlockState<T>& b) {
   for (int l = 0; l < kBlock; ++l) {
-    const int j = b.d0[l], n = bins.n[j];
-    // Across the phi_d period, or with generic terms: eval's own code.
-    const bool rest = any_generic || !(b.p0[l] + 1 < kPhiDBins || b.fp[l] == 0);
-    const bool across = bins.last[j] != 0 && b.fd[l] != 0;
-    const bool above = b.in[2][l] > 0 && b.in[5][l] > 0;
-    b.kind[l] = above ? (rest ? kRest : (across ? kAcross : kInside)) : kZero;
-    b.sl[l] = bins.slice[j];
-    b.oh[l] = b.h0[l] * n;
-    b.od[l] = bins.d[j];
-    b.op[l] = b.p0[l] * n;
+    const int k = b.kind[l];
+    b.kind[l] = ((k == kInside) & lane_across(bins, b, l)) ? kAcross : k;
   }
 }
 
-// Lane l of a block inside one slice: its evaluation in its slice (weight 1).
-template <class T>
+// Lane l of a block inside one slice: its evaluation in its slice (weight 1). kUniform: every
+// slice's row has one group (its length a constant).
+template <bool kUniform, class T>
 [[gnu::always_inline]] inline JobRows<T> inside_rows(const BlockContext<T>& cx,
                                                      const BlockState<T>& b, int l) {
-  const SliceView<T>& v = cx.views[b.sl[l]];
+  const int j = b.d0[l];
+  const SliceView<T>& v = cx.views[cx.bins->slice[j]];
+  const std::size_t n = kUniform ? std::size_t(kGroupTerms) : v.n;
   JobRows<T> r;
-  r.n = v.n;
-  r.r[0] = v.h + b.oh[l];
-  r.r[1] = v.d + b.od[l];
-  r.r[2] = v.p + b.op[l];
+  r.n = n;
+  r.r[0] = v.h + std::size_t(b.h0[l]) * n;
+  r.r[1] = v.d + std::size_t(cx.bins->d[j]);
+  r.r[2] = v.p + std::size_t(b.p0[l]) * n;
   r.a[0] = b.fh[l];
   r.a[1] = b.fd[l];
   r.a[2] = b.fp[l];
@@ -630,19 +634,49 @@ template <class V, class T>
   *x = *x < max ? *x : (*x == *x ? max : zero);
 }
 
-// Two lanes of the paper's model (one slot per channel, one slice each): eval_impl's
-// rgb[c] = 0 + 1 * (0 + ratio), saturated, formed across both lanes' vectors, then stored.
+// The paper's model (one slot per channel, one slice each): a lane's eval_impl
+// rgb[c] = 0 + 1 * (0 + ratio) before saturation, in a 4-lane vector (r, g, b, 0), or two lanes'
+// in the halves of an 8-lane one.
+template <class T, class S = TwoJobs<T>>
+[[gnu::always_inline]] inline void pair_one_slot(const S& s, typename Lanes<T>::V8* rgb) {
+  using V8 = typename Lanes<T>::V8;
+  V8 ratio, zero, one;
+  group_ratio(s, 0, &ratio);
+  splat(&zero, T(0));
+  splat(&one, T(1));
+  *rgb = zero + one * (zero + ratio);
+}
+
+template <class T>
+[[gnu::always_inline]] inline void one_slot(const JobRows<T>& A, typename Lanes<T>::V4* rgb) {
+  using V4 = typename Lanes<T>::V4;
+  const OneJob<V4, T> s{A};
+  V4 ratio, zero, one;
+  group_ratio(s, 0, &ratio);
+  splat(&zero, T(0));
+  splat(&one, T(1));
+  *rgb = zero + one * (zero + ratio);
+}
+
+// One lane of the paper's model, saturated, to the outputs at o.
+template <class T>
+[[gnu::always_inline]] inline void store_one_slot(const JobRows<T>& A, T* const out[3],
+                                                  std::size_t o) {
+  using V4 = typename Lanes<T>::V4;
+  V4 rgb;
+  one_slot(A, &rgb);
+  saturate_vec<V4, T>(&rgb);
+  for (int c = 0; c < kChannels; ++c) out[c][o] = rgb[c];
+}
+
+// Two lanes of the paper's model, saturated, to the outputs at oa and ob.
 template <class T>
 [[gnu::always_inline]] inline void pair_store_one_slot(const JobRows<T>& A, const JobRows<T>& B,
                                                        T* const out[3], std::size_t oa,
                                                        std::size_t ob) {
   using V8 = typename Lanes<T>::V8;
-  const TwoJobs<T> s{A, B};
-  V8 ratio, zero, one;
-  group_ratio(s, 0, &ratio);
-  splat(&zero, T(0));
-  splat(&one, T(1));
-  V8 rgb = zero + one * (zero + ratio);
+  V8 rgb;
+  pair_one_slot<T>(TwoJobs<T>{A, B}, &rgb);
   saturate_vec<V8, T>(&rgb);
   for (int c = 0; c < kChannels; ++c) {
     out[c][oa] = rgb[c];
@@ -650,19 +684,104 @@ template <class T>
   }
 }
 
-// One lane of the paper's model, as pair_store_one_slot.
+// Eight lanes' (r, g, b, 0), lanes 2i and 2i + 1 in q[i]'s halves, transposed to r, g and b
+// stored at out[c] + l (a permutation: every value as it was).
+template <class V8, class T>
+[[gnu::always_inline]] inline void store_transposed8(const V8 q[4], T* const out[3], int l) {
+  const V8 t0 = __builtin_shufflevector(q[0], q[1], 0, 4, 8, 12, 1, 5, 9, 13);
+  const V8 t1 = __builtin_shufflevector(q[2], q[3], 0, 4, 8, 12, 1, 5, 9, 13);
+  const V8 u0 = __builtin_shufflevector(q[0], q[1], 2, 6, 10, 14, 3, 7, 11, 15);
+  const V8 u1 = __builtin_shufflevector(q[2], q[3], 2, 6, 10, 14, 3, 7, 11, 15);
+  V8 c[3] = {__builtin_shufflevector(t0, t1, 0, 1, 2, 3, 8, 9, 10, 11),
+             __builtin_shufflevector(t0, t1, 4, 5, 6, 7, 12, 13, 14, 15),
+             __builtin_shufflevector(u0, u1, 0, 1, 2, 3, 8, 9, 10, 11)};
+  for (int i = 0; i < kChannels; ++i) {
+    saturate_vec<V8, T>(&c[i]);
+    std::memcpy(out[i] + l, &c[i], sizeof c[i]);
+  }
+}
+
+// Four lanes' (r, g, b, 0), lane i in q[i], transposed as store_transposed8.
+template <class V4, class T>
+[[gnu::always_inline]] inline void store_transposed4(const V4 q[4], T* const out[3], int l) {
+  const V4 t0 = __builtin_shufflevector(q[0], q[1], 0, 4, 1, 5);
+  const V4 t1 = __builtin_shufflevector(q[2], q[3], 0, 4, 1, 5);
+  const V4 u0 = __builtin_shufflevector(q[0], q[1], 2, 6, 3, 7);
+  const V4 u1 = __builtin_shufflevector(q[2], q[3], 2, 6, 3, 7);
+  V4 c[3] = {__builtin_shufflevector(t0, t1, 0, 1, 4, 5),
+             __builtin_shufflevector(t0, t1, 2, 3, 6, 7),
+             __builtin_shufflevector(u0, u1, 0, 1, 4, 5)};
+  for (int i = 0; i < kChannels; ++i) {
+    saturate_vec<V4, T>(&c[i]);
+    std::memcpy(out[i] + l, &c[i], sizeof c[i]);
+  }
+}
+
+// TwoJobs with the fractions (and 1 - them) of two adjacent lanes taken from vectors of eight
+// lanes' by a permutation, rather than formed from their scalars and broadcast.
 template <class T>
-[[gnu::always_inline]] inline void store_one_slot(const JobRows<T>& A, T* const out[3],
-                                                  std::size_t o) {
+struct AdjacentJobs : TwoJobs<T> {
+  using V8 = typename Lanes<T>::V8;
+  V8 f[3], g[3];
+  [[gnu::always_inline]] void fractions(V8* a, V8* b, int x) const {
+    *a = f[x];
+    *b = g[x];
+  }
+};
+
+// Lanes l + 2i and l + 2i + 1 of the paper's model (uniform_block) into q.
+template <int I, class T>
+[[gnu::always_inline]] inline void adjacent_pair(const BlockContext<T>& cx, const BlockState<T>& b,
+                                                 int l, const typename Lanes<T>::V8 f[3],
+                                                 const typename Lanes<T>::V8 g[3],
+                                                 typename Lanes<T>::V8* q) {
+  const JobRows<T> A = inside_rows<true>(cx, b, l + 2 * I);
+  const JobRows<T> B = inside_rows<true>(cx, b, l + 2 * I + 1);
+  AdjacentJobs<T> s{{A, B}, {}, {}};
+  for (int x = 0; x < 3; ++x) {
+    constexpr int a = 2 * I, c = 2 * I + 1;
+    s.f[x] = __builtin_shufflevector(f[x], f[x], a, a, a, a, c, c, c, c);
+    s.g[x] = __builtin_shufflevector(g[x], g[x], a, a, a, a, c, c, c, c);
+  }
+  pair_one_slot<T>(s, q);
+}
+
+// Stage (2) of the paper's model for a whole block of unit-stride outputs: every lane evaluated
+// as if inside its slice (positions are clamped and the tables have a row past every bin, so any
+// lane's rows can be read) and the results stored as whole vectors per channel; the caller then
+// writes over the lanes of other kinds. Returns the lanes (bit l: lane l) that are across a slice
+// boundary if inside (lane_across).
+template <class T, bool kPairs>
+[[gnu::always_inline]] inline std::uint32_t uniform_block(const BlockContext<T>& cx,
+                                                          const BlockState<T>& b, T* const out[3]) {
   using V4 = typename Lanes<T>::V4;
-  const OneJob<V4, T> s{A};
-  V4 ratio, zero, one;
-  group_ratio(s, 0, &ratio);
-  splat(&zero, T(0));
-  splat(&one, T(1));
-  V4 rgb = zero + one * (zero + ratio);
-  saturate_vec<V4, T>(&rgb);
-  for (int c = 0; c < kChannels; ++c) out[c][o] = rgb[c];
+  using V8 = typename Lanes<T>::V8;
+  std::uint32_t across = 0;
+  for (int l = 0; l < kBlock; ++l) across |= std::uint32_t(lane_across(*cx.bins, b, l)) << l;
+  if constexpr (kPairs) {
+    for (int l = 0; l < kBlock; l += 8) {
+      // Eight lanes' fractions per axis and 1 - them (each lane as TwoJobs forms it).
+      V8 f[3], g[3], one;
+      splat(&one, T(1));
+      load_vec(&f[0], b.fh + l);
+      load_vec(&f[1], b.fd + l);
+      load_vec(&f[2], b.fp + l);
+      for (int x = 0; x < 3; ++x) g[x] = one - f[x];
+      V8 q[4];
+      adjacent_pair<0>(cx, b, l, f, g, &q[0]);
+      adjacent_pair<1>(cx, b, l, f, g, &q[1]);
+      adjacent_pair<2>(cx, b, l, f, g, &q[2]);
+      adjacent_pair<3>(cx, b, l, f, g, &q[3]);
+      store_transposed8<V8, T>(q, out, l);
+    }
+  } else {
+    for (int l = 0; l < kBlock; l += 4) {
+      V4 q[4];
+      for (int i = 0; i < 4; ++i) one_slot(inside_rows<true>(cx, b, l + i), &q[i]);
+      store_transposed4<V4, T>(q, out, l);
+    }
+  }
+  return across;
 }
 
 // eval_impl's rgb[c] = 0 + 1 * sum (one slice, weight 1), saturated, at out[c][o].
@@ -671,7 +790,7 @@ template <class T>
   for (int c = 0; c < kChannels; ++c) out[c][o] = saturate(T(0) + T(1) * sums[c]);
 }
 
-// Stage (3) for the lanes inside one slice; with kPairs two at a time (one per half of 8-wide
+// Stage (2) for the lanes inside one slice; with kPairs two at a time (one per half of 8-wide
 // vectors) where their slices have as many groups. Without a native 8-wide vector of T (double
 // below AVX-512) the pairs' vectors would be split and go through memory: one at a time.
 template <class T, bool kPairs>
@@ -682,15 +801,17 @@ template <class T, bool kPairs>
   int x = 0;
   if (cx.uniform) {
     for (; kPairs && x + 1 < count; x += 2) {
-      pair_store_one_slot(inside_rows(cx, b, lanes[x]), inside_rows(cx, b, lanes[x + 1]), out,
-                          std::size_t(lanes[x]) * os, std::size_t(lanes[x + 1]) * os);
+      pair_store_one_slot(inside_rows<true>(cx, b, lanes[x]),
+                          inside_rows<true>(cx, b, lanes[x + 1]), out, std::size_t(lanes[x]) * os,
+                          std::size_t(lanes[x + 1]) * os);
     }
     for (; x < count; ++x)
-      store_one_slot(inside_rows(cx, b, lanes[x]), out, std::size_t(lanes[x]) * os);
+      store_one_slot(inside_rows<true>(cx, b, lanes[x]), out, std::size_t(lanes[x]) * os);
     return;
   }
   for (; kPairs && x + 1 < count; x += 2) {
-    const JobRows<T> A = inside_rows(cx, b, lanes[x]), B = inside_rows(cx, b, lanes[x + 1]);
+    const JobRows<T> A = inside_rows<false>(cx, b, lanes[x]);
+    const JobRows<T> B = inside_rows<false>(cx, b, lanes[x + 1]);
     T sa[3], sb[3];
     if (A.groups == B.groups) {
       job_pair_sums(A, B, v, sa, sb);
@@ -703,12 +824,39 @@ template <class T, bool kPairs>
   }
   for (; x < count; ++x) {
     T s[3];
-    job_sums<V4>(inside_rows(cx, b, lanes[x]), v, s);
+    job_sums<V4>(inside_rows<false>(cx, b, lanes[x]), v, s);
     store_inside(s, out, std::size_t(lanes[x]) * os);
   }
 }
 
-// A block of m pairs (base .. base + m of the batch): stages (1) to (3). Writes the results of all
+// Lane l across a boundary, in eval_impl's order: the lower slice at fd = 0 with weight 1 - fd,
+// then the upper one at its first bin with weight fd; saturated, to the outputs at o.
+template <class T, bool kPairs>
+[[gnu::always_inline]] inline void across_value(const BlockContext<T>& cx, const BlockState<T>& b,
+                                                int l, T* v, T* const out[3], std::size_t o) {
+  const int d0 = b.d0[l];
+  const SliceTables<T>& lo = cx.tables[cx.bins->slice[d0]];
+  const SliceTables<T>& hi = cx.tables[cx.bins->slice[d0 + 1]];
+  const JobRows<T> A =
+      job_rows(lo, b.h0[l], d0 - lo.theta_d_begin, b.p0[l], b.fh[l], T(0), b.fp[l]);
+  const JobRows<T> B =
+      job_rows(hi, b.h0[l], d0 + 1 - hi.theta_d_begin, b.p0[l], b.fh[l], T(0), b.fp[l]);
+  T s0[3], s1[3];
+  if (kPairs && A.groups == B.groups) {
+    job_pair_sums(A, B, v, s0, s1);
+  } else {
+    job_sums<typename Lanes<T>::V4>(A, v, s0);
+    job_sums<typename Lanes<T>::V4>(B, v, s1);
+  }
+  const T fd = b.fd[l], weight = 1 - fd;
+  for (int c = 0; c < kChannels; ++c) {
+    T acc = T(0) + weight * s0[c];
+    acc += fd * s1[c];
+    out[c][o] = saturate(acc);
+  }
+}
+
+// A block of m pairs (base .. base + m of the batch): stages (1) and (2). Writes the results of all
 // but the pairs eval's own code evaluates, whose lanes it returns in rest (their count).
 template <class T, bool kPairs>
 [[gnu::always_inline]] inline int block_eval(const BlockContext<T>& cx, BlockState<T>& b,
@@ -716,13 +864,31 @@ template <class T, bool kPairs>
                                              std::size_t end, T* v, int* rest) {
   const int m = int(std::min<std::size_t>(kBlock, end - base));
   load_block(b, args, base, end, m);
-  block_positions(b);
-  block_rows(*cx.bins, cx.any_generic, b);
+  block_positions(b, cx.any_generic);
   const std::size_t os = args.out_stride;
   T* const out[3] = {args.out[0] + base * os, args.out[1] + base * os, args.out[2] + base * os};
-  // Stage (2): the lanes of each kind, listed without branches.
+  int nr = 0;
+  if (cx.uniform && !cx.any_generic && os == 1 && m == kBlock) {
+    // The paper's model at unit stride: every lane at once, then the few of other kinds (their
+    // lanes found from bit masks: nearly always there are none).
+    std::uint32_t fix = uniform_block<T, kPairs>(cx, b, out);
+    for (int l = 0; l < kBlock; ++l) fix |= std::uint32_t(b.kind[l] != kInside) << l;
+    for (; fix != 0; fix &= fix - 1) {
+      const int l = __builtin_ctz(fix), k = b.kind[l];
+      if (k == kZero) {
+        for (int c = 0; c < kChannels; ++c) out[c][l] = T(0);
+      } else if (k == kRest) {
+        rest[nr++] = l;
+      } else {
+        across_value<T, kPairs>(cx, b, l, v, out, std::size_t(l));
+      }
+    }
+    return nr;
+  }
+  // The lanes of each kind, listed without branches.
+  mark_across(*cx.bins, b);
   int zero[kBlock], inside[kBlock], across[kBlock];
-  int nz = 0, ni = 0, na = 0, nr = 0;
+  int nz = 0, ni = 0, na = 0;
   for (int l = 0; l < m; ++l) {
     const int k = b.kind[l];
     zero[nz] = rest[nr] = across[na] = inside[ni] = l;
@@ -735,29 +901,8 @@ template <class T, bool kPairs>
     for (int c = 0; c < kChannels; ++c) out[c][std::size_t(zero[x]) * os] = T(0);
   }
   inside_values<T, kPairs>(cx, b, inside, ni, out, os, v);
-  // Across a boundary, in eval_impl's order: the lower slice at fd = 0 with weight 1 - fd, then
-  // the upper one at its first bin with weight fd.
   for (int x = 0; x < na; ++x) {
-    const int l = across[x], d0 = b.d0[l];
-    const SliceTables<T>& lo = cx.tables[cx.bins->slice[d0]];
-    const SliceTables<T>& hi = cx.tables[cx.bins->slice[d0 + 1]];
-    const JobRows<T> A =
-        job_rows(lo, b.h0[l], d0 - lo.theta_d_begin, b.p0[l], b.fh[l], T(0), b.fp[l]);
-    const JobRows<T> B =
-        job_rows(hi, b.h0[l], d0 + 1 - hi.theta_d_begin, b.p0[l], b.fh[l], T(0), b.fp[l]);
-    T s0[3], s1[3];
-    if (kPairs && A.groups == B.groups) {
-      job_pair_sums(A, B, v, s0, s1);
-    } else {
-      job_sums<typename Lanes<T>::V4>(A, v, s0);
-      job_sums<typename Lanes<T>::V4>(B, v, s1);
-    }
-    const T fd = b.fd[l], weight = 1 - fd;
-    for (int c = 0; c < kChannels; ++c) {
-      T acc = T(0) + weight * s0[c];
-      acc += fd * s1[c];
-      out[c][std::size_t(l) * os] = saturate(acc);
-    }
+    across_value<T, kPairs>(cx, b, across[x], v, out, std::size_t(across[x]) * os);
   }
   return nr;
 }
@@ -941,6 +1086,30 @@ InterpTables::InterpTables(const Model& model) {
   }
   for (int j = 0; j < kThetaDBins; ++j)
     last_in_slice_[j] = j + 1 >= f64_[std::size_t(slice_of_bin_[j])].theta_d_end;
+  prepare_batch();
+}
+
+// eval_batch's views of the slices and rows of the bins.
+void InterpTables::prepare_batch() {
+  const std::size_t ns = f64_.size();
+  batch_ = std::make_unique<BatchViews>();
+  BatchViews& bv = *batch_;
+  auto view = [](const auto& st) {
+    using T = typename std::decay_t<decltype(st.h)>::value_type;
+    return SliceView<T>{st.h.data(), st.d.data(), st.p.data(),         st.consts.data(),
+                        st.row(),    st.groups,   st.slots_per_channel};
+  };
+  for (std::size_t s = 0; s < ns; ++s) {
+    bv.f64.push_back(view(f64_[s]));
+    bv.f32.push_back(view(f32_[s]));
+    bv.uniform = bv.uniform && f64_[s].groups == 1 && f64_[s].slots_per_channel == 1;
+  }
+  for (int j = 0; j < kThetaDBins; ++j) {
+    const SliceTables<double>& st = f64_[std::size_t(slice_of_bin_[j])];
+    bv.bins.slice[j] = slice_of_bin_[j];
+    bv.bins.d[j] = (j - st.theta_d_begin) * int(st.row());
+    bv.bins.last[j] = last_in_slice_[j];
+  }
 }
 
 InterpTables::~InterpTables() = default;
@@ -1040,29 +1209,18 @@ template <class T>
 void InterpTables::eval_chunk(const std::vector<SliceTables<T>>& tables, std::size_t begin,
                               std::size_t end, const BatchArgs<T>& args) const {
   BlockState<T> bs;
-  std::vector<SliceView<T>> views(tables.size());
-  BinRows bins;
-  bool uniform = true;
-  for (std::size_t s = 0; s < tables.size(); ++s) {
-    const SliceTables<T>& st = tables[s];
-    views[s] = {st.h.data(), st.d.data(), st.p.data(),         st.consts.data(),
-                st.row(),    st.groups,   st.slots_per_channel};
-    uniform = uniform && st.groups == 1 && st.slots_per_channel == 1;
-  }
-  for (int j = 0; j < kThetaDBins; ++j) {
-    const SliceTables<T>& st = tables[std::size_t(slice_of_bin_[j])];
-    bins.slice[j] = slice_of_bin_[j];
-    bins.n[j] = int(st.row());
-    bins.d[j] = (j - st.theta_d_begin) * int(st.row());
-    bins.last[j] = last_in_slice_[j];
-  }
-  const BlockContext<T> cx{tables.data(), views.data(), &bins, any_generic_, uniform};
-  std::vector<T> values(2 * std::size_t(3 * max_slots_per_channel_ + kGroup));
+  const BatchViews& bv = *batch_;
+  const BlockContext<T> cx{tables.data(), bv.of(T()).data(), &bv.bins, any_generic_, bv.uniform};
+  // Room for two slice evaluations' slot values (job_pair_sums), on the stack where it fits.
+  const std::size_t need = 2 * std::size_t(3 * max_slots_per_channel_ + kGroup);
+  T small[64];
+  std::vector<T> large(need > 64 ? need : 0);
+  T* const values = need > 64 ? large.data() : small;
   int rest[kBlock];
   const std::size_t os = args.out_stride;
   const BlockEvalFn<T> fn = pick_block_eval<T>();
   for (std::size_t base = begin; base < end; base += kBlock) {
-    const int nr = fn(cx, bs, args, base, end, values.data(), rest);
+    const int nr = fn(cx, bs, args, base, end, values, rest);
     for (int r = 0; r < nr; ++r) {
       const int l = rest[r];
       T rgb[3];
@@ -1097,7 +1255,9 @@ bool set_batch_target(BatchTarget t) {
 }
 
 std::size_t InterpTables::footprint_bytes() const {
-  std::size_t n = sizeof(*this);
+  std::size_t n = sizeof(*this) + sizeof(BatchViews) +
+                  batch_->f64.capacity() * sizeof(batch_->f64[0]) +
+                  batch_->f32.capacity() * sizeof(batch_->f32[0]);
   for (const auto& s : f64_) n += s.bytes();
   for (const auto& s : f32_) n += s.bytes();
   for (const auto& gs : generic_) {

@@ -150,6 +150,8 @@ class InterpTables {
   template <class T>
   void eval_chunk(const std::vector<SliceTables<T>>& tables, std::size_t begin, std::size_t end,
                   const BatchArgs<T>& args) const;
+  // batch_, from the tables.
+  void prepare_batch();
   // The generic terms, trilinear between the 8 bins around the position.
   void add_generic(int i0, double fh, int j0, double fd, int k0, double fp, double rgb[3]) const;
 
@@ -160,6 +162,8 @@ class InterpTables {
   int slice_of_bin_[kThetaDBins] = {};
   unsigned char last_in_slice_[kThetaDBins] = {};  // bin j + 1 is in another slice (or none)
   int max_slots_per_channel_ = 1;                  // R over all slices
+  struct BatchViews;
+  std::unique_ptr<BatchViews> batch_;  // eval_batch's per-slice views and per-bin rows
 };
 
 }  // namespace cbrdf::eval

@@ -290,7 +290,8 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
            placement: str = "uniform", naive_marginals: bool = False, threads: int = 0,
            target_bytes: float | None = None, target_psnr: float | None = None,
            max_error: float | None = None, lossless: bool = False,
-           mask: _Any = None, source_name: str | None = None) -> bytes:
+           mask: _Any = None, source_name: str | None = None,
+           mixture_copulas: str | None = None) -> bytes:
     """Fit the copula model to a table and return the bytes of a .cbrdf file.
 
     With the same input and options the bytes equal those ``cbrdf encode`` writes
@@ -328,6 +329,11 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
         mask: with an array, True where a bin was not measured.
         source_name: recorded in the file's metadata; defaults to the input file's
             name (as ``cbrdf encode`` records it), or nothing for arrays.
+        mixture_copulas: with 2 or more components, ``"fit"`` each component's
+            copula or leave them at ``"independence"`` (about half the fit's time
+            and 6% fewer bytes for about the same tone-mapped PSNR per byte).
+            ``None``: fit, except that a target searches at independence
+            (``--mixture-copulas``).
 
     Returns:
         The .cbrdf file's bytes.
@@ -341,7 +347,7 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
     t = _to_table(table, mask)
     return _cbrdf._encode(t, bits, components, slices, family, loss, level, placement,
                           bool(naive_marginals), threads, target_bytes, target_psnr, max_error,
-                          bool(lossless), source_name)
+                          bool(lossless), source_name, mixture_copulas)
 
 
 class Component:

@@ -82,7 +82,9 @@ struct EncoderOptions {
   std::string placement = "uniform";  // uniform or adaptive
   std::string components = "1";       // 1 to kMaxComponents, or auto (up to kAutoMaxComponents)
   std::string family = "frank";       // frank, clayton, gumbel, joe, independence or auto
-  int bits = kAutoBits;               // 6 to 16, or kAutoBits (the default: see AutoBitsSettings)
+  // Mixtures: fit or independence (FitSettings::mixture_copulas).
+  std::string mixture_copulas = "fit";
+  int bits = kAutoBits;  // 6 to 16, or kAutoBits (the default: see AutoBitsSettings)
   int level = ContainerSettings{}.zstd_level;  // zstd level, 1 to 22
   std::string loss = "linear";                 // linear, cosine or log
   int threads = 0;                             // fitting threads (0: one per core)

@@ -32,6 +32,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "cbrdf/brdf_fn.h"
@@ -39,6 +40,7 @@
 #include "cbrdf/coords.h"
 #include "cbrdf/export.h"
 #include "cbrdf/image.h"
+#include "cbrdf/model.h"
 
 namespace cbrdf {
 
@@ -118,6 +120,28 @@ CBRDF_EXPORT ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfTabl
                                       const SphereSetup& setup = {});
 CBRDF_EXPORT ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfFn& test,
                                       const SphereSetup& setup = {});
+
+// sphere_psnr against one reference table, for measuring many candidates (rate control, --bits
+// auto): the reference's renders, exposures and tone-mapped images are made once, and a model is
+// evaluated only at the bins the spheres read (331 of its 8,100 phi_d rows at the default setup:
+// each light sees about one theta_d) instead of decoding its whole table. score() equals
+// sphere_psnr(reference, table) with the table, or the model's table(), bit for bit. The reference
+// must outlive the scorer.
+class CBRDF_EXPORT SphereScorer {
+ public:
+  explicit SphereScorer(const BrdfTable& reference, SphereSetup setup = {});
+  ~SphereScorer();
+  SphereScorer(SphereScorer&&) noexcept;
+  SphereScorer& operator=(SphereScorer&&) noexcept;
+
+  ImageMetrics score(const BrdfTable& test) const;
+  // A model with a residual layer is scored through its table().
+  ImageMetrics score(const Model& test) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // ---- Image comparison helpers (mask: nullptr or one byte per pixel, nonzero = counted) ----
 

@@ -41,6 +41,7 @@ cbrdf_encode_settings default_settings() {
   s.components = d.fit.components;
   s.family = int(d.fit.family);
   s.threads = d.fit.threads;
+  s.mixture_copulas = d.fit.mixture_copulas ? 1 : 0;
   return s;
 }
 
@@ -76,6 +77,7 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
       check_range("family", s.family, CBRDF_FAMILY_AUTO, int(CopulaFamily::kJoe)));
   CBRDF_RETURN_IF_ERROR(check_range("threads", s.threads, 0, 256));
   CBRDF_RETURN_IF_ERROR(check_range("lossless", s.lossless, 0, 1));
+  CBRDF_RETURN_IF_ERROR(check_range("mixture_copulas", s.mixture_copulas, 0, 1));
   if (s.max_error != 0 && !(s.max_error >= 1e-6 && s.max_error <= 16)) {
     char text[32];
     std::snprintf(text, sizeof text, "%g", s.max_error);
@@ -104,6 +106,7 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   out.fit.threads = s.threads > 0 ? s.threads : thread_limit();
   out.residual.max_error = s.max_error;
   out.residual.lossless = s.lossless != 0;
+  out.fit.mixture_copulas = s.mixture_copulas != 0;
   return out;
 }
 

@@ -72,7 +72,8 @@ constexpr double kAutoObjectiveFloor = 1e-6;
 void add_components(const fit::SliceData& s, const FitSettings& st, SliceFitResult* r) {
   const CopulaFamily family = st.auto_family ? CopulaFamily::kFrank : st.family;
   if (!st.auto_components) {
-    fit::MixtureFit m = fit::fit_mixture(s, r->cs, st.components, family, st.loss);
+    fit::MixtureFit m =
+        fit::fit_mixture(s, r->cs, st.components, family, st.loss, st.mixture_copulas);
     if (m.objective < r->report.objective) {
       r->cs = std::move(m.cs);
       r->report.objective = m.objective;
@@ -85,7 +86,7 @@ void add_components(const fit::SliceData& s, const FitSettings& st, SliceFitResu
   for (int k = r->cs.components() + 1; k <= st.components; ++k) {
     // Already within kAutoObjectiveFloor: nothing visible left to gain.
     if (r->report.objective < kAutoObjectiveFloor) break;
-    fit::MixtureFit m = fit::fit_mixture(s, r->cs, k, family, st.loss);
+    fit::MixtureFit m = fit::fit_mixture(s, r->cs, k, family, st.loss, st.mixture_copulas);
     r->report.hals_sweeps += m.sweeps;
     r->report.hals_unconverged += m.unconverged;
     r->report.solver_iterations += m.solver_iterations;
@@ -388,8 +389,8 @@ Expected<Model> FitLadder::fit(int components, FitReport* report) {
       const fit::SliceData s = L.slice(job);
       fit::MixtureState& state = L.mixture[std::size_t(job)];
       const int before = state.sweeps;
-      fit::MixtureFit m =
-          fit::fit_mixture_continued(s, r->cs, components, family, L.st.loss, &state);
+      fit::MixtureFit m = fit::fit_mixture_continued(s, r->cs, components, family, L.st.loss,
+                                                     &state, L.st.mixture_copulas);
       sweeps[std::size_t(job)] = state.started ? state.sweeps - before : 0;
       if (m.objective < r->report.objective) {
         r->cs = std::move(m.cs);

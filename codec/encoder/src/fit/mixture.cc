@@ -648,12 +648,13 @@ ChannelSlice largest_first(std::vector<Term>& terms, const std::vector<double>& 
 }  // namespace
 
 MixtureFit fit_mixture(const SliceData& s, const ChannelSlice& start, int components,
-                       CopulaFamily family, FitLoss loss) {
-  return fit_mixture_continued(s, start, components, family, loss, nullptr);
+                       CopulaFamily family, FitLoss loss, bool fit_copulas) {
+  return fit_mixture_continued(s, start, components, family, loss, nullptr, fit_copulas);
 }
 
 MixtureFit fit_mixture_continued(const SliceData& s, const ChannelSlice& start, int components,
-                                 CopulaFamily family, FitLoss loss, MixtureState* state) {
+                                 CopulaFamily family, FitLoss loss, MixtureState* state,
+                                 bool fit_copulas) {
   MixtureFit out;
   out.cs = start;
   if (s.mv.empty()) return out;
@@ -667,7 +668,12 @@ MixtureFit fit_mixture_continued(const SliceData& s, const ChannelSlice& start, 
   if (!probe) family = CopulaFamily::kFrank, probe = make_grid_copula(family);
   std::vector<double> x;
   std::vector<Term> terms = terms_at_independence(f, vbar, family, &x);
-  solve_copulas_and_weights(s, terms, vbar, loss, *probe, &x, &out);
+  if (fit_copulas) {
+    solve_copulas_and_weights(s, terms, vbar, loss, *probe, &x, &out);
+  } else {
+    out.objective_factorization = objective_at(s, terms, vbar, loss, x);
+    out.objective = out.objective_factorization;
+  }
   out.cs = largest_first(terms, x, vbar, family, *probe);
   return out;
 }

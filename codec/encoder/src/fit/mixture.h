@@ -38,8 +38,11 @@ struct MixtureFit {
 // Each added component costs at most kMaxSweeps HALS sweeps. Scales are in units of s.unit
 // (fit/slice_data.h): with the slice normalized, the result does not depend on the table's
 // overall scale.
+// Without fit_copulas stage 2 is left out: every copula stays at independence and the weights
+// are the factorization's (a nonnegative rank-K factorization of the slice; objective =
+// objective_factorization). FitSettings::mixture_copulas says what that costs and saves.
 MixtureFit fit_mixture(const SliceData& s, const ChannelSlice& start, int components,
-                       CopulaFamily family, FitLoss loss);
+                       CopulaFamily family, FitLoss loss, bool fit_copulas = true);
 
 // The factorization (stage 1) where a fit_mixture_continued call left it: the unnormalized factors
 // and the sweeps spent so far. Empty (rank 0, started false) before the first call.
@@ -54,8 +57,10 @@ struct MixtureState {
 // components on the same slice and start left) instead of restarted from `start`: called with
 // components = 2, 3, ... in turn, each result equals fit_mixture's at that count bit for bit (the
 // factorization adds components one at a time either way), and each call costs only the sweeps
-// of the components it adds and its own stage 2. Counts must not decrease between calls.
+// of the components it adds and its own stage 2 (if fit_copulas). Counts must not decrease
+// between calls.
 MixtureFit fit_mixture_continued(const SliceData& s, const ChannelSlice& start, int components,
-                                 CopulaFamily family, FitLoss loss, MixtureState* state);
+                                 CopulaFamily family, FitLoss loss, MixtureState* state,
+                                 bool fit_copulas = true);
 
 }  // namespace cbrdf::fit

@@ -73,8 +73,16 @@ void normalize_slice(SliceData* s) {
   const int e = std::ilogb(largest);
   const int e3 = 3 * (e >= 0 ? e / 3 : -((2 - e) / 3));  // floor(e / 3) * 3
   if (e3 == 0) return;
-  for (double& v : s->value) v = std::ldexp(v, -e3);
-  for (double& v : s->mv) v = std::ldexp(v, -e3);
+  // Scaling by a power of two is one correctly rounded product, so a multiply by 2^-e3 gives
+  // ldexp's result (subnormals included) wherever 2^-e3 is itself a normal double.
+  if (e3 > -1022 && e3 < 1022) {
+    const double f = std::ldexp(1.0, -e3);
+    for (double& v : s->value) v *= f;
+    for (double& v : s->mv) v *= f;
+  } else {
+    for (double& v : s->value) v = std::ldexp(v, -e3);
+    for (double& v : s->mv) v = std::ldexp(v, -e3);
+  }
   s->unit = std::ldexp(s->unit, e3);
 }
 
