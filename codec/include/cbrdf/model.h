@@ -179,10 +179,11 @@ class CBRDF_EXPORT ModelEvaluator {
   void eval_f32(const float wi[3], const float wo[3], float rgb[3]) const;
   // n direction pairs at once, in structure-of-arrays form: pair k is wi = (wi_x[k], wi_y[k],
   // wi_z[k]), wo likewise, and its value goes to (r[k], g[k], b[k]). Equal bit for bit to eval per
-  // pair (tests/model_eval_test.cc), about 3 times faster per pair on one core (float32 3 to 4.4
-  // times; tests/bench, BM_EvalBatch*):
-  // blocks of pairs go through vectorized stages (the positions across pairs, then each pair's
-  // interpolation and copula ratios across its slots), and chunks of 2048 pairs through the
+  // pair (tests/model_eval_test.cc). Per pair on one core, one-component models run 4.9 times
+  // faster than eval in a loop (20 real materials, tools/bench-20.sh), mixtures about 3 times
+  // (tests/bench, BM_EvalBatch*): blocks of 32 pairs go through one vectorized position loop;
+  // one-component models then through a whole-block path (8 pairs per vector), others through
+  // each pair's interpolation and copula ratios across its slots; chunks of 2048 pairs through the
   // library's thread pool (cbrdf/parallel.h) on at most `threads` threads (<= 0: the thread
   // limit). Inputs and outputs must not overlap. Thread-safe.
   void eval_batch(std::size_t n, const double* wi_x, const double* wi_y, const double* wi_z,
