@@ -109,8 +109,8 @@ Status add_exact(const BrdfTable& source, const ContainerSettings& container,
 
 }  // namespace
 
-Status add_residual(const BrdfTable& source, const EncoderSettings& settings,
-                    EncodeResult* result) {
+Status add_residual(const BrdfTable& source, const EncoderSettings& settings, EncodeResult* result,
+                    const BrdfTable* base_table, BrdfTable* decoded_out) {
   ContainerSettings container = settings.container;
   container.bits = result->bits > 0 ? result->bits : container.bits;
   if (settings.residual.lossless) return add_exact(source, container, result);
@@ -125,9 +125,13 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings,
                      std::to_string(kMaxFineMultiplier));
   }
   // The base exactly as every decoder of the file rebuilds it.
-  Expected<Model> base = decode_model(result->bytes);
-  if (!base.ok()) return base.status();
-  const BrdfTable base_table = base->table();
+  BrdfTable own_base;
+  if (base_table == nullptr) {
+    Expected<Model> base = decode_model(result->bytes);
+    if (!base.ok()) return base.status();
+    own_base = base->table();
+    base_table = &own_base;
+  }
 
   Model& model = result->model;
   model.residual.max_error = bound;
@@ -145,7 +149,7 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings,
     model.residual.row_shift.assign(kResidualRows, 0);  // mode 3 always has them
   }
   const std::vector<double> target =
-      residual_target(source, base_table, model.not_measured, model.residual.knee);
+      residual_target(source, *base_table, model.not_measured, model.residual.knee);
   if (model.residual.interpolated()) {
     quantize_interpolated(target.data(), &model.residual);
   } else {
@@ -168,6 +172,7 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings,
     max_log_error(source, *decoded, model.residual, &bad);
     if (bad.empty()) {
       result->bytes = std::move(bytes).value();
+      if (decoded_out != nullptr) *decoded_out = std::move(decoded).value();
       return ok_status();
     }
     if (attempt == 1 || model.residual.escapes.size() + bad.size() > kMaxResidualEscapes) break;

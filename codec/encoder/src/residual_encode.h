@@ -11,7 +11,12 @@ namespace cbrdf::internal {
 // `result` holds the base file (bytes, bits) and the fitted model; on success its bytes are the
 // file with the residual layer and its model carries the residual. Fails with kInternal if the
 // decoded file misses the bound after the fix-up (it cannot: escapes store those bins exactly).
-Status add_residual(const BrdfTable& source, const EncoderSettings& settings, EncodeResult* result);
+// For searches that try several bounds on one base (residual_rate.cc): `base_table`, when given,
+// is the base file's decoded table (Model::table() of decode_model(result->bytes)), so it is not
+// rebuilt per try; `decoded`, when given, receives the decoded table of the file written (the
+// check's own decode), so the caller need not decode it again.
+Status add_residual(const BrdfTable& source, const EncoderSettings& settings, EncodeResult* result,
+                    const BrdfTable* base_table = nullptr, BrdfTable* decoded = nullptr);
 
 // The largest |log1p(decoded / k) - log1p(source / k)| over measured bins, stored values, k the
 // residual's knee; the bins whose error exceeds their bound (Residual::bound_at) go to
