@@ -179,7 +179,7 @@ class CBRDF_EXPORT ModelEvaluator {
   void eval_f32(const float wi[3], const float wo[3], float rgb[3]) const;
   // n direction pairs at once, in structure-of-arrays form: pair k is wi = (wi_x[k], wi_y[k],
   // wi_z[k]), wo likewise, and its value goes to (r[k], g[k], b[k]). Equal bit for bit to eval per
-  // pair (tests/model_eval_test.cc). Per pair on one core, one-component models run 4.9 times
+  // pair (tests/model_eval_test.cc). Per pair on one core, one-component models run about 5 times
   // faster than eval in a loop (20 real materials, tools/bench-20.sh), mixtures about 3 times
   // (tests/bench, BM_EvalBatch*): blocks of 32 pairs go through one vectorized position loop;
   // one-component models then through a whole-block path (8 pairs per vector), others through
