@@ -60,8 +60,6 @@ std::optional<std::string> parse_rate_target(const EncodeOptions& o, RateTarget*
       return bad;
     }
   }
-  // Given explicitly, --mixture-copulas applies to the search too.
-  if (!o.mixture_copulas.empty()) target->mixture_copulas = o.mixture_copulas == "fit";
   // Rate control chooses the slice count itself.
   if ((target->max_bytes > 0 || target->min_psnr > 0) && o.encoder.slices == "auto") {
     return std::string(
@@ -193,6 +191,8 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   if (!o.mixture_copulas.empty()) eo.mixture_copulas = o.mixture_copulas;
   auto st = encoder_settings(eo);
   if (!st.ok()) return usage_error("encode: " + st.status().message());
+  // Given explicitly, --mixture-copulas applies to the search too.
+  if (!o.mixture_copulas.empty()) target.mixture_copulas = st->fit.mixture_copulas;
 
   const auto t0 = std::chrono::steady_clock::now();
   auto table = read_merl(input_path(o.input));

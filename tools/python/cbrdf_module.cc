@@ -699,8 +699,6 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
   if (!target_psnr.is_none()) {
     target.min_psnr = target_value(target_psnr, "target_psnr", 1000.0, "1000");
   }
-  // Given explicitly, mixture_copulas applies to the search too (as --mixture-copulas).
-  if (!mixture_copulas.is_none()) target.mixture_copulas = o.mixture_copulas == "fit";
   const bool targeted = target.max_bytes > 0 || target.min_psnr > 0;
   if (targeted && o.slices == "auto") {
     raise_invalid(
@@ -710,6 +708,8 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
   }
   auto st = encoder_settings(o);
   if (!st.ok()) raise_status(st.status(), 2);
+  // Given explicitly, mixture_copulas applies to the search too (as --mixture-copulas).
+  if (!mixture_copulas.is_none()) target.mixture_copulas = st->fit.mixture_copulas;
   Expected<std::vector<std::uint8_t>> bytes = std::vector<std::uint8_t>{};
   {
     py::gil_scoped_release release;

@@ -37,12 +37,11 @@ constexpr double kDbPerLogError = 7.0;
 constexpr double kPsnrTolerance = 0.3;
 constexpr double kBudgetTolerance = 0.02;
 
-// The base file with a residual at bound e, measured (PSNR only when asked: a byte budget needs
-// only the try chosen decoded).
+// The base file with a residual at bound e, measured: the writer's own check decodes it, and that
+// table is scored.
 Expected<RateCandidate> try_error(const BrdfTable& table, const SphereScorer& scorer,
                                   const BrdfTable& base_table, const EncoderSettings& base_settings,
-                                  const RateResult& base, double e, bool with_psnr,
-                                  EncodeResult* out) {
+                                  const RateResult& base, double e, EncodeResult* out) {
   EncoderSettings st = base_settings;
   st.residual = target_residual_settings(e);
   st.container.bits = base.chosen.bits;
@@ -52,20 +51,7 @@ Expected<RateCandidate> try_error(const BrdfTable& table, const SphereScorer& sc
   RateCandidate c = base.chosen;
   c.bytes = double(out->bytes.size());
   c.max_error = e;
-  if (with_psnr) {
-    const ImageMetrics im = scorer.score(decoded);
-    c.psnr_tonemapped = im.psnr_tonemapped;
-    c.psnr_linear = im.psnr_linear;
-  }
-  return c;
-}
-
-// The chosen try of a byte budget, decoded and measured.
-Expected<RateCandidate> measure(const SphereScorer& scorer, const RateResult& r) {
-  Expected<BrdfTable> decoded = decode_table(r.encoded.bytes);
-  if (!decoded.ok()) return decoded.status();
-  const ImageMetrics im = scorer.score(*decoded);
-  RateCandidate c = r.chosen;
+  const ImageMetrics im = scorer.score(decoded);
   c.psnr_tonemapped = im.psnr_tonemapped;
   c.psnr_linear = im.psnr_linear;
   return c;
@@ -78,8 +64,8 @@ class ResidualSearch {
                  RateResult* model)
       : table_(table), scorer_(table), settings_(settings), target_(target), model_(*model) {}
 
-  // A try at E: kept when it meets the target and beats the best so far. At a budget only its
-  // bytes are known (not measured: `tried` lists the settings measured).
+  // A try at E: kept when it meets the target and beats the best so far. At a budget a try is
+  // listed in `tried` only once chosen (encode_to_target_ladder).
   Expected<RateCandidate> attempt(double e) {
     const bool by_bytes = target_.max_bytes > 0;
     EncodeResult encoded;
@@ -89,7 +75,7 @@ class ResidualSearch {
       if (!base.ok()) return base.status();
       base_table_ = base->table();
     }
-    auto c = try_error(table_, scorer_, *base_table_, settings_, model_, e, !by_bytes, &encoded);
+    auto c = try_error(table_, scorer_, *base_table_, settings_, model_, e, &encoded);
     if (!c.ok()) return c;
     if (!by_bytes) model_.tried.push_back(*c);
     if (meets(*c) && (!best_ || better(*c, best_->chosen))) {
@@ -112,7 +98,6 @@ class ResidualSearch {
   }
   const std::optional<RateResult>& best() const { return best_; }
   RateResult& model() { return model_; }
-  const SphereScorer& scorer() const { return scorer_; }
 
  private:
   const BrdfTable& table_;
@@ -181,10 +166,8 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
     auto c = search.attempt(kLargestError);
     if (!c.ok()) return c.status();
     if (!search.best()) return result;
-    auto psnr = measure(search.scorer(), *search.best());
-    if (!psnr.ok()) return psnr.status();
-    result.tried.push_back(*psnr);
-    if (psnr->psnr_tonemapped <= result.chosen.psnr_tonemapped) return result;
+    result.tried.push_back(search.best()->chosen);
+    if (search.best()->chosen.psnr_tonemapped <= result.chosen.psnr_tonemapped) return result;
     CBRDF_RETURN_IF_ERROR(search_bytes(&search, target, *c));
   } else {
     CBRDF_RETURN_IF_ERROR(search_psnr(&search, target));
@@ -201,15 +184,9 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
   }
   RateResult best = *search.best();
   if (by_bytes) {
-    // Only the try chosen is decoded; it must beat the model alone within the budget.
-    if (best.chosen.max_error != kLargestError) {
-      auto c = measure(search.scorer(), best);
-      if (!c.ok()) return c.status();
-      best.chosen = *c;
-      result.tried.push_back(*c);
-    } else {
-      best.chosen = result.tried.back();
-    }
+    // The try chosen (listed in `tried`; the E = 1 try already is) must beat the model alone
+    // within the budget.
+    if (best.chosen.max_error != kLargestError) result.tried.push_back(best.chosen);
     if (best.chosen.psnr_tonemapped <= result.chosen.psnr_tonemapped) return result;
   }
   best.tried = std::move(result.tried);
