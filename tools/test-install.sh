@@ -3,7 +3,8 @@
 # Installs a built tree into a temporary prefix and builds programs against it out of tree, as
 # users would, then runs them:
 #   - C through `pkg-config cbrdf-decoder`, linked with the shared decoder and, fully static
-#     (`cc -static`, `pkg-config --static`), with libcbrdf_decoder.a;
+#     (`cc -static`, `pkg-config --static`), with libcbrdf_decoder.a; and (with an encoder) through
+#     `pkg-config cbrdf`, the whole C API from libcbrdf_encoder.so;
 #   - C++ through find_package(cbrdf) with no C++ standard flag of its own: the static decoder,
 #     and (when the build has an encoder) the static encoder encoding a built-in sample.
 # Also checks what the shared decoder needs (NEEDED), its SONAME, and that the shared libraries
@@ -67,6 +68,17 @@ if readelf -d "$work/consumer_c_static" | grep -q NEEDED; then fail "consumer_c_
 echo "test-install: consumer_c_static links statically (pkg-config --static --libs cbrdf-decoder:" \
   "$(pkg-config --static --libs cbrdf-decoder))"
 "$work/consumer_c_static" "$golden"
+
+# C through pkg-config cbrdf: the whole C API from libcbrdf_encoder alone.
+if ((has_encoder)); then
+  cc -std=c99 -Wall -Wextra -Werror -pedantic "$root/tests/install/consumer_c/encoder_main.c" \
+    $(pkg-config --cflags --libs cbrdf) -lm -Wl,-rpath,"$libdir" -o "$work/consumer_c_encoder"
+  needed_e=$(readelf -d "$work/consumer_c_encoder" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p' | tr '\n' ' ')
+  echo "test-install: consumer_c_encoder needs: $needed_e"
+  case " $needed_e " in *libcbrdf_decoder*) fail "consumer_c_encoder links the decoder beside the encoder" ;; esac
+  # A 6-slice single-component Frank file: its own table refits within 10% at the test direction.
+  "$work/consumer_c_encoder" "$root/tests/data/golden/v1.0-frank6-b10.cbrdf"
+fi
 
 # C++ through the CMake package, on a pkg-config that knows no package at all: the package itself
 # must not need zstd's or xxhash's .pc files.
