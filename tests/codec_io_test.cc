@@ -417,7 +417,13 @@ Model golden_mixed2() {
   Model m = make_model({0, 30, 90}, false, 77);
   m.not_measured = NotMeasured{};
   std::mt19937 rng(5);
-  for (int k = 0; k < 200; ++k) m.not_measured.set(int(rng() % 3), rng() % kBinsPerChannel);
+  for (int k = 0; k < 200; ++k) {
+    // Sequenced: the order in which a call's arguments are evaluated is the compiler's choice (GCC,
+    // which wrote the committed file, takes the bin first; clang the channel).
+    const std::size_t bin = rng() % kBinsPerChannel;
+    const int channel = int(rng() % 3);
+    m.not_measured.set(channel, bin);
+  }
   m.not_measured.values.clear();
   for (std::size_t k = 0; k < popcount_all(m.not_measured); ++k) {
     m.not_measured.values.push_back(-1.0 - double(k % 7) / 8.0);
