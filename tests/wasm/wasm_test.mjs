@@ -211,15 +211,22 @@ for (const name of files) {
 // Argument errors: the C API's own for a bad direction (code and message), JavaScript's for
 // arrays of the wrong shape.
 {
-  const model = cbrdf.open(readFileSync(join(goldenDir, files[0])));
+  const path = join(goldenDir, files[0]);
+  const model = cbrdf.open(readFileSync(path));
+  const badWi = new Float64Array([0, 0, 1, 0, 0, 2]), goodWo = new Float64Array([0, 0, 1, 0, 0, 1]);
   let e = null;
   try {
-    model.eval(new Float64Array([0, 0, 1, 0, 0, 2]), new Float64Array([0, 0, 1, 0, 0, 1]));
+    model.eval(badWi, goodWo);
   } catch (x) {
     e = x;
   }
-  check(e instanceof CbrdfError && e.code === 9 && e.status === 'invalid-argument' &&
-        /1/.test(e.message), `bad direction: ${e && e.message}`);
+  // The native program reports the C API's failure on stderr: "...: eval: MESSAGE (STATUS)".
+  const native = spawnSync(referencePath, ['eval', path],
+                           { input: Buffer.concat([bytesOf(badWi), bytesOf(goodWo)]) });
+  const nativeMessage = native.stderr.toString().trim();
+  check(e instanceof CbrdfError && e.code === 9 && native.status === 1 &&
+        nativeMessage.endsWith(`: eval: ${e.message} (${e.status})`),
+        `bad direction: wasm ${e && e.code} "${e && e.message}", native "${nativeMessage}"`);
   e = null;
   try {
     model.eval(new Float64Array(4), new Float64Array(4));

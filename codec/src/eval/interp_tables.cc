@@ -2,11 +2,8 @@
 // InterpTables' tables, built once per model: per slice, channel and component the axis terms and
 // slot constants of the product form (interp_tables.h), the generic terms' grid copulas, and the
 // batch's views (eval_internal.h). Evaluation: scalar_eval.cc and batch_dispatch.cc.
-// This file's functions set no errno (its square roots never see a negative argument) and may
-// evaluate both sides of a select (neither changes a value: no reassociation), so that the batch's
-// position loop vectorizes; they contract no multiply-add (the AVX-512 kernels have FMA
-// instructions, and eval and eval_batch must round alike). The build's other flags are kept;
-// other compilers get the same from CMakeLists.txt (-fno-math-errno -ffp-contract=off).
+// Compiled as every evaluator file: no errno from math functions, no FMA contraction
+// (eval_internal.h; the pragma for GCC, CMakeLists.txt for every compiler).
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC optimize("no-math-errno", "no-trapping-math", "fp-contract=off")
 #endif
