@@ -15,7 +15,7 @@
 // so results are the native library's. A failure throws a CbrdfError carrying the C API's code
 // (err.code, a cbrdf_status number; err.status, its name such as "checksum") and message.
 // cbrdf.wasm is a standalone module (no Emscripten JavaScript runtime): it imports only a memory
-// growth notice and four WASI calls, supplied here.
+// growth notice and a few WASI calls (exit; output, environment with some builds), supplied here.
 
 const kInfoFields = [
   'versionMajor', 'versionMinor', 'slices', 'maxComponents', 'bits', 'fileBytes',
@@ -304,6 +304,14 @@ export async function load(source) {
       view.setUint32(written, total, true);
       return 0;
     },
+    // An empty environment (link-time-optimized builds ask for it).
+    environ_sizes_get(count, size) {
+      const view = new DataView(memory.buffer);
+      view.setUint32(count, 0, true);
+      view.setUint32(size, 0, true);
+      return 0;
+    },
+    environ_get: () => 0,
     fd_close: () => 0,
     fd_seek: () => 70,  // ESPIPE: no seekable streams
     proc_exit(code) { throw new Error(`cbrdf.wasm exited with status ${code}`); },
