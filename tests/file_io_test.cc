@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // What write_file_atomic and the readers do with every kind of path: devices, FIFOs, sockets,
 // symbolic links, descriptors, long names, and signals during a write (cbrdf/file_io.h).
-#include "cbrdf/file_io.h"
+#include "files/file_io.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -21,11 +21,11 @@
 #include <thread>
 #include <vector>
 
-#include "temp_registry.h"
+#include "files/temp_registry.h"
 #include "test_support.h"
 #include "utf8.h"
 
-namespace cbrdf {
+namespace cbrdf::cli {
 namespace {
 using testing::bytes_of;
 using testing::contains;
@@ -381,4 +381,4 @@ TEST(Utf8, InvalidBytesBecomeReplacementCharacters) {
 }
 
 }  // namespace
-}  // namespace cbrdf
+}  // namespace cbrdf::cli

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <system_error>
 
-#include "cbrdf/file_io.h"
+#include "files/file_io.h"
 
 namespace cbrdf::cli {
 namespace fs = std::filesystem;

@@ -4,7 +4,7 @@
 
 #include "cbrdf/encoder.h"
 #include "cbrdf/exr_table.h"
-#include "cbrdf/file_io.h"
+#include "files/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cli.h"
 #include "cli_io.h"
@@ -28,7 +28,7 @@ int run_decode(const DecodeOptions& o, const Context& ctx) {
   auto table = decode_table(*bytes);
   if (!table.ok()) return fail(table.status().with_context(shown(o.input, false)));
   if (!o.output.empty()) {
-    if (Status s = write_merl(output_path(o.output), *table); !s.ok()) return fail(s);
+    if (Status s = write_merl_output(output_path(o.output), *table); !s.ok()) return fail(s);
     if (!ctx.quiet) std::fprintf(info, "wrote %s\n", shown(o.output, true).c_str());
   }
   if (!o.exr.empty()) {

@@ -9,7 +9,7 @@
 
 #include "cbrdf/container.h"
 #include "cbrdf/encoder.h"
-#include "cbrdf/file_io.h"
+#include "files/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/rate_control.h"
@@ -195,7 +195,7 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   if (!o.mixture_copulas.empty()) target.mixture_copulas = st->fit.mixture_copulas;
 
   const auto t0 = std::chrono::steady_clock::now();
-  auto table = read_merl(input_path(o.input));
+  auto table = read_merl_input(input_path(o.input));
   if (!table.ok()) return fail(table.status());
   auto result = encode(*table, *st, target, ctx, info);
   if (!result.ok()) return fail(result.status().with_context(shown(o.input, false)));

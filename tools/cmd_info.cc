@@ -6,7 +6,7 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
-#include "cbrdf/file_io.h"
+#include "files/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cli.h"
 #include "cli_io.h"

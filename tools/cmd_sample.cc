@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "cbrdf/merl_io.h"
+#include "files/file_io.h"
 #include "cbrdf/samples.h"
 #include "cli.h"
 #include "cli_io.h"
@@ -37,7 +38,7 @@ int run_sample(const SampleOptions& o, const Context& ctx) {
   // An unknown name is a usage error (exit 2); the message lists the valid names.
   if (!table.ok() && !is_known) return usage_error("sample: " + table.status().message());
   if (!table.ok()) return fail(table.status());
-  if (Status s = write_merl(output_path(o.output), *table); !s.ok()) return fail(s);
+  if (Status s = write_merl_output(output_path(o.output), *table); !s.ok()) return fail(s);
   if (!ctx.quiet)
     std::fprintf(info_stream(outputs), "wrote %s (%s)\n", shown(o.output, true).c_str(),
                  o.name.c_str());

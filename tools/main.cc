@@ -6,7 +6,7 @@
 #include <new>
 #include <string>
 
-#include "cbrdf/file_io.h"
+#include "files/file_io.h"
 #include "cbrdf/version.h"
 #include "cli.h"
 
@@ -82,7 +82,7 @@ int run(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   // Interrupted writes leave no temporary files behind (file_io.h).
-  cbrdf::remove_temporaries_on_signals();
+  cbrdf::cli::remove_temporaries_on_signals();
   if (int code = check_subcommand(argc, argv); code != kExitOk) return code;
   // The library reports errors as values; this is the last resort for what escapes anyway (a
   // third-party library's exception, memory exhaustion), so that no input ends in an abort.

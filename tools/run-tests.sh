@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Installs what is missing, builds cbrdf with warnings as errors and runs every test; then runs
-# the whole suite again under AddressSanitizer + UBSan, and replays and fuzzes every parser for a
-# bounded time.   Usage: tools/run-tests.sh [BUILD_DIR]
+# Installs what is missing, builds cbrdf with warnings as errors and runs every test; then builds
+# and tests the decoder alone with clang (tools/check-decoder-only.sh), runs the suite again under
+# AddressSanitizer + UBSan, and replays and fuzzes every parser for a bounded time.   Usage: tools/run-tests.sh [BUILD_DIR]
 #   CBRDF_FUZZ_SECONDS: fuzzing time per target (default 60; 0 replays the corpus only).
 #   CBRDF_QUICK=1: the first build and its tests only.
 # Tests that need the real materials in ../shared skip with a message when it is absent.
@@ -17,6 +17,10 @@ cmake --build "$build" -j "$(nproc)"
 ctest --test-dir "$build" --no-tests=error --output-on-failure -j "$(nproc)" --timeout 900
 echo "run-tests: release suite passed at $(( $(date +%s) - start )) s"
 if [ "${CBRDF_QUICK:-0}" = 1 ]; then exit 0; fi
+# The decoder alone, built with clang (the release build above is GCC's): only zstd and xxhash
+# looked up, warning-free, its tests, its install and consumers, its ABI.
+CC=clang CXX=clang++ "$root/tools/check-decoder-only.sh" "$build-decoder"
+echo "run-tests: decoder-only build passed at $(( $(date +%s) - start )) s"
 "$root/tools/run-sanitizers.sh" "$build-sanitize"
 echo "run-tests: sanitizer suite passed at $(( $(date +%s) - start )) s"
 "$root/tools/run-fuzz.sh" "${CBRDF_FUZZ_SECONDS:-60}"

@@ -204,8 +204,28 @@ Expected<BrdfTable> read_merl(const fs::path& path, const MerlReadOptions& optio
                               MerlInfo* info) {
   Expected<FileReader> reader = FileReader::open(path);
   if (!reader) return reader.status();
-  const std::string name = path == "/dev/stdin" ? "standard input" : path.string();
-  return read_merl_from(*reader, name, options, info);
+  return read_merl_from(*reader, path.string(), options, info);
+}
+
+namespace {
+// A caller's reader, with the interface read_merl_from takes.
+class FunctionSource {
+ public:
+  FunctionSource(std::uint64_t size, const MerlReadExact& read) : size_(size), read_(read) {}
+  std::uint64_t size() const { return size_; }
+  Status read_exact(void* dst, std::size_t n) { return read_(dst, n); }
+
+ private:
+  std::uint64_t size_;
+  const MerlReadExact& read_;
+};
+}  // namespace
+
+Expected<BrdfTable> read_merl_stream(std::uint64_t size, const MerlReadExact& read_exact,
+                                     std::string_view name_for_errors,
+                                     const MerlReadOptions& options, MerlInfo* info) {
+  FunctionSource src(size, read_exact);
+  return read_merl_from(src, std::string(name_for_errors), options, info);
 }
 
 Expected<BrdfTable> parse_merl(std::span<const std::uint8_t> bytes,
@@ -230,11 +250,14 @@ std::span<const std::uint8_t> body_bytes(const BrdfTable& table) {
 }
 }  // namespace
 
+Status write_merl(const BrdfTable& table, const ChunkSink& sink) {
+  CBRDF_RETURN_IF_ERROR(sink(header_bytes()));
+  return sink(body_bytes(table));
+}
+
 Status write_merl(const fs::path& path, const BrdfTable& table) {
-  return write_file_atomic(path, [&table](const ChunkSink& sink) -> Status {
-    CBRDF_RETURN_IF_ERROR(sink(header_bytes()));
-    return sink(body_bytes(table));
-  });
+  return write_file_atomic(path,
+                           [&table](const ChunkSink& sink) { return write_merl(table, sink); });
 }
 
 std::vector<std::uint8_t> serialize_merl(const BrdfTable& table) {

@@ -1,58 +1,44 @@
 // SPDX-License-Identifier: MIT
-// Whole-file reads with a size limit, a streaming reader, and atomic file writes. POSIX only.
+// Plain, portable file access for the libraries (standard C++ only: <filesystem> and <cstdio>):
+// whole-file reads with a size limit, a sequential reader, and whole-file writes that replace
+// their target only once complete.
 //
-// Every writer in cbrdf goes through write_file_atomic. What it does depends on what the path
-// names:
-// - a new name or a regular file: the bytes go to a temporary file in the target's directory, are
-//   fsync'ed, and the temporary is renamed over the target. A failed write leaves an existing
-//   target untouched and no temporary, so no run leaves a partial file behind. The temporary is an
-//   unnamed O_TMPFILE file where the filesystem supports it, given a name only for the instant
-//   before the rename; elsewhere it is named `.NAME.cbrdf-tmp-PID-N` (NAME shortened so that the
-//   temporary's name fits wherever NAME fits). remove_temporaries_on_signals() removes named
-//   temporaries when SIGINT, SIGTERM or SIGHUP ends the process; after SIGKILL or a power loss a
-//   `.NAME.cbrdf-tmp-PID-N` file may remain and can be deleted.
-// - a symbolic link: followed through every level; its final target is replaced as above and the
-//   link itself stays (as cp, gzip and zstd do).
-// - an existing character device (/dev/null, a terminal) or FIFO: opened and written through, with
-//   no temporary (a failed write may leave part of the output there).
-// - a path naming an open descriptor (/dev/stdout, /dev/stderr, /dev/fd/N, /proc/self/fd/N): the
-//   bytes are written to that descriptor at its current offset, whatever it refers to.
-// - a directory, a block device or a socket: refused (kIo), naming the kind.
+// Readers open regular files only: a directory, a FIFO, a device or a socket is refused with a
+// message naming what it is (checked before opening, so nothing blocks). Writers write a temporary
+// `.NAME.cbrdf-tmp-N` beside the target, then rename it over the target: a failed write leaves an
+// existing target untouched and removes the temporary. A symbolic link is followed to its final
+// target, which is replaced (the link stays). A target that exists and is not a regular file is
+// refused. Nothing is fsync'ed (standard C++ has no way to): after a power loss the new content
+// may be lost, but never half-written over the old.
 //
-// Readers (read_file, FileReader) open regular files only: a FIFO, device or socket named by a path
-// is refused at once (it is opened non-blocking, never waited on). A path naming an open descriptor
-// (/dev/stdin, /dev/fd/N, /proc/self/fd/N) is read from that descriptor to its end, whatever it is.
+// The `cbrdf` command has a POSIX layer of its own on top of these (tools/files/file_io.h): it also
+// writes to /dev/stdout, devices and pipes, and removes temporaries when a signal ends it.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <span>
-#include <utility>
 #include <vector>
 
-#include "cbrdf/export.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf {
 
-// Reads a whole regular file. Errors: kNotFound ("FILE: no such file"), kIo (a directory, a FIFO,
-// a device, permission, a failed read), kLimit when the file is larger than max_bytes (both sizes
-// in the message).
-CBRDF_EXPORT Expected<std::vector<std::uint8_t>> read_file(const std::filesystem::path& path,
-                                                           std::uint64_t max_bytes);
+// Reads a whole regular file. Errors: kInvalidArgument (an empty path), kNotFound ("FILE: no such
+// file"), kIo (a directory, a FIFO, a device, permission, a failed read), kLimit when the file is
+// larger than max_bytes (both sizes in the message).
+Expected<std::vector<std::uint8_t>> read_file(const std::filesystem::path& path,
+                                              std::uint64_t max_bytes);
 
 // A regular file opened for sequential reading, for parsers that read a small header first and then
 // stream the body straight into its final buffer. Move-only; closes on destruction.
-class CBRDF_EXPORT FileReader {
+class FileReader {
  public:
-  // Same errors as read_file for a missing file, a directory or a refused open. A path naming a
-  // descriptor (a pipe on standard input) is read into memory up to max_stream_bytes (kLimit past
-  // it), so size() is known as for a file.
-  static Expected<FileReader> open(const std::filesystem::path& path,
-                                   std::uint64_t max_stream_bytes = kMaxStreamBytes);
-  static constexpr std::uint64_t kMaxStreamBytes = std::uint64_t{256} << 20;
+  // Same errors as read_file, but for the size limit.
+  static Expected<FileReader> open(const std::filesystem::path& path);
 
   FileReader(FileReader&& other) noexcept;
   FileReader& operator=(FileReader&& other) noexcept;
@@ -63,16 +49,15 @@ class CBRDF_EXPORT FileReader {
   const std::filesystem::path& path() const { return path_; }
   std::uint64_t size() const { return size_; }      // at open time
   std::uint64_t offset() const { return offset_; }  // bytes read so far
-  // Reads exactly n bytes; kTruncated (naming the offset) when the file ends first, kIo on an OS
+  // Reads exactly n bytes; kTruncated (naming the offset) when the file ends first, kIo on a read
   // error.
   Status read_exact(void* dst, std::size_t n);
 
  private:
-  FileReader(std::filesystem::path path, int fd, std::uint64_t size)
-      : path_(std::move(path)), fd_(fd), size_(size) {}
+  FileReader(std::filesystem::path path, std::FILE* file, std::uint64_t size)
+      : path_(std::move(path)), file_(file), size_(size) {}
   std::filesystem::path path_;
-  int fd_ = -1;
-  std::vector<std::uint8_t> buffered_;  // the whole content, for a stream
+  std::FILE* file_ = nullptr;
   std::uint64_t size_ = 0;
   std::uint64_t offset_ = 0;
 };
@@ -83,22 +68,11 @@ using ChunkSink = std::function<Status(std::span<const std::uint8_t>)>;
 // written straight through). A non-ok return aborts the write.
 using ChunkProducer = std::function<Status(const ChunkSink&)>;
 
-// Writes bytes to path atomically (see the file comment). Errors name the path and the OS reason.
-CBRDF_EXPORT Status write_file_atomic(const std::filesystem::path& path,
-                                      std::span<const std::uint8_t> bytes);
+// Writes bytes to path, replacing it only once complete (see the file comment). Errors name the
+// path and the reason.
+Status write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
 // Streaming variant: the content comes from produce, so a large table is never copied into a
 // second buffer. An error from produce is returned as is, after the temporary is removed.
-CBRDF_EXPORT Status write_file_atomic(const std::filesystem::path& path,
-                                      const ChunkProducer& produce);
-
-// The descriptor a path names (/dev/stdin 0, /dev/stdout 1, /dev/stderr 2, /dev/fd/N,
-// /proc/self/fd/N), or -1 for any other path. Such paths are read and written through the
-// descriptor (see the file comment).
-CBRDF_EXPORT int descriptor_of_path(const std::filesystem::path& path);
-
-// Installs handlers for SIGINT, SIGTERM and SIGHUP (those not ignored) that remove the named
-// temporaries of writes in progress, then let the signal end the process as it would have. For
-// programs (the `cbrdf` command calls it first thing); a library never installs handlers itself.
-CBRDF_EXPORT void remove_temporaries_on_signals();
+Status write_file_atomic(const std::filesystem::path& path, const ChunkProducer& produce);
 
 }  // namespace cbrdf

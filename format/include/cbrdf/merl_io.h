@@ -23,12 +23,14 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string_view>
 #include <vector>
 
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/export.h"
+#include "cbrdf/file_io.h"  // ChunkSink
 #include "cbrdf/status.h"
 
 namespace cbrdf {
@@ -62,8 +64,8 @@ struct MerlInfo {
 // is read straight into the table (or, for a 360-bin file, folded into it slab by slab). Errors
 // name the file: kNotFound, kIo, kTruncated (shorter than the header or its dims need), kCorrupt
 // (implausible dims, longer than its dims need), kUnsupported (dims other than 90x90x180 or
-// 90x90x360), kNumeric (+Inf: the count and the first one's channel and bin). A path naming a
-// descriptor (/dev/stdin) is read from it (file_io.h).
+// 90x90x360), kNumeric (+Inf: the count and the first one's channel and bin).
+// Regular files only (cbrdf/file_io.h).
 CBRDF_EXPORT Expected<BrdfTable> read_merl(const std::filesystem::path& path,
                                            const MerlReadOptions& options = {},
                                            MerlInfo* info = nullptr);
@@ -73,7 +75,20 @@ CBRDF_EXPORT Expected<BrdfTable> parse_merl(std::span<const std::uint8_t> bytes,
                                             const MerlReadOptions& options = {},
                                             MerlInfo* info = nullptr);
 
-// Writes a 90x90x180 .binary atomically (write_file_atomic), straight from the table's memory.
+// From any reader: size is the number of bytes the source holds and read_exact(dst, n) reads the
+// next n of them (kTruncated when the source ends first). For readers of one's own (the `cbrdf`
+// command reads standard input and pipes this way).
+using MerlReadExact = std::function<Status(void* dst, std::size_t n)>;
+CBRDF_EXPORT Expected<BrdfTable> read_merl_stream(std::uint64_t size,
+                                                  const MerlReadExact& read_exact,
+                                                  std::string_view name_for_errors,
+                                                  const MerlReadOptions& options = {},
+                                                  MerlInfo* info = nullptr);
+
+// Streams a 90x90x180 .binary's bytes to sink (the header, then the table's memory, no copy).
+CBRDF_EXPORT Status write_merl(const BrdfTable& table, const ChunkSink& sink);
+// Writes a 90x90x180 .binary (write_file_atomic of cbrdf/file_io.h), straight from the table's
+// memory.
 CBRDF_EXPORT Status write_merl(const std::filesystem::path& path, const BrdfTable& table);
 // The file's bytes (kMerlFileBytes of them).
 CBRDF_EXPORT std::vector<std::uint8_t> serialize_merl(const BrdfTable& table);

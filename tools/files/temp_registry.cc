@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "temp_registry.h"
+#include "files/temp_registry.h"
 
 #include <limits.h>
 #include <signal.h>
@@ -9,7 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
-namespace cbrdf::temp_registry {
+namespace cbrdf::cli::temp_registry {
 namespace {
 
 enum : int { kFree = 0, kClaimed = 1, kSet = 2 };
@@ -75,4 +75,4 @@ void install_signal_handlers() {
   }
 }
 
-}  // namespace cbrdf::temp_registry
+}  // namespace cbrdf::cli::temp_registry

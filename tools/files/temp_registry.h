@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <string>
 
-namespace cbrdf {
+namespace cbrdf::cli {
 
 // The temporary's file name for a target named target_name: `.NAME.cbrdf-tmp-PID-N`, with NAME cut
 // (at a UTF-8 character boundary) so that the whole fits in max_name bytes.
@@ -28,4 +28,4 @@ void unlink_all();
 void install_signal_handlers();
 
 }  // namespace temp_registry
-}  // namespace cbrdf
+}  // namespace cbrdf::cli
