@@ -15,7 +15,12 @@ packages=(
   pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest python3-matplotlib
   chromium  # headless check of the report page (tests/report_html_test.cc)
   abigail-tools  # the ABI check of the shared libraries (tools/check-abi.sh)
+  emscripten nodejs node-acorn dpkg-dev  # cbrdf.wasm and its node tests (tools/wasm, tests/wasm)
 )
+
+# The WebAssembly build compiles zstd's decompressor from Debian's source package, which needs a
+# deb-src entry (the build fetches the sources into its own tree: tools/wasm/fetch-zstd-source.sh).
+"$(dirname "$0")/wasm/fetch-zstd-source.sh" --deb-src-only
 
 missing=()
 for p in "${packages[@]}"; do

@@ -115,8 +115,9 @@ struct BatchArgs {
   std::size_t out_stride = 1;
 };
 
-// The instruction sets eval_batch's kernels are compiled for (GCC on x86-64; elsewhere only the
-// baseline). kAuto, the default, is the best this CPU runs.
+// The instruction sets eval_batch's kernels are compiled for (the vector kernels with GCC on
+// x86-64; elsewhere, and with the portable kernels, only the baseline). kAuto, the default, is the
+// best this CPU runs.
 enum class BatchTarget { kAuto, kAvx512, kAvx2, kBaseline };
 
 // Makes every later eval_batch use the kernels for `t` (tests compare each with eval), or, with

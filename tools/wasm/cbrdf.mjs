@@ -1,0 +1,371 @@
+// SPDX-License-Identifier: MIT
+// cbrdf's decoder in WebAssembly: open a .cbrdf file held in memory, describe it, evaluate it,
+// sample it and write its full MERL table, from JavaScript (node or a browser).
+//
+//   import { open } from './cbrdf.mjs';
+//   const model = await open(bytes);            // Uint8Array / ArrayBuffer of a .cbrdf file
+//   model.info();                               // { slices, bits, ..., sliceList, metadata }
+//   model.eval([0, 0, 1], [0.6, 0, 0.8]);       // [r, g, b] (1/sr)
+//   model.eval(wi, wo);                         // n pairs: Float64Array/Float32Array of 3n
+//   model.sample(wo, u);                        // { wi, pdf, weight }
+//   model.table();                              // Float64Array, a MERL .binary's values
+//   model.free();
+//
+// Every call goes to the C API (cbrdf/cbrdf_c.h) compiled into cbrdf.wasm (tools/wasm/README.md),
+// so results are the native library's. A failure throws a CbrdfError carrying the C API's code
+// (err.code, a cbrdf_status number; err.status, its name such as "checksum") and message.
+// cbrdf.wasm is a standalone module (no Emscripten JavaScript runtime): it imports only a memory
+// growth notice and a few WASI calls (exit; output, environment with some builds), supplied here.
+
+const kInfoFields = [
+  'versionMajor', 'versionMinor', 'slices', 'maxComponents', 'bits', 'fileBytes',
+  'notMeasuredBins', 'residualMode', 'residualMaxError', 'residualMinError', 'residualKnee',
+  'residualBytes',
+];  // cbrdf_wasm_info's order (cbrdf_wasm.c)
+const kInvalidArgument = 9, kInternal = 11;  // cbrdf_status
+const kFamilies = ['independence', 'frank', 'clayton', 'gumbel', 'joe'];
+
+// An error of the C API: code (cbrdf_status), status (its name) and the C API's message.
+export class CbrdfError extends Error {
+  constructor(code, status, message) {
+    super(message);
+    this.name = 'CbrdfError';
+    this.code = code;
+    this.status = status;
+  }
+}
+
+async function wasmBytes(source) {
+  if (source !== undefined) return source;
+  const url = new URL('./cbrdf.wasm', import.meta.url);
+  if (url.protocol === 'file:') {
+    const { readFile } = await import('node:fs/promises');
+    return readFile(url);
+  }
+  const response = await fetch(url);
+  if (!response.ok) throw new Error(`cbrdf: fetching ${url} failed: ${response.status}`);
+  return response.arrayBuffer();
+}
+
+// One instance of cbrdf.wasm and the calls on its memory.
+class Runtime {
+  constructor(instance) {
+    this.x = instance.exports;
+    this.decoder = new TextDecoder();
+  }
+
+  bytes() { return new Uint8Array(this.x.memory.buffer); }  // fresh: memory may have grown
+  f64(ptr, n) { return new Float64Array(this.x.memory.buffer, ptr, n); }
+  i32(ptr, n) { return new Int32Array(this.x.memory.buffer, ptr, n); }
+
+  string(ptr) {
+    const b = this.bytes();
+    let end = ptr;
+    while (b[end] !== 0) ++end;
+    return this.decoder.decode(b.subarray(ptr, end));
+  }
+
+  malloc(size) {
+    const p = this.x.malloc(Math.max(size, 1));
+    if (p === 0) throw new CbrdfError(kInternal, 'internal', 'out of memory');
+    return p;
+  }
+
+  // Runs body(allocate) and frees what it allocated, whatever happens.
+  scoped(body) {
+    const blocks = [];
+    try {
+      return body((size) => {
+        const p = this.malloc(size);
+        blocks.push(p);
+        return p;
+      });
+    } finally {
+      for (const p of blocks) this.x.free(p);
+    }
+  }
+
+  lastError() {
+    const code = this.x.cbrdf_last_error_code();
+    return new CbrdfError(code, this.string(this.x.cbrdf_status_name(code)),
+                          this.string(this.x.cbrdf_last_error_message()));
+  }
+
+  check(status) {
+    if (status !== 0) throw this.lastError();
+  }
+}
+
+function argumentError(message) {
+  return new CbrdfError(kInvalidArgument, 'invalid-argument', message);
+}
+
+// A typed array's elements as doubles at p (Float32 values convert exactly).
+function put(rt, p, values) {
+  rt.f64(p, values.length).set(values);
+}
+
+// n results read as doubles at p, in the type of the caller's input (Float32Array: each double
+// rounded to the nearest float, as C's (float) conversion).
+function take(rt, p, count, like) {
+  const v = rt.f64(p, count);
+  return like instanceof Float32Array ? new Float32Array(v) : new Float64Array(v);
+}
+
+function isBatch(a) {
+  return a instanceof Float64Array || a instanceof Float32Array;
+}
+
+function triples(name, a) {
+  if (!isBatch(a)) throw argumentError(`${name}: expected a Float64Array or Float32Array`);
+  if (a.length % 3 !== 0) {
+    throw argumentError(`${name}: length ${a.length} is not a multiple of 3 (x, y, z per pair)`);
+  }
+  return a.length / 3;
+}
+
+function single(name, a, size) {
+  if (!Array.isArray(a) || a.length !== size) {
+    throw argumentError(`${name}: expected an array of ${size} numbers, or a Float64Array or ` +
+                        'Float32Array batch');
+  }
+  return a;
+}
+
+export class Model {
+  constructor(rt, handle) {
+    this.rt = rt;
+    this.handle = handle;
+  }
+
+  live() {
+    if (this.handle === 0) throw argumentError('model: used after free()');
+    return this.handle;
+  }
+
+  // What the file holds: cbrdf_model_info's fields (camelCase), the slices (theta_d ranges and
+  // each channel's components: family, theta, scale) and the metadata entries [key, value].
+  info() {
+    const { rt } = this;
+    const h = this.live();
+    return rt.scoped((alloc) => {
+      const fields = rt.x.cbrdf_wasm_info_fields();
+      const p = alloc(8 * fields);
+      rt.check(rt.x.cbrdf_wasm_info(h, p));
+      const v = rt.f64(p, fields);
+      const info = {};
+      kInfoFields.forEach((name, i) => { info[name] = v[i]; });
+      const ints = alloc(8), doubles = alloc(16);
+      info.sliceList = [];
+      for (let s = 0; s < info.slices; ++s) {
+        rt.check(rt.x.cbrdf_model_get_slice(h, s, ints, ints + 4));
+        const [begin, end] = rt.i32(ints, 2);
+        const channels = [];
+        for (let c = 0; c < 3; ++c) {
+          rt.check(rt.x.cbrdf_model_get_component_count(h, s, c, ints));
+          const count = rt.i32(ints, 1)[0];
+          const components = [];
+          for (let k = 0; k < count; ++k) {
+            rt.check(rt.x.cbrdf_model_get_component(h, s, c, k, ints, doubles, doubles + 8));
+            const family = rt.i32(ints, 1)[0];
+            const [theta, scale] = rt.f64(doubles, 2);
+            components.push({ family: kFamilies[family] ?? String(family), theta, scale });
+          }
+          channels.push(components);
+        }
+        info.sliceList.push({ thetaDBegin: begin, thetaDEnd: end, channels });
+      }
+      info.metadata = [];
+      const n = rt.x.cbrdf_model_metadata_count(h);
+      for (let i = 0; i < n; ++i) {
+        rt.check(rt.x.cbrdf_model_metadata_at(h, i, ints, ints + 4));
+        const [key, value] = rt.i32(ints, 2);
+        info.metadata.push([rt.string(key), rt.string(value)]);
+      }
+      return info;
+    });
+  }
+
+  // f(wi, wo) in RGB (1/sr). Single pair: arrays [x, y, z] -> [r, g, b]. Batch: Float64Array or
+  // Float32Array of n (x, y, z) triples each -> the same type of n (r, g, b) triples
+  // (cbrdf_model_eval_batch, in double; a Float32Array gets the doubles rounded to float).
+  eval(wi, wo) {
+    const { rt } = this;
+    const h = this.live();
+    if (!isBatch(wi) && !isBatch(wo)) {
+      single('wi', wi, 3);
+      single('wo', wo, 3);
+      return rt.scoped((alloc) => {
+        const p = alloc(72);
+        put(rt, p, wi);
+        put(rt, p + 24, wo);
+        rt.check(rt.x.cbrdf_model_eval(h, p, p + 24, p + 48));
+        return Array.from(rt.f64(p + 48, 3));
+      });
+    }
+    const n = triples('wi', wi);
+    if (triples('wo', wo) !== n) {
+      throw argumentError(`wo: ${wo.length / 3} directions for ${n} in wi`);
+    }
+    return rt.scoped((alloc) => {
+      const p = alloc(8 * 9 * n);
+      put(rt, p, wi);
+      put(rt, p + 24 * n, wo);
+      rt.check(rt.x.cbrdf_model_eval_batch(h, n, p, p + 24 * n, p + 48 * n));
+      return take(rt, p + 48 * n, 3 * n, wi);
+    });
+  }
+
+  // Importance sampling (cbrdf_model_sample_batch): incident directions wi drawn for outgoing
+  // directions wo from uniform numbers u, with their densities and weights f cos / pdf. Single:
+  // wo [x, y, z], u [u1, u2] -> { wi: [3], pdf, weight: [3] }. Batch: wo of n triples, u of n
+  // pairs (Float64Array or Float32Array) -> { wi, pdf, weight } of 3n, n, 3n in wo's type.
+  sample(wo, u) {
+    const { rt } = this;
+    const h = this.live();
+    const batch = isBatch(wo) || isBatch(u);
+    let n = 1;
+    if (batch) {
+      n = triples('wo', wo);
+      if (!isBatch(u) || u.length !== 2 * n) {
+        throw argumentError(`u: expected a Float64Array or Float32Array of ${2 * n} numbers ` +
+                            '(two per direction in wo)');
+      }
+    } else {
+      single('wo', wo, 3);
+      single('u', u, 2);
+    }
+    return rt.scoped((alloc) => {
+      const p = alloc(8 * 12 * n);  // wo 3n, u 2n, wi 3n, pdf n, weight 3n
+      const pu = p + 24 * n, pwi = pu + 16 * n, ppdf = pwi + 24 * n, pw = ppdf + 8 * n;
+      put(rt, p, wo);
+      put(rt, pu, u);
+      rt.check(rt.x.cbrdf_model_sample_batch(h, n, p, pu, pwi, ppdf, pw));
+      if (!batch) {
+        return { wi: Array.from(rt.f64(pwi, 3)), pdf: rt.f64(ppdf, 1)[0],
+                 weight: Array.from(rt.f64(pw, 3)) };
+      }
+      return { wi: take(rt, pwi, 3 * n, wo), pdf: take(rt, ppdf, n, wo),
+               weight: take(rt, pw, 3 * n, wo) };
+    });
+  }
+
+  // The sampler's density of wi given wo (cbrdf_model_pdf; note the order), single pairs.
+  pdf(wo, wi) {
+    const { rt } = this;
+    const h = this.live();
+    single('wo', wo, 3);
+    single('wi', wi, 3);
+    return rt.scoped((alloc) => {
+      const p = alloc(56);
+      put(rt, p, wo);
+      put(rt, p + 24, wi);
+      rt.check(rt.x.cbrdf_model_pdf(h, p, p + 24, p + 48));
+      return rt.f64(p + 48, 1)[0];
+    });
+  }
+
+  // The full MERL table as a .binary file stores it (cbrdf_model_table): 4,374,000 doubles,
+  // channel blocks R, G, B of index phi_d + 180 (theta_d + 90 theta_h), in MERL's stored units.
+  table() {
+    const { rt } = this;
+    const h = this.live();
+    const count = rt.x.cbrdf_merl_table_size();
+    return rt.scoped((alloc) => {
+      const p = alloc(8 * count);
+      rt.check(rt.x.cbrdf_model_table(h, p, count));
+      return new Float64Array(rt.f64(p, count));
+    });
+  }
+
+  // Frees the model's memory in the module; the model cannot be used afterwards. Idempotent.
+  free() {
+    if (this.handle !== 0) this.rt.x.cbrdf_model_free(this.handle);
+    this.handle = 0;
+  }
+}
+
+// Creates an instance of cbrdf.wasm. `source`: its bytes (ArrayBuffer, typed array) or a compiled
+// WebAssembly.Module; by default cbrdf.wasm beside this file (read from disk under node, fetched
+// in a browser). Returns { open(bytes), version }: open decodes synchronously.
+export async function load(source) {
+  let memory = null;
+  const wasi = {
+    // stdout/stderr (the library writes nothing there; a failed assertion would).
+    fd_write(fd, iovs, count, written) {
+      const view = new DataView(memory.buffer);
+      let text = '', total = 0;
+      for (let i = 0; i < count; ++i) {
+        const ptr = view.getUint32(iovs + 8 * i, true), len = view.getUint32(iovs + 8 * i + 4, true);
+        text += new TextDecoder().decode(new Uint8Array(memory.buffer, ptr, len));
+        total += len;
+      }
+      (fd === 1 ? console.log : console.error)(text.replace(/\n$/, ''));
+      view.setUint32(written, total, true);
+      return 0;
+    },
+    // An empty environment (link-time-optimized builds ask for it).
+    environ_sizes_get(count, size) {
+      const view = new DataView(memory.buffer);
+      view.setUint32(count, 0, true);
+      view.setUint32(size, 0, true);
+      return 0;
+    },
+    environ_get: () => 0,
+    fd_close: () => 0,
+    fd_seek: () => 70,  // ESPIPE: no seekable streams
+    proc_exit(code) { throw new Error(`cbrdf.wasm exited with status ${code}`); },
+  };
+  const imports = {
+    env: { emscripten_notify_memory_growth() {} },  // views are made afresh at every use
+    wasi_snapshot_preview1: wasi,
+  };
+  const bytes = await wasmBytes(source);
+  const { instance } = bytes instanceof WebAssembly.Module
+    ? { instance: await WebAssembly.instantiate(bytes, imports) }
+    : await WebAssembly.instantiate(bytes, imports);
+  memory = instance.exports.memory;
+  instance.exports._initialize();  // static constructors (a WASI reactor)
+  instance.exports.cbrdf_wasm_init();
+  const rt = new Runtime(instance);
+  const registry = typeof FinalizationRegistry === 'function'
+    ? new FinalizationRegistry((handle) => rt.x.cbrdf_model_free(handle))
+    : null;
+  return {
+    version: rt.string(rt.x.cbrdf_version_string()),
+    // Decodes a .cbrdf file (Uint8Array, ArrayBuffer or other typed array) with the C API's full
+    // validation (cbrdf_model_open_memory); throws a CbrdfError for a bad file.
+    open(fileBytes) {
+      let b = fileBytes;
+      if (b instanceof ArrayBuffer) b = new Uint8Array(b);
+      else if (ArrayBuffer.isView(b)) b = new Uint8Array(b.buffer, b.byteOffset, b.byteLength);
+      else throw argumentError('open: expected the file as a Uint8Array or ArrayBuffer');
+      const handle = rt.scoped((alloc) => {
+        const p = alloc(b.length);
+        rt.bytes().set(b, p);
+        const m = rt.x.cbrdf_model_open_memory(p, b.length);
+        if (m === 0) throw rt.lastError();
+        return m;
+      });
+      const model = new Model(rt, handle);
+      if (registry) {
+        // A model dropped without free() is freed when collected.
+        const free = model.free.bind(model);
+        registry.register(model, handle, model);
+        model.free = () => {
+          if (model.handle !== 0) registry.unregister(model);
+          free();
+        };
+      }
+      return model;
+    },
+  };
+}
+
+let shared = null;
+
+// Decodes a .cbrdf file with a module instance shared by every call (made on first use).
+export async function open(fileBytes) {
+  shared ??= load();
+  return (await shared).open(fileBytes);
+}
