@@ -6,13 +6,16 @@
 # decoder's tests (golden files, malformed files, evaluation, sampling, the C API test), checks the
 # ABI against the baseline and installs it for the out-of-tree consumers (tools/test-install.sh).
 #   Usage: tools/check-decoder-only.sh [BUILD_DIR]      (default build-decoder)
+# CBRDF_WASM_BUILD_DIR: a cbrdf.wasm build to test against this decoder (tests/wasm), instead of
+# making one.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build-decoder}
 trace=$build/configure-trace.json
 mkdir -p "$build"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCBRDF_WERROR=ON \
-  -DCBRDF_DECODER_ONLY=ON -DCBRDF_TESTS=ON --trace-format=json-v1 --trace-redirect="$trace" \
+  -DCBRDF_DECODER_ONLY=ON -DCBRDF_TESTS=ON -DCBRDF_WASM_BUILD_DIR="${CBRDF_WASM_BUILD_DIR:-}" \
+  --trace-format=json-v1 --trace-redirect="$trace" \
   > "$build/configure.log"
 # Every package look-up made from the project's own CMake files.
 lookups=$(python3 - "$trace" "$root" <<'PY'

@@ -10,7 +10,9 @@
 # The report's end-to-end runs (ReportRun.*, ReportHtml.*: the `cbrdf report` command over whole
 # sweeps, and Chromium loading its page) are left to the release suite too: about 5 minutes of
 # 2-core time there, they repeat encodes and decodes that the library's own tests run here, and
-# the time pays for the decoder-only build, the WebAssembly tests and the ABI check.
+# the time pays for the decoder-only build, the WebAssembly tests and the ABI check. The
+# WebAssembly tests (wasm_build, wasm_node) compare cbrdf.wasm with the native library: the release
+# suite runs them.
 #   Usage: tools/run-sanitizers.sh [BUILD_DIR]        (default <repo>/build-sanitize)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -31,5 +33,5 @@ export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:check_initialization_order=1:
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 start=$(date +%s)
 ctest --test-dir "$build" --no-tests=error --output-on-failure -j "$jobs" --timeout 900 \
-  -E '^(FitScale\.MixtureFitDoesNotDependOnTheTableScale|Mixture\.FitLadderEqualsSeparateFitsAndReusesTheFactorization|RateControl\.PruningKeepsTheBestSettingOfTheExhaustiveSearch|ReportRun\..*|ReportHtml\..*)$'
+  -E '^(FitScale\.MixtureFitDoesNotDependOnTheTableScale|Mixture\.FitLadderEqualsSeparateFitsAndReusesTheFactorization|RateControl\.PruningKeepsTheBestSettingOfTheExhaustiveSearch|ReportRun\..*|ReportHtml\..*|wasm_build|wasm_node)$'
 echo "run-sanitizers: the suite passed under ASan + UBSan in $(( $(date +%s) - start )) s"

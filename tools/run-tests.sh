@@ -19,7 +19,8 @@ echo "run-tests: release suite passed at $(( $(date +%s) - start )) s"
 if [ "${CBRDF_QUICK:-0}" = 1 ]; then exit 0; fi
 # The decoder alone, built with clang (the release build above is GCC's): only zstd and xxhash
 # looked up, warning-free, its tests, its install and consumers, its ABI.
-CC=clang CXX=clang++ "$root/tools/check-decoder-only.sh" "$build-decoder"
+CC=clang CXX=clang++ CBRDF_WASM_BUILD_DIR="$build/wasm-build" \
+  "$root/tools/check-decoder-only.sh" "$build-decoder"
 echo "run-tests: decoder-only build passed at $(( $(date +%s) - start )) s"
 "$root/tools/run-sanitizers.sh" "$build-sanitize"
 echo "run-tests: sanitizer suite passed at $(( $(date +%s) - start )) s"
