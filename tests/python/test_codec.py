@@ -47,7 +47,7 @@ def test_mixture_copulas_at_independence_match_the_command(work, tmp_path):
     assert mixtures and all(k.theta == 0.0 for c in mixtures for k in c.components)
     fitted = cbrdf.encode(str(work / "plastic.binary"), bits=8, slices=3, components=2)
     assert len(data) < len(fitted)
-    with pytest.raises(cbrdf.Error, match="unknown --mixture-copulas 'some'"):
+    with pytest.raises(cbrdf.Error, match="unknown mixture_copulas 'some'"):
         cbrdf.encode(work / "plastic.binary", mixture_copulas="some")
 
 
