@@ -11,10 +11,10 @@ Longer campaigns: CBRDF_PY_FUZZ_ROUNDS=N (default 150 per entry point).
 import os
 import subprocess
 import sys
-import textwrap
 from pathlib import Path
 
-from conftest import BUILD, REPO
+import cbrdf
+from conftest import REPO
 
 CAMPAIGN = r'''
 import sys, random, numpy as np, cbrdf
@@ -113,7 +113,9 @@ print("done", calls, flush=True)
 def test_random_inputs_never_crash_or_raise_unexpected_errors(work):
     rounds = int(os.environ.get("CBRDF_PY_FUZZ_ROUNDS", "150"))
     env = dict(os.environ)
-    env["PYTHONPATH"] = str(BUILD / "python") + os.pathsep + env.get("PYTHONPATH", "")
+    # The folder this cbrdf was imported from (PYTHONPATH may be relative to another cwd).
+    package = str(Path(cbrdf.__file__).resolve().parents[1])
+    env["PYTHONPATH"] = package + os.pathsep + env.get("PYTHONPATH", "")
     for seed in (1, 2):
         p = subprocess.run([sys.executable, "-c", CAMPAIGN, str(rounds),
                             str(REPO / "tests" / "data" / "golden"), str(work / "plastic.binary"),

@@ -16,13 +16,15 @@ import numpy as np
 import pytest
 
 import cbrdf
-from conftest import BUILD, CLI, REPO, run_cli
+from conftest import run_cli
 
 
 def child(code: str, timeout: float = 300) -> subprocess.CompletedProcess:
     """Runs `code` in a fresh interpreter that imports this build's cbrdf."""
     env = dict(os.environ)
-    env["PYTHONPATH"] = str(BUILD / "python") + os.pathsep + env.get("PYTHONPATH", "")
+    # The folder this cbrdf was imported from (PYTHONPATH may be relative to another cwd).
+    package = str(Path(cbrdf.__file__).resolve().parents[1])
+    env["PYTHONPATH"] = package + os.pathsep + env.get("PYTHONPATH", "")
     return subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True,
                           text=True, timeout=timeout, env=env)
 
@@ -83,6 +85,12 @@ def test_item2_bin_value_refuses_non_integers(work):
     assert "ACCEPTED" not in r.stdout, r.stdout
     assert r.stdout.count("refused") == 11, r.stdout
     assert r.stdout.strip().endswith("True\nTrue"), r.stdout
+
+
+def test_item2_bin_value_shapes_must_broadcast(work):
+    m = cbrdf.decode(work / "plastic.cbrdf")
+    expect_error(lambda: m.bin_value(np.arange(3), np.arange(2), 0, 0), "broadcast")
+    assert m.bin_value(np.arange(3), np.arange(3), 0, 0).shape == (3,)
 
 
 def test_item2_strided_buffers_are_read_in_their_logical_order(work):

@@ -736,8 +736,17 @@ py::object model_bin_value(PyModel& m, const py::object& channel, const py::obje
     range("phi_d", p, kPhiDBins);
     return ev->bin_value(int(c), int(h), int(d), int(p));
   };
-  return py::vectorize(f)(index_array(channel, "channel"), index_array(theta_h, "theta_h"),
-                          index_array(theta_d, "theta_d"), index_array(phi_d, "phi_d"));
+  auto c = index_array(channel, "channel"), h = index_array(theta_h, "theta_h"),
+       d = index_array(theta_d, "theta_d"), p = index_array(phi_d, "phi_d");
+  try {
+    py::module_::import("numpy").attr("broadcast_shapes")(c.attr("shape"), h.attr("shape"),
+                                                          d.attr("shape"), p.attr("shape"));
+  } catch (py::error_already_set&) {
+    raise_invalid("channel, theta_h, theta_d and phi_d must broadcast together, not shapes " +
+                  repr_text(py::make_tuple(c.attr("shape"), h.attr("shape"), d.attr("shape"),
+                                           p.attr("shape"))));
+  }
+  return py::vectorize(f)(c, h, d, p);
 }
 
 py::array_t<double> to_array(const std::vector<double>& v) {
