@@ -177,6 +177,7 @@ void container_and_decode_seeds(Writer& w) {
   for (const auto& [name, bytes] : valid) {
     w.add("fuzz_container", name, bytes, "accepted");
     w.add("fuzz_decode", name, bytes, "accepted");
+    w.add("fuzz_capi", name, bytes, "accepted");
     // A residual layer (RESD) is megabytes uncompressed: compressed seeds only.
     if (name.find("residual") == std::string::npos) {
       w.add("fuzz_decode", "raw-" + name, uncompressed(bytes), "accepted");

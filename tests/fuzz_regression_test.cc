@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "../fuzz/harness/capi_target.h"
 #include "../fuzz/harness/container_target.h"
 #include "../fuzz/harness/decode_target.h"
 #include "../fuzz/harness/merl_target.h"
@@ -94,6 +95,8 @@ TEST_P(FuzzReplay, NoBrokenInvariantAndRecordedOutcome) {
     r = fuzz::run_merl(span);
   } else if (input.target == "fuzz_roundtrip") {
     r = fuzz::run_roundtrip(span);
+  } else if (input.target == "fuzz_capi") {
+    r = fuzz::run_capi(span);
   } else {
     FAIL() << "no fuzz target named " << input.target << " (directory of " << input.path << ")";
   }
@@ -121,7 +124,8 @@ TEST(FuzzCorpus, EveryTargetHasSeedsAndEveryRecordHasAFile) {
   for (const Input& i : list_inputs()) {
     if (i.set == "corpus") ++per_target[i.target];
   }
-  for (const char* t : {"fuzz_container", "fuzz_decode", "fuzz_merl", "fuzz_roundtrip"}) {
+  for (const char* t :
+       {"fuzz_container", "fuzz_decode", "fuzz_merl", "fuzz_roundtrip", "fuzz_capi"}) {
     EXPECT_GE(per_target[t], 5) << "fuzz/corpus/" << t << " has too few seeds";
   }
   for (const char* set : {"corpus", "regressions"}) {

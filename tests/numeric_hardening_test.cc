@@ -40,9 +40,14 @@ Model uniform_model(CopulaFamily family, double theta, int components = 1) {
   return m;
 }
 
+// Through a file where the format holds the parameters; beyond its ranges (spec 4.2, issue 31)
+// the writer refuses them, and the model is evaluated as it is, as a library caller's may be.
 Model through_file(const Model& m) {
   Expected<std::vector<std::uint8_t>> bytes = encode_model(m, ContainerSettings{});
-  EXPECT_TRUE(bytes.ok()) << bytes.status().message();
+  if (!bytes.ok()) {
+    EXPECT_EQ(bytes.status().code(), ErrorCode::kInvalidArgument) << bytes.status().message();
+    return m;
+  }
   Expected<Model> back = decode_model(*bytes);
   EXPECT_TRUE(back.ok()) << back.status().message();
   return std::move(back).value();

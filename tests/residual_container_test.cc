@@ -4,6 +4,7 @@
 // names the chunk.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -275,6 +276,14 @@ TEST(ResidualContainer, MalformedRowStepsAreRefused) {
 // Mode 3: rows_model()'s codes correcting an interpolation over 2 levels, finest multiplier 3.
 Model interp_model() {
   Model m = rows_model();
+  // rows_model()'s codes, constant along phi_d, would add up along the coarsest level's chain
+  // past the format's +-64 (spec 4.6): at most 4 in size, their sign alternating between nodes.
+  for (std::size_t b = 0; b < kMaskBits; ++b) {
+    const std::size_t i = b % kBinsPerChannel;
+    const std::size_t d = i / kPhiDBins % kThetaDBins, p = i % kPhiDBins;
+    std::int32_t& q = m.residual.codes[b];
+    q = std::clamp(q, -4, 4) * ((d / 4 + p / 4) % 2 ? 1 : -1);
+  }
   m.residual.levels = 2;
   m.residual.fine_multiplier = 3;
   internal::rebuild_interpolated(&m.residual);

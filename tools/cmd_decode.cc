@@ -1,6 +1,11 @@
 // SPDX-License-Identifier: MIT
 // `cbrdf decode`: .cbrdf -> MERL .binary (and OpenEXR for inspection).
+#include <unistd.h>
+
 #include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
 
 #include "cbrdf/encoder.h"
 #include "cbrdf/exr_table.h"
@@ -16,12 +21,35 @@ struct DecodeOptions {
   std::string input, output, exr;
 };
 
+// An output file can be written only into an existing, writable folder. Checked for every output
+// before any is written, so a bad second path never leaves the first one written.
+std::optional<std::string> check_output_folder(const std::string& option, const std::string& path) {
+  if (path.empty() || path == kStdStream) return std::nullopt;
+  std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  if (folder.empty()) folder = ".";
+  std::error_code ec;
+  if (!std::filesystem::is_directory(folder, ec)) {
+    return "decode: " + option + " " + path + ": the folder " + folder.string() +
+           " does not exist (nothing was written)";
+  }
+  if (::access(folder.c_str(), W_OK) != 0) {
+    return "decode: " + option + " " + path + ": the folder " + folder.string() +
+           " is not writable (nothing was written)";
+  }
+  return std::nullopt;
+}
+
 int run_decode(const DecodeOptions& o, const Context& ctx) {
   if (o.output.empty() && o.exr.empty()) {
     return usage_error("decode: give -o OUT.binary, --exr OUT.exr or both");
   }
   const std::vector<PathArg> outputs = {{"-o", o.output}, {"--exr", o.exr}};
   if (auto bad = check_paths("decode", {{"input", o.input}}, outputs)) return usage_error(*bad);
+  for (const PathArg& out : outputs) {
+    if (auto bad = check_output_folder(out.option, out.value)) {
+      return fail(error(ErrorCode::kIo, *bad));
+    }
+  }
   std::FILE* info = info_stream(outputs);
   auto bytes = read_file(input_path(o.input), kMaxContainerBytes);
   if (!bytes.ok()) return fail(bytes.status());

@@ -29,6 +29,11 @@ struct EncodeOptions {
   std::string bits = "auto";  // 6 to 16 or auto, parsed here
   // --mixture-copulas as given (empty: not given; a target then searches at independence).
   std::string mixture_copulas;
+  // Whether each was given (an empty value is given, and refused, not taken as absent).
+  const CLI::Option* target_bytes_option = nullptr;
+  const CLI::Option* target_psnr_option = nullptr;
+  const CLI::Option* max_error_option = nullptr;
+  bool given(const CLI::Option* option) const { return option && option->count() > 0; }
 };
 
 // A positive finite number, or nullopt. `what` names the option in the message.
@@ -47,21 +52,28 @@ std::optional<std::string> parse_target(const std::string& text, const char* wha
 
 // --target-bytes / --target-psnr as a RateTarget (both 0: no target).
 std::optional<std::string> parse_rate_target(const EncodeOptions& o, RateTarget* target) {
-  if (!o.target_bytes.empty()) {
+  if (o.given(o.target_bytes_option)) {
     // A container is at most 64 MiB.
     if (auto bad = parse_target(o.target_bytes, "--target-bytes", double(kMaxContainerBytes),
                                 "67108864 (64 MiB)", &target->max_bytes)) {
       return bad;
     }
   }
-  if (!o.target_psnr.empty()) {
+  if (o.given(o.target_psnr_option)) {
     if (auto bad =
             parse_target(o.target_psnr, "--target-psnr", 1000.0, "1000", &target->min_psnr)) {
       return bad;
     }
   }
   // Rate control chooses the slice count itself.
-  if ((target->max_bytes > 0 || target->min_psnr > 0) && o.encoder.slices == "auto") {
+  const bool targeted = target->max_bytes > 0 || target->min_psnr > 0;
+  // A target chooses the residual layer itself: a bound or lossless beside it would be dropped.
+  if (targeted && (o.lossless || o.given(o.max_error_option))) {
+    return std::string("encode: ") + (o.lossless ? "--lossless" : "--max-error") +
+           " and a target (--target-bytes, --target-psnr) exclude each other: the target "
+           "chooses the residual layer itself; give one of them";
+  }
+  if (targeted && o.encoder.slices == "auto") {
     return std::string(
         "encode: --slices auto and a target (--target-bytes, --target-psnr) both "
         "choose the slice count; give one of them");
@@ -81,11 +93,11 @@ Expected<EncodeResult> encode(const BrdfTable& table, const EncoderSettings& st,
     char residual_text[96] = "";
     const Residual& r = rc->encoded.model.residual;
     if (rc->chosen.max_error > 0 && !r.row_shift.empty()) {
-      // Steps per row: no option writes this file again, so name the bounds, not an option.
-      const int top = r.max_row_shift();
+      // Steps per row: no option writes this file again, so name the bounds, not an option: the
+      // finest row's and the file's (Residual::bound(), what `cbrdf info` shows).
       std::snprintf(residual_text, sizeof residual_text,
                     " and a residual layer bounded per row (%.3g to %.3g)", rc->chosen.max_error,
-                    std::ldexp(rc->chosen.max_error, top));
+                    r.bound());
     } else if (rc->chosen.max_error > 0) {
       std::snprintf(residual_text, sizeof residual_text, " --max-error %.3g", rc->chosen.max_error);
     }
@@ -119,7 +131,8 @@ void print_summary(const EncodeOptions& o, const Context& ctx, const EncodeResul
   const double in_bytes = o.input == kStdStream ? double(kMerlFileBytes)
                                                 : double(std::filesystem::file_size(o.input, ec));
   const double out_bytes = double(result.bytes.size());
-  const bool auto_bits = o.bits == "auto" && o.target_bytes.empty() && o.target_psnr.empty();
+  const bool auto_bits =
+      o.bits == "auto" && !o.given(o.target_bytes_option) && !o.given(o.target_psnr_option);
   std::fprintf(info, "%s -> %s: %.0f -> %.0f bytes (%.0f:1, %d bits%s) in %.2f s\n",
                shown(o.input, false).c_str(), shown(o.output, true).c_str(), in_bytes, out_bytes,
                in_bytes / out_bytes, result.bits, auto_bits ? ", chosen by --bits auto" : "",
@@ -158,15 +171,23 @@ void print_residual(const EncodeResult& result, std::FILE* info) {
     std::fprintf(info, "residual layer: exact table (lossless, checked), %u bytes\n", bytes);
     return;
   }
-  // Steps per row (--target-psnr, --target-bytes): the bound over every bin is the coarsest row's.
+  // Steps per row (--target-psnr, --target-bytes): the bound over every bin is the coarsest row's
+  // (times the finest level's multiplier in mode 3), the number `cbrdf info` shows.
   const int top = r.max_row_shift();
   std::fprintf(info,
                "residual layer: |log1p(decoded / k) - log1p(source / k)| <= %g on every measured "
                "bin (k = %g; checked), %u bytes, %zu bins stored exactly\n",
-               std::ldexp(r.max_error, top), r.knee, bytes, r.escapes.size());
-  if (top > 0) {
-    std::fprintf(info, "  steps per row by visibility: the most visible rows within %g\n",
-                 r.max_error);
+               r.bound(), r.knee, bytes, r.escapes.size());
+  if (top > 0 || r.interpolated()) {
+    if (r.interpolated()) {
+      std::fprintf(info,
+                   "  steps per row by visibility: the most visible rows within %g (%g on the "
+                   "finest level)\n",
+                   r.max_error, r.max_error * double(r.fine_multiplier));
+    } else {
+      std::fprintf(info, "  steps per row by visibility: the most visible rows within %g\n",
+                   r.max_error);
+    }
   }
 }
 
@@ -182,9 +203,12 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   if (!bits) return usage_error("encode: --bits must be 6 to 16 or auto, not '" + o.bits + "'");
   eo.bits = bits->is_auto ? kAutoBits : bits->count;
   eo.source_name = o.input == kStdStream ? "" : std::filesystem::path(o.input).filename().string();
-  if (!o.max_error.empty()) {
-    if (auto bad = parse_target(o.max_error, "--max-error", 16.0, "16", &eo.max_error)) {
-      return usage_error(*bad);
+  if (o.given(o.max_error_option)) {
+    // The encoder's own range (0 would mean no residual layer, which is not giving the option).
+    if (auto bad = parse_target(o.max_error, "--max-error", 16.0, "16", &eo.max_error);
+        bad || eo.max_error < 1e-6) {
+      return usage_error("encode: --max-error must be a number from 1e-06 to 16, not '" +
+                         o.max_error + "'");
     }
   }
   eo.lossless = o.lossless;
@@ -195,8 +219,17 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   if (!o.mixture_copulas.empty()) target.mixture_copulas = st->fit.mixture_copulas;
 
   const auto t0 = std::chrono::steady_clock::now();
-  auto table = read_merl_input(input_path(o.input));
+  MerlInfo merl;
+  auto table = read_merl_input(input_path(o.input), {}, &merl);
   if (!table.ok()) return fail(table.status());
+  // The 360 layout is read as 180 phi_d bins (each the mean of phi_d and phi_d + 180): what
+  // --lossless would keep is that table, not the file.
+  if (o.lossless && merl.folded_from_360) {
+    return usage_error("encode: " + shown(o.input, false) +
+                       " is a 90x90x360 file, which is read as 180 phi_d bins (each the mean of "
+                       "phi_d and phi_d + 180); --lossless cannot keep it exactly: give a "
+                       "90x90x180 .binary, or drop --lossless");
+  }
   auto result = encode(*table, *st, target, ctx, info);
   if (!result.ok()) return fail(result.status().with_context(shown(o.input, false)));
   if (Status s = write_file_atomic(output_path(o.output), result->bytes); !s.ok()) return fail(s);
@@ -270,14 +303,18 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
                       "Search slices, components and bits for the fewest bytes reaching DB dB "
                       "(tone-mapped sphere PSNR)");
   tb->excludes(tp);
+  o->target_bytes_option = tb;
+  o->target_psnr_option = tp;
   auto* me = cmd->add_option(
       "--max-error", o->max_error,
       "Add the residual layer: every measured bin decodes within E of the source, "
-      "|log1p(decoded / k) - log1p(source / k)| <= E on the values the .binary stores, k = 1e-4: "
-      "a relative bound (1e-6 to 16; README)");
+      "|log1p(decoded / k) - log1p(source / k)| <= E on the values the .binary stores, k = 1e-4 "
+      "(scaled down with tables whose values are all below 1): a relative bound (1e-6 to 16; "
+      "README)");
   auto* ll = cmd->add_flag("--lossless", o->lossless,
                            "Add the residual layer that decodes to the source bit for bit");
   me->excludes(ll);
+  o->max_error_option = me;
   cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_encode(*o, ctx); }; });
 }
 

@@ -16,10 +16,10 @@ seconds=${1:-60}
 build=${CBRDF_FUZZ_BUILD_DIR:-$root/build-fuzz}
 work=${CBRDF_FUZZ_WORK_DIR:-$(mktemp -d /tmp/cbrdf-fuzz.XXXXXX)}
 jobs=${CBRDF_FUZZ_JOBS:-2}
-targets=(fuzz_container fuzz_decode fuzz_merl fuzz_roundtrip)
+targets=(fuzz_container fuzz_decode fuzz_merl fuzz_roundtrip fuzz_capi)
 # Largest input each target mutates: decode's seeds include a 549 KB uncompressed mask bitmap.
 declare -A max_len=([fuzz_container]=65536 [fuzz_decode]=600000 [fuzz_merl]=4096
-                    [fuzz_roundtrip]=4096)
+                    [fuzz_roundtrip]=4096 [fuzz_capi]=600000)
 
 if ! command -v clang++ > /dev/null; then
   echo "run-fuzz: clang++ is needed for libFuzzer (apt-get install clang)" >&2

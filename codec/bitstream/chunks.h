@@ -65,13 +65,20 @@ inline constexpr std::uint8_t kResidualPredictorNone = 0;  // codes as they are
 inline constexpr std::uint8_t kResidualPredictorPhi = 1;   // from the previous phi_d bin
 inline constexpr double kMinResidualError = 1e-6;
 inline constexpr double kMaxResidualError = 16.0;
-inline constexpr double kMinResidualKnee = 1e-12;
+// Down to 1e-300 so that a table at any scale has a knee below its values (issue 31: a table
+// scaled by 1e-30 had every value below a 1e-12 knee, so its bound was absolute, not relative).
+inline constexpr double kMinResidualKnee = 1e-300;
 inline constexpr double kMaxResidualKnee = 1e12;
 // The reference encoder's knee, stored units (about 6.7e-8 physical): measured on real materials,
 // a relative bound down to there gains 15 dB tone-mapped PSNR on chrome-steel at the same bytes
 // over the knee 1 (log1p of stored values), and nothing is lost on diffuse materials.
 inline constexpr double kResidualKnee = 1e-4;
 inline constexpr std::int64_t kMaxResidualCode = std::int64_t{1} << 28;
+// The largest residual a bin may carry, |code x step'| (modes 0, 2) or |R| (mode 3, every bin), in
+// log1p units: a decoded value is then at most e^64 (base + knee), so every accepted file
+// evaluates and samples finite. The reference writer clamps its targets to +-(64 - 16) and stores
+// bins beyond that exactly (escapes); real materials stay within about +-30.
+inline constexpr double kMaxResidualValue = 64.0;
 inline constexpr std::uint32_t kMaxResidualEscapes = 65536;
 // Mode 2: rows (90 theta_h + theta_d) and the largest shift of a row's step (x 2^24).
 inline constexpr std::size_t kResidualRows = std::size_t{kThetaHBins} * kThetaDBins;

@@ -67,8 +67,7 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
                                                    : kResidualModeRows;
     // Mode 2: the bound over every bin is the coarsest row's; the finest row's beside it. Mode 3:
     // the coarsest row's finest level's.
-    d.info.residual_max_error =
-        double(res.fine_multiplier) * std::ldexp(res.max_error, res.max_row_shift());
+    d.info.residual_max_error = res.bound();
     d.info.residual_min_error = std::ldexp(res.max_error, res.min_row_shift());
     d.info.residual_knee = d.model.residual.knee;
     d.info.residual_escapes = d.model.residual.escapes.size();

@@ -74,7 +74,9 @@ Status check_header(std::uint8_t predictor, std::uint16_t reserved, double max_e
                  "step " + number_text(step) + " is not in (0, 2 x max error]");
   }
   if (!(knee >= kMinResidualKnee && knee <= kMaxResidualKnee)) {
-    return error(ErrorCode::kNumeric, "knee " + number_text(knee) + " is outside 1e-12..1e12");
+    return error(ErrorCode::kNumeric, "knee " + number_text(knee) + " is outside " +
+                                          number_text(kMinResidualKnee) + ".." +
+                                          number_text(kMaxResidualKnee));
   }
   if (escapes > kMaxResidualEscapes) {
     return error(ErrorCode::kLimit, "escape count " + std::to_string(escapes) + " exceeds " +
@@ -197,10 +199,32 @@ Status read_levels(ByteReader& r, Residual* out) {
   return ok_status();
 }
 
+// Every bin's residual within +-kMaxResidualValue (mode 3: every rebuilt value, not-measured bins
+// included, as they feed predictions and continuous evaluation).
+Status check_residual_values(const Residual& r, std::uint64_t codes_at) {
+  for (std::size_t b = 0; b < kMaskBits; ++b) {
+    const double v = r.value_at(b);
+    if (!(std::abs(v) <= kMaxResidualValue)) {
+      const std::size_t i = b % kBinsPerChannel;
+      return error(ErrorCode::kNumeric,
+                   std::string("the residual of channel ") + kChannelNames[b / kBinsPerChannel] +
+                       " bin " + std::to_string(i) + " is " + number_text(v) +
+                       (r.interpolated() ? " (rebuilt level by level)" : " (code x step)") +
+                       ", beyond +-" + number_text(kMaxResidualValue) +
+                       " (codes from payload offset " + std::to_string(codes_at) + ")");
+    }
+  }
+  return ok_status();
+}
+
 // Mode 1: the exact table, whose not-measured bins must be MASK's.
 Status read_exact(std::span<const std::uint8_t> rest, const NotMeasured& mask, Residual* out) {
   Expected<BrdfTable> t = internal::decode_exact_table(rest);
-  if (!t.ok()) return t.status().with_context("exact table");
+  if (!t.ok()) {
+    // Most of the table coder's messages name it already; prefix only those that do not.
+    const bool named = t.status().message().rfind("exact table", 0) == 0;
+    return named ? t.status() : t.status().with_context("exact table");
+  }
   for (int c = 0; c < kChannels; ++c) {
     const double* v = t->channel_data(c);
     for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
@@ -256,7 +280,7 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   CBRDF_RETURN_IF_ERROR(read_escapes(tail, escapes, mask, &out->escapes));
   CBRDF_RETURN_IF_ERROR(check_trailing(tail.remaining(), file_minor));
   if (out->interpolated()) internal::rebuild_interpolated(out);
-  return ok_status();
+  return check_residual_values(*out, codes_at);
 }
 
 std::vector<std::uint8_t> encode_residual_chunk(const Model& model) {

@@ -53,7 +53,8 @@ Status check_residual(const Model& model) {
     return invalid("residual step " + number_text(r.step) + " is not in (0, 2 x max error]");
   }
   if (!(r.knee >= kMinResidualKnee && r.knee <= kMaxResidualKnee)) {
-    return invalid("residual knee " + number_text(r.knee) + " is outside 1e-12..1e12");
+    return invalid("residual knee " + number_text(r.knee) + " is outside " +
+                   number_text(kMinResidualKnee) + ".." + number_text(kMaxResidualKnee));
   }
   if (!r.row_shift.empty()) {
     const int top = r.max_row_shift();
@@ -88,6 +89,15 @@ Status check_residual(const Model& model) {
         r.codes[b] > kMaxResidualCode) {
       return invalid("residual code " + std::to_string(r.codes[b]) + " at bin " +
                      std::to_string(b) + " is outside -2^28..2^28 or at a not-measured bin");
+    }
+  }
+  if (r.interpolated() || r.codes.size() == kMaskBits) {
+    for (std::size_t b = 0; b < kMaskBits; ++b) {
+      if (!(std::abs(r.value_at(b)) <= kMaxResidualValue)) {
+        return invalid("the residual at bin " + std::to_string(b) + " is " +
+                       number_text(r.value_at(b)) + ", beyond the format's +-" +
+                       number_text(kMaxResidualValue));
+      }
     }
   }
   if (r.escapes.size() > kMaxResidualEscapes) {

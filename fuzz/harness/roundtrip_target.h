@@ -42,19 +42,20 @@ inline double pick_theta(CopulaFamily f, ByteSource& in) {
       const double choices[] = {0.0,
                                 std::numbers::ln2,
                                 -in.in_range(0.0, 200.0),
-                                -std::exp(in.in_range(0.0, 700.0)),
+                                -std::min(200.0, std::exp(in.in_range(0.0, std::log(200.0)))),
                                 std::min(in.in_range(0.0, 0.69), std::numbers::ln2),
                                 -1e-300,
                                 -in.in_range(0.0, 5.0)};
       return choices[std::min<std::size_t>(mode, 6)];
     }
     case CopulaFamily::kClayton: {
-      const double choices[] = {0.0, std::exp(in.in_range(-30.0, 700.0)), 5e-324,
-                                in.in_range(0.0, 10.0)};
+      // Within the format's ranges (spec 4.2): Clayton to 50, Gumbel and Joe to 20.
+      const double choices[] = {0.0, std::min(50.0, std::exp(in.in_range(-30.0, std::log(50.0)))),
+                                5e-324, in.in_range(0.0, 10.0)};
       return choices[mode % 4];
     }
     default: {  // Gumbel, Joe: [1, inf)
-      const double choices[] = {1.0, 1.0 + std::exp(in.in_range(-40.0, 700.0)),
+      const double choices[] = {1.0, 1.0 + std::exp(in.in_range(-40.0, std::log(19.0))),
                                 std::nextafter(1.0, 2.0), in.in_range(1.0, 10.0)};
       return choices[mode % 4];
     }
@@ -215,6 +216,11 @@ inline void pick_residual(Model* m, ByteSource& in) {
     r.row_shift.resize(std::size_t{kThetaHBins} * kThetaDBins);
     for (std::uint8_t& sh : r.row_shift) sh = std::uint8_t(top > 0 ? in.u8() % (top + 1) : 0);
   }
+  // Every residual within the format's +-64 (spec 4.6): codes x step' clamped to it.
+  for (std::size_t b = 0; b < kBins; ++b) {
+    const double most = std::floor(kMaxResidualValue / r.step_at(b % kBinsPerChannel));
+    r.codes[b] = std::int32_t(std::clamp(double(r.codes[b]), -most, most));
+  }
   std::vector<std::uint32_t> bins;
   for (int k = in.u8() % 9; k > 0; --k) {
     const std::uint32_t b = in.u32() % std::uint32_t(kBins);
@@ -233,6 +239,14 @@ inline void pick_residual(Model* m, ByteSource& in) {
     const double top = std::ldexp(r.max_error, r.max_row_shift());
     const int most = int(std::min(64.0, std::floor(16.0 / top)));
     r.fine_multiplier = std::uint8_t(1 + in.u8() % std::max(most, 1));
+    // A rebuilt value sums at most 90 corrections along the coarsest row and a few more down the
+    // levels: each |q x step'| <= 0.5 keeps every value well inside +-64.
+    for (std::size_t b = 0; b < kBins; ++b) {
+      const std::size_t i = b % kBinsPerChannel;
+      const double st = r.step_at(i) * (Residual::finest_level(i) ? r.fine_multiplier : 1);
+      const double largest = std::floor(0.5 / st);
+      r.codes[b] = std::int32_t(std::clamp(double(r.codes[b]), -largest, largest));
+    }
     internal::rebuild_interpolated(&r);
   }
 }

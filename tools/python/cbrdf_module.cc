@@ -9,8 +9,11 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -18,6 +21,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -74,12 +78,62 @@ T take(Expected<T>&& e, const std::string& context = {}) {
   return std::move(e).value();
 }
 
-std::vector<std::uint8_t> bytes_of(const py::buffer& b) {
-  // Any contiguous buffer: its bytes are what count.
-  py::buffer_info info = b.request();
-  const auto* p = static_cast<const std::uint8_t*>(info.ptr);
-  const std::size_t n = std::size_t(info.size) * std::size_t(info.itemsize);
-  return std::vector<std::uint8_t>(p, p + n);
+std::vector<std::uint8_t> bytes_of(const py::handle& b) {
+  // Any buffer, in its logical (C) order: a strided view (memoryview(x)[::-1], [::2]) is copied
+  // element by element as bytes(view) does, never read as if it were contiguous.
+  Py_buffer view;
+  if (PyObject_GetBuffer(b.ptr(), &view, PyBUF_FULL_RO) != 0) throw py::error_already_set();
+  std::vector<std::uint8_t> out(std::size_t(view.len));
+  const int rc = PyBuffer_ToContiguous(out.data(), &view, view.len, 'C');
+  PyBuffer_Release(&view);
+  if (rc != 0) throw py::error_already_set();
+  return out;
+}
+
+// A path from Python: an embedded NUL would cut it short at the system call, so refuse it as
+// Python's open() does.
+const std::string& checked_path(const std::string& path) {
+  if (path.find('\0') != std::string::npos) {
+    PyErr_SetString(PyExc_ValueError, "embedded null byte in the path");
+    throw py::error_already_set();
+  }
+  return path;
+}
+
+// The repr of a Python value, for messages.
+std::string repr_text(const py::handle& v) {
+  return std::string(py::str(py::repr(v)));
+}
+
+// An int argument in lo..hi: a Python int or a NumPy integer (not a bool, not a float), any size.
+long long int_arg(const py::handle& v, const char* name, long long lo, long long hi,
+                  int exit_code = 2) {
+  const std::string range = std::to_string(lo) + " to " + std::to_string(hi);
+  if (py::isinstance<py::bool_>(v) || !PyIndex_Check(v.ptr()) || py::isinstance<py::float_>(v)) {
+    raise_invalid(std::string(name) + " must be an int from " + range + ", not " + repr_text(v),
+                  exit_code);
+  }
+  py::object i = py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr()));
+  if (!i) throw py::error_already_set();
+  int overflow = 0;
+  const long long x = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow != 0 || x < lo || x > hi) {
+    raise_invalid(std::string(name) + " must be " + range + ", not " + repr_text(v), exit_code);
+  }
+  return x;
+}
+
+// A str argument (not None, not a number).
+std::string str_arg(const py::handle& v, const char* name, int exit_code = 2) {
+  if (!py::isinstance<py::str>(v)) {
+    raise_invalid(std::string(name) + " must be a str, not " + repr_text(v), exit_code);
+  }
+  return v.cast<std::string>();
+}
+
+// The `threads` argument of the batch methods: 0 (the library's limit) to 256, as --threads.
+int threads_arg(const py::handle& v) {
+  return int(int_arg(v, "threads", 0, 256, 2));
 }
 
 // ---- Tables <-> arrays ----------------------------------------------------------------------
@@ -212,17 +266,44 @@ BrdfTable table_from_stored(const F64Array& stored, const std::optional<BoolArra
   return t;
 }
 
+// pybind11 gives a Python instance whose __init__ never ran (cbrdf.Model.__new__(cbrdf.Model))
+// uninitialized C++ memory; with this class-specific operator new that memory is zero, so
+// `constructed` is false there and every method refuses such an object instead of reading it.
+struct ZeroedUntilConstructed {
+  bool constructed = true;
+  static void* operator new(std::size_t n) {
+    void* p = ::operator new(n);
+    std::memset(p, 0, n);
+    return p;
+  }
+  static void operator delete(void* p) { ::operator delete(p); }
+  void check(const char* what) const {
+    if (!constructed) {
+      raise_invalid(std::string("this ") + what +
+                    " was made by __new__ without __init__ and holds nothing; make one with " +
+                    (std::string(what) == "cbrdf.Model" ? "cbrdf.decode()" : "cbrdf.read_merl()"));
+    }
+  }
+};
+
 // An opaque table for the Python layer (cbrdf._Table): what encode, the metrics and write_merl
 // take, made from arrays, a file or a built-in sample.
-struct PyTable {
+struct PyTable : ZeroedUntilConstructed {
   BrdfTable table;
   std::string source_name;  // the file name `cbrdf encode` records, when read from a file
   std::string name;         // the path as given, prefixed to encode's errors as the command does
+  bool folded_from_360 = false;  // read from a 90x90x360 file (its two phi_d halves averaged)
+  const PyTable& ok() const {
+    check("cbrdf._Table");
+    return *this;
+  }
 };
 
 PyTable read_table(const std::string& path) {
   PyTable t;
-  t.table = take(read_merl(path));
+  MerlInfo mi;
+  t.table = take(read_merl(checked_path(path), {}, &mi));
+  t.folded_from_360 = mi.folded_from_360;
   t.source_name = std::filesystem::path(path).filename().string();
   t.name = path;
   return t;
@@ -275,7 +356,20 @@ struct Dirs {
 template <typename T>
 Dirs<T> dirs_of(const py::handle& obj, const char* name, std::size_t width = 3) {
   Dirs<T> d;
-  d.array = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(obj);
+  // Real numbers only: a cast would drop a complex value's imaginary part and read bools,
+  // strings and datetimes as numbers.
+  py::array given;
+  try {
+    given = py::module_::import("numpy").attr("asarray")(obj);
+  } catch (py::error_already_set&) {
+    raise_invalid(std::string(name) + " must be an array of numbers, not " + repr_text(obj));
+  }
+  const char kind = given.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u') {
+    raise_invalid(std::string(name) + " must hold real numbers (float or int), not dtype " +
+                  std::string(py::str(given.dtype())));
+  }
+  d.array = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(given);
   if (!d.array) {
     PyErr_Clear();
     raise_invalid(std::string(name) + " must be an array of numbers");
@@ -344,6 +438,22 @@ void for_blocks(std::size_t n, int max_threads, const Fn& body) {
                          });
 }
 
+// body(begin, end) over [0, n) in chunks run with the GIL released; between chunks, with the GIL
+// held, pending signals are handled, so Ctrl-C raises KeyboardInterrupt within one chunk's time
+// (about 30 ms for eval at 2^17 pairs on one core) instead of after the whole batch.
+template <typename Fn>
+void interruptible(std::size_t n, const Fn& body) {
+  constexpr std::size_t kChunk = std::size_t{1} << 17;
+  for (std::size_t begin = 0; begin < n; begin += kChunk) {
+    const std::size_t end = std::min(n, begin + kChunk);
+    {
+      py::gil_scoped_release release;
+      body(begin, end);
+    }
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  }
+}
+
 Vec3 vec3(const double* w) {
   return Vec3{w[0], w[1], w[2]};
 }
@@ -410,7 +520,7 @@ py::tuple bin_directions(const py::object& theta_h, const py::object& theta_d,
 
 // ---- Model ----------------------------------------------------------------------------------
 
-struct PyModel {
+struct PyModel : ZeroedUntilConstructed {
   std::shared_ptr<const ModelEvaluator> evaluator;
   // The file's description, from the same validating pass that decoded the model.
   ContainerInfo info_;
@@ -419,8 +529,12 @@ struct PyModel {
   std::mutex sampler_mutex;
   std::shared_ptr<const BrdfSampler> sampler;
 
-  const ContainerInfo& info() const { return info_; }
+  const ContainerInfo& info() const {
+    check("cbrdf.Model");
+    return info_;
+  }
   std::shared_ptr<const ModelEvaluator> ev() const {
+    check("cbrdf.Model");
     if (!evaluator) raise_invalid("the model is closed");
     return evaluator;
   }
@@ -447,7 +561,7 @@ std::unique_ptr<PyModel> model_from_bytes(const std::vector<std::uint8_t>& bytes
 }
 
 std::unique_ptr<PyModel> model_from_path(const std::string& path) {
-  auto bytes = take(read_file(path, kMaxContainerBytes));
+  auto bytes = take(read_file(checked_path(path), kMaxContainerBytes));
   return model_from_bytes(bytes, path, py::str(path));
 }
 
@@ -463,28 +577,26 @@ py::array eval_batch(const ModelEvaluator& ev, const py::handle& wi_obj, const p
                            ? py::array_t<T>(std::vector<py::ssize_t>{3})
                            : py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n), 3});
   T* rgb = out.mutable_data();
-  {
-    py::gil_scoped_release release;
+  interruptible(n, [&](std::size_t first, std::size_t last) {
     // Two (N, 3) float64 batches: the evaluator's batch path (vectorized stages, its own
     // threads), equal to eval per pair bit for bit. (No Python object is touched here.)
-    bool done = false;
     if constexpr (std::is_same_v<T, double>) {
       if (!wi.single && !wo.single) {
-        ev.eval_batch(n, wi.data, wo.data, rgb, threads);
-        done = true;
+        ev.eval_batch(last - first, wi.data + 3 * first, wo.data + 3 * first, rgb + 3 * first,
+                      threads);
+        return;
       }
     }
-    if (!done)
-      for_blocks(n, threads, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t k = begin; k < end; ++k) {
-          if constexpr (std::is_same_v<T, float>) {
-            ev.eval_f32(wi.at(k), wo.at(k), rgb + 3 * k);
-          } else {
-            ev.eval(vec3(wi.at(k)), vec3(wo.at(k)), rgb + 3 * k);
-          }
+    for_blocks(last - first, threads, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = first + begin; k < first + end; ++k) {
+        if constexpr (std::is_same_v<T, float>) {
+          ev.eval_f32(wi.at(k), wo.at(k), rgb + 3 * k);
+        } else {
+          ev.eval(vec3(wi.at(k)), vec3(wo.at(k)), rgb + 3 * k);
         }
-      });
-  }
+      }
+    });
+  });
   return out;
 }
 
@@ -493,14 +605,18 @@ bool is_float32(const py::handle& obj) {
   return py::reinterpret_borrow<py::array>(obj).dtype().is(py::dtype::of<float>());
 }
 
-py::array model_eval(PyModel& m, const py::handle& wi, const py::handle& wo, int threads) {
+py::array model_eval(PyModel& m, const py::handle& wi, const py::handle& wo,
+                     const py::object& threads_obj) {
   auto ev = m.ev();
+  const int threads = threads_arg(threads_obj);
   if (is_float32(wi) && is_float32(wo)) return eval_batch<float>(*ev, wi, wo, threads);
   return eval_batch<double>(*ev, wi, wo, threads);
 }
 
-py::tuple model_sample(PyModel& m, const py::handle& wo_obj, const py::handle& u_obj, int threads) {
+py::tuple model_sample(PyModel& m, const py::handle& wo_obj, const py::handle& u_obj,
+                       const py::object& threads_obj) {
   auto ev = m.ev();
+  const int threads = threads_arg(threads_obj);
   const Dirs<double> wo = dirs_of<double>(wo_obj, "wo");
   const Dirs<double> u = dirs_of<double>(u_obj, "u", 2);
   const std::size_t n = batch_rows({{wo.n, wo.single}, {u.n, u.single}}, "sample");
@@ -525,12 +641,11 @@ py::tuple model_sample(PyModel& m, const py::handle& wo_obj, const py::handle& u
   double* wi_p = wi_out.mutable_data();
   double* pdf_p = pdf_out.mutable_data();
   double* w_p = w_out.mutable_data();
-  {
-    py::gil_scoped_release release;
-    // As cbrdf_model_sample_batch: u clamped into [0, 1); a rejected sample is all zeros.
-    const double below_one = std::nextafter(1.0, 0.0);
-    for_blocks(n, threads, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t k = begin; k < end; ++k) {
+  // As cbrdf_model_sample_batch: u clamped into [0, 1); a rejected sample is all zeros.
+  const double below_one = std::nextafter(1.0, 0.0);
+  interruptible(n, [&](std::size_t first, std::size_t last) {
+    for_blocks(last - first, threads, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = first + begin; k < first + end; ++k) {
         const Vec3 o = vec3(wo.at(k));
         const double u1 = std::clamp(u.at(k)[0], 0.0, below_one);
         const double u2 = std::clamp(u.at(k)[1], 0.0, below_one);
@@ -552,12 +667,14 @@ py::tuple model_sample(PyModel& m, const py::handle& wo_obj, const py::handle& u
         for (int c = 0; c < 3; ++c) w[c] = f[c] * s.wi.z / s.pdf;
       }
     });
-  }
+  });
   return py::make_tuple(wi_out, pdf_out, w_out);
 }
 
-py::array model_pdf(PyModel& m, const py::handle& wo_obj, const py::handle& wi_obj, int threads) {
+py::array model_pdf(PyModel& m, const py::handle& wo_obj, const py::handle& wi_obj,
+                    const py::object& threads_obj) {
   m.ev();
+  const int threads = threads_arg(threads_obj);
   const Dirs<double> wo = dirs_of<double>(wo_obj, "wo");
   const Dirs<double> wi = dirs_of<double>(wi_obj, "wi");
   const std::size_t n = batch_rows({{wo.n, wo.single}, {wi.n, wi.single}}, "pdf");
@@ -568,15 +685,39 @@ py::array model_pdf(PyModel& m, const py::handle& wo_obj, const py::handle& wi_o
   py::array_t<double> out = single ? py::array_t<double>(std::vector<py::ssize_t>{})
                                    : py::array_t<double>(std::vector<py::ssize_t>{py::ssize_t(n)});
   double* p = out.mutable_data();
-  {
-    py::gil_scoped_release release;
-    for_blocks(n, threads, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t k = begin; k < end; ++k) {
+  interruptible(n, [&](std::size_t first, std::size_t last) {
+    for_blocks(last - first, threads, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = first + begin; k < first + end; ++k) {
         p[k] = sampler->pdf(vec3(wo.at(k)), vec3(wi.at(k)));
       }
     });
-  }
+  });
   return out;
+}
+
+// Bin indices: ints or integer arrays, never truncated floats, bools, strings or objects.
+py::array_t<std::int64_t> index_array(const py::object& v, const char* name) {
+  if (py::isinstance<py::int_>(v) && !py::isinstance<py::bool_>(v)) {
+    int overflow = 0;
+    const long long x = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+    if (overflow != 0) raise_invalid(std::string(name) + " is out of range: " + repr_text(v));
+    return py::array_t<std::int64_t>::ensure(py::int_(x));
+  }
+  py::array a;
+  try {
+    a = py::module_::import("numpy").attr("asarray")(v);
+  } catch (py::error_already_set&) {
+    raise_invalid(std::string(name) + " must be an int or an integer array, not " + repr_text(v));
+  }
+  const char kind = a.dtype().kind();
+  if (kind != 'i' && kind != 'u') {
+    raise_invalid(std::string(name) + " must be an int or an integer array, not " + repr_text(v));
+  }
+  if (kind == 'u' && a.size() > 0 &&
+      a.attr("max")().cast<std::uint64_t>() > std::uint64_t(INT64_MAX)) {
+    raise_invalid(std::string(name) + " is out of range: " + repr_text(v));
+  }
+  return py::array_t<std::int64_t>::ensure(a);
 }
 
 py::object model_bin_value(PyModel& m, const py::object& channel, const py::object& theta_h,
@@ -595,9 +736,17 @@ py::object model_bin_value(PyModel& m, const py::object& channel, const py::obje
     range("phi_d", p, kPhiDBins);
     return ev->bin_value(int(c), int(h), int(d), int(p));
   };
-  return py::vectorize(f)(
-      py::array_t<std::int64_t>::ensure(channel), py::array_t<std::int64_t>::ensure(theta_h),
-      py::array_t<std::int64_t>::ensure(theta_d), py::array_t<std::int64_t>::ensure(phi_d));
+  auto c = index_array(channel, "channel"), h = index_array(theta_h, "theta_h"),
+       d = index_array(theta_d, "theta_d"), p = index_array(phi_d, "phi_d");
+  try {
+    py::module_::import("numpy").attr("broadcast_shapes")(c.attr("shape"), h.attr("shape"),
+                                                          d.attr("shape"), p.attr("shape"));
+  } catch (py::error_already_set&) {
+    raise_invalid("channel, theta_h, theta_d and phi_d must broadcast together, not shapes " +
+                  repr_text(py::make_tuple(c.attr("shape"), h.attr("shape"), d.attr("shape"),
+                                           p.attr("shape"))));
+  }
+  return py::vectorize(f)(c, h, d, p);
 }
 
 py::array_t<double> to_array(const std::vector<double>& v) {
@@ -638,55 +787,176 @@ py::list model_slices(PyModel& m) {
 
 // ---- Encoding -------------------------------------------------------------------------------
 
+// Jobs abandoned by Ctrl-C that are still running, and what a normal exit waits for: the fit has
+// no cancellation point, so such a job finishes on its own thread and its result is dropped.
+std::mutex g_abandoned_mutex;
+std::condition_variable g_abandoned_done;
+int g_abandoned = 0;
+
+void wait_for_abandoned_jobs() {
+  std::unique_lock<std::mutex> lock(g_abandoned_mutex);
+  g_abandoned_done.wait(lock, [] { return g_abandoned == 0; });
+}
+
+// Runs job() on a thread of its own while this thread, with the GIL, handles signals every 20 ms:
+// Ctrl-C raises KeyboardInterrupt within that time instead of when the job returns (an encode can
+// take tens of seconds). An interrupted job is left to finish in the background (see above).
+template <typename Job>
+Expected<std::vector<std::uint8_t>> interruptible_job(Job job) {
+  struct State {
+    std::mutex mutex;
+    std::condition_variable done_cv;
+    bool done = false, abandoned = false;
+    Expected<std::vector<std::uint8_t>> result = std::vector<std::uint8_t>{};
+  };
+  auto state = std::make_shared<State>();
+  std::thread worker([state, job = std::move(job)]() mutable {
+    Expected<std::vector<std::uint8_t>> r = std::vector<std::uint8_t>{};
+    try {
+      r = job();
+    } catch (const std::exception& e) {
+      r = error(ErrorCode::kInternal, std::string("encoding failed: ") + e.what());
+    }
+    std::lock_guard<std::mutex> lock(state->mutex);
+    state->result = std::move(r);
+    state->done = true;
+    state->done_cv.notify_all();
+    if (state->abandoned) {
+      std::lock_guard<std::mutex> g(g_abandoned_mutex);
+      --g_abandoned;
+      g_abandoned_done.notify_all();
+    }
+  });
+  for (;;) {
+    {
+      py::gil_scoped_release release;
+      std::unique_lock<std::mutex> lock(state->mutex);
+      if (state->done_cv.wait_for(lock, std::chrono::milliseconds(20),
+                                  [&] { return state->done; })) {
+        break;
+      }
+    }
+    if (PyErr_CheckSignals() != 0) {
+      std::lock_guard<std::mutex> lock(state->mutex);
+      if (state->done) break;  // finished meanwhile: joined below, the signal still raised
+      state->abandoned = true;
+      {
+        std::lock_guard<std::mutex> g(g_abandoned_mutex);
+        if (g_abandoned++ == 0) {
+          // Registered after the library's thread pool exists, so it runs before the pool's
+          // destructor: a normal exit never destroys what the abandoned job still uses.
+          static const bool registered = (std::atexit(wait_for_abandoned_jobs), true);
+          (void)registered;
+        }
+      }
+      worker.detach();
+      throw py::error_already_set();
+    }
+  }
+  worker.join();
+  if (PyErr_Occurred()) throw py::error_already_set();
+  return std::move(state->result);
+}
+
 std::string count_text(const py::object& v, const char* name) {
   if (py::isinstance<py::bool_>(v)) {
     raise_invalid(std::string(name) + " must be an int or 'auto', not a bool", 2);
   }
-  if (py::isinstance<py::int_>(v)) return std::to_string(v.cast<long long>());
+  if (PyIndex_Check(v.ptr()) && !py::isinstance<py::float_>(v)) {
+    // Any size: a value beyond long long is out of range, not an internal cast failure.
+    py::object i = py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr()));
+    if (!i) throw py::error_already_set();
+    int overflow = 0;
+    const long long x = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+    if (overflow != 0) {
+      raise_invalid(std::string(name) + " is out of range (an int or 'auto'), not " + repr_text(v),
+                    2);
+    }
+    return std::to_string(x);
+  }
   if (py::isinstance<py::str>(v)) return v.cast<std::string>();
   raise_invalid(
       std::string(name) + " must be an int or 'auto', not " + std::string(py::str(py::repr(v))), 2);
 }
 
-// As `cbrdf encode --target-bytes/--target-psnr`: a positive finite number up to max.
-double target_value(const py::object& v, const char* name, double max, const char* max_text) {
-  double x = 0;
-  bool ok = false;
-  if (!py::isinstance<py::bool_>(v) &&
-      (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v))) {
-    x = v.cast<double>();
-    ok = std::isfinite(x) && x > 0 && x <= max;
+// A real number (int, float or a NumPy real scalar such as np.float32; not a bool, str or
+// complex), or nullopt.
+std::optional<double> real_value(const py::object& v) {
+  if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v)) return std::nullopt;
+  static py::object* real = new py::object(py::module_::import("numbers").attr("Real"));
+  if (!py::isinstance(v, *real) || py::isinstance(v, py::module_::import("numpy").attr("bool_"))) {
+    return std::nullopt;
   }
+  return py::float_(v).cast<double>();
+}
+
+// As `cbrdf encode --target-bytes/--target-psnr`: a positive finite number up to max.
+double target_value(const py::object& v, const char* name, double max, const char* max_text,
+                    double min = 0.0, const char* min_text = nullptr) {
+  const std::optional<double> x = real_value(v);
+  const bool ok = x && std::isfinite(*x) && (min_text ? *x >= min : *x > 0) && *x <= max;
   if (!ok) {
-    raise_invalid(std::string(name) + " must be a number above 0 and at most " + max_text +
-                      ", not " + std::string(py::str(py::repr(v))),
+    raise_invalid(std::string(name) + " must be a number " +
+                      (min_text ? std::string("from ") + min_text + " to "
+                                : std::string("above 0 and at most ")) +
+                      max_text + ", not " + repr_text(v),
                   2);
   }
-  return x;
+  return *x;
+}
+
+// The encoder's usage messages name the command's options; Python callers know the keywords.
+std::string keyword_names(std::string message) {
+  static const std::pair<const char*, const char*> kNames[] = {
+      {"--target-bytes", "target_bytes"},
+      {"--target-psnr", "target_psnr"},
+      {"--max-error", "max_error"},
+      {"--lossless", "lossless"},
+      {"--mixture-copulas", "mixture_copulas"},
+      {"--slice-placement", "placement"},
+      {"--naive-marginals", "naive_marginals"},
+      {"--components", "components"},
+      {"--slices", "slices"},
+      {"--family", "family"},
+      {"--threads", "threads"},
+      {"--level", "level"},
+      {"--loss", "loss"},
+      {"--bits", "bits"},
+  };
+  for (const auto& [flag, keyword] : kNames) {
+    for (std::size_t at = message.find(flag); at != std::string::npos;
+         at = message.find(flag, at)) {
+      message.replace(at, std::strlen(flag), keyword);
+    }
+  }
+  return message;
 }
 
 py::bytes encode(const PyTable& t, const py::object& bits, const py::object& components,
-                 const py::object& slices, const std::string& family, const std::string& loss,
-                 int level, const std::string& placement, bool naive_marginals, int threads,
-                 const py::object& target_bytes, const py::object& target_psnr,
-                 const py::object& max_error, bool lossless, const py::object& source_name,
-                 const py::object& mixture_copulas) {
+                 const py::object& slices, const py::object& family, const py::object& loss,
+                 const py::object& level, const py::object& placement, bool naive_marginals,
+                 const py::object& threads, const py::object& target_bytes,
+                 const py::object& target_psnr, const py::object& max_error, bool lossless,
+                 const py::object& source_name, const py::object& mixture_copulas) {
+  t.ok();
   EncoderOptions o;
-  if (!mixture_copulas.is_none()) o.mixture_copulas = mixture_copulas.cast<std::string>();
+  if (!mixture_copulas.is_none()) o.mixture_copulas = str_arg(mixture_copulas, "mixture_copulas");
   o.slices = count_text(slices, "slices");
   o.components = count_text(components, "components");
-  o.family = family;
-  o.loss = loss;
+  o.family = str_arg(family, "family");
+  o.loss = str_arg(loss, "loss");
   const std::string bits_text = count_text(bits, "bits");
   const auto bits_value = parse_count_or_auto(bits_text, 6, 16, true);
   if (!bits_value) raise_invalid("bits must be 6 to 16 or 'auto', not '" + bits_text + "'", 2);
   o.bits = bits_value->is_auto ? kAutoBits : bits_value->count;
-  o.level = level;
-  o.placement = placement;
+  o.level = int(int_arg(level, "level", 1, 22));
+  o.placement = str_arg(placement, "placement");
   o.naive_marginals = naive_marginals;
-  o.threads = threads;
-  o.source_name = source_name.is_none() ? t.source_name : source_name.cast<std::string>();
-  if (!max_error.is_none()) o.max_error = target_value(max_error, "max_error", 16.0, "16");
+  o.threads = int(int_arg(threads, "threads", 0, 256));
+  o.source_name = source_name.is_none() ? t.source_name : str_arg(source_name, "source_name");
+  if (!max_error.is_none()) {
+    o.max_error = target_value(max_error, "max_error", 16.0, "16", 1e-6, "1e-06");
+  }
   o.lossless = lossless;
   RateTarget target;
   if (!target_bytes.is_none() && !target_psnr.is_none()) {
@@ -700,6 +970,20 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
     target.min_psnr = target_value(target_psnr, "target_psnr", 1000.0, "1000");
   }
   const bool targeted = target.max_bytes > 0 || target.min_psnr > 0;
+  // A target chooses the residual layer itself: a bound or lossless beside it would be dropped.
+  if (targeted && (lossless || !max_error.is_none())) {
+    raise_invalid(std::string(lossless ? "lossless" : "max_error") +
+                      " and a target (target_bytes, target_psnr) exclude each other: the target "
+                      "chooses the residual layer itself; give one of them",
+                  2);
+  }
+  if (lossless && t.folded_from_360) {
+    raise_invalid(t.name +
+                      ": lossless cannot keep a 90x90x360 file exactly (it is read as 180 phi_d "
+                      "bins, each the mean of phi_d and phi_d + 180); convert it with "
+                      "cbrdf.write_merl first if that table is what you want",
+                  2);
+  }
   if (targeted && o.slices == "auto") {
     raise_invalid(
         "slices='auto' and a target (target_bytes, target_psnr) both choose the slice "
@@ -707,28 +991,29 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
         2);
   }
   auto st = encoder_settings(o);
-  if (!st.ok()) raise_status(st.status(), 2);
+  if (!st.ok()) {
+    raise_status(error(st.status().code(), keyword_names(st.status().message())), 2);
+  }
   // Given explicitly, mixture_copulas applies to the search too (as --mixture-copulas).
   if (!mixture_copulas.is_none()) target.mixture_copulas = st->fit.mixture_copulas;
-  Expected<std::vector<std::uint8_t>> bytes = std::vector<std::uint8_t>{};
-  {
-    py::gil_scoped_release release;
-    if (!targeted) {
-      auto r = encode_table(t.table, *st);
-      bytes = r.ok() ? Expected<std::vector<std::uint8_t>>(std::move(r->bytes))
-                     : Expected<std::vector<std::uint8_t>>(r.status());
-    } else {
-      // An explicit components=K > 1 caps the search, as in `cbrdf encode`.
-      if (!st->fit.auto_components && st->fit.components > 1) {
-        target.max_components = st->fit.components;
-      }
-      // The whole ladder, as `cbrdf encode --target-*`: the model, then model + residual.
-      auto r = encode_to_target_ladder(t.table, *st, target);
-      bytes = r.ok() ? Expected<std::vector<std::uint8_t>>(std::move(r->encoded.bytes))
-                     : Expected<std::vector<std::uint8_t>>(r.status());
-    }
+  // An explicit components=K > 1 caps the search, as in `cbrdf encode`.
+  if (targeted && !st->fit.auto_components && st->fit.components > 1) {
+    target.max_components = st->fit.components;
   }
-  auto b = take(std::move(bytes), t.name);
+  // The job owns copies of its inputs: after Ctrl-C it may outlive this call.
+  auto b = take(interruptible_job([table = t.table, settings = *st, target, targeted] {
+                  if (!targeted) {
+                    auto r = encode_table(table, settings);
+                    return r.ok() ? Expected<std::vector<std::uint8_t>>(std::move(r->bytes))
+                                  : Expected<std::vector<std::uint8_t>>(r.status());
+                  }
+                  // The whole ladder, as `cbrdf encode --target-*`: the model, then model +
+                  // residual.
+                  auto r = encode_to_target_ladder(table, settings, target);
+                  return r.ok() ? Expected<std::vector<std::uint8_t>>(std::move(r->encoded.bytes))
+                                : Expected<std::vector<std::uint8_t>>(r.status());
+                }),
+                t.name);
   return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
 }
 
@@ -769,6 +1054,8 @@ py::dict image_metrics_dict(const ImageMetrics& im) {
 
 py::dict sphere_metrics(const PyTable& ref, const PyTable& test, int size,
                         const std::vector<double>& lights) {
+  ref.ok();
+  test.ok();
   const SphereSetup setup = sphere_setup(size, lights);
   ImageMetrics im;
   {
@@ -779,6 +1066,8 @@ py::dict sphere_metrics(const PyTable& ref, const PyTable& test, int size,
 }
 
 py::dict brdf_metrics_dict(const PyTable& ref, const PyTable& test) {
+  ref.ok();
+  test.ok();
   BrdfMetrics m;
   {
     py::gil_scoped_release release;
@@ -803,6 +1092,7 @@ py::array_t<float> image_array(const Image& im) {
 }
 
 py::array_t<float> render_table(const PyTable& t, double light, int size) {
+  t.ok();
   sphere_setup(size, {light});
   Image im;
   {
@@ -836,7 +1126,7 @@ PYBIND11_MODULE(_cbrdf, m) {
       "Sets the exception class raised for library errors (cbrdf.Error).");
   m.attr("__version__") = version_string();
   m.attr("CONTAINER_VERSION") =
-      py::make_tuple(CBRDF_CONTAINER_VERSION_MAJOR, CBRDF_CONTAINER_VERSION_MINOR);
+      py::make_tuple(kContainerMajorVersion, kContainerMinorVersion);  // the newest it writes
   m.attr("MERL_SCALE") = py::make_tuple(kMerlScale[0], kMerlScale[1], kMerlScale[2]);
   m.attr("MERL_FILE_BYTES") = kMerlFileBytes;
   m.attr("MAX_CONTAINER_BYTES") = kMaxContainerBytes;
@@ -886,9 +1176,11 @@ PYBIND11_MODULE(_cbrdf, m) {
             return t;
           },
           py::arg("name"))
-      .def("arrays", [](const PyTable& t) { return table_arrays(t.table); })
+      .def("arrays", [](const PyTable& t) { return table_arrays(t.ok().table); })
       .def("write",
            [](const PyTable& t, const std::string& path) {
+             t.ok();
+             checked_path(path);
              Status s;
              {
                py::gil_scoped_release release;
@@ -898,10 +1190,15 @@ PYBIND11_MODULE(_cbrdf, m) {
            })
       .def("serialize",
            [](const PyTable& t) {
-             const auto b = serialize_merl(t.table);
+             const auto b = serialize_merl(t.ok().table);
              return py::bytes(reinterpret_cast<const char*>(b.data()), b.size());
            })
-      .def_readwrite("source_name", &PyTable::source_name);
+      .def_property(
+          "source_name", [](const PyTable& t) { return t.ok().source_name; },
+          [](PyTable& t, const py::object& v) {
+            t.ok();
+            t.source_name = str_arg(v, "source_name");
+          });
 
   m.def(
       "samples",
@@ -919,8 +1216,8 @@ PYBIND11_MODULE(_cbrdf, m) {
   m.def(
       "_info_path",
       [](const std::string& path) {
-        auto bytes =
-            take(read_file(path, std::max<std::uint64_t>(kMaxContainerBytes, 2 * kMerlFileBytes)));
+        auto bytes = take(read_file(
+            checked_path(path), std::max<std::uint64_t>(kMaxContainerBytes, 2 * kMerlFileBytes)));
         return info_of_bytes(bytes, path, py::str(path));
       },
       py::arg("path"));
@@ -971,15 +1268,21 @@ PYBIND11_MODULE(_cbrdf, m) {
                                    cli::container_info_json(self.info(), ev->footprint_bytes()),
                                    self.file);
                              })
-      .def_property_readonly("file", [](const PyModel& self) { return self.file; })
-      .def_property_readonly("closed", [](const PyModel& self) { return !self.evaluator; })
+      .def_property_readonly(
+          "file", [](const PyModel& self) { return self.constructed ? self.file : py::none(); })
+      .def_property_readonly(
+          "closed", [](const PyModel& self) { return !self.constructed || !self.evaluator; })
       .def_property_readonly("bits", [](PyModel& self) { return self.info().bits; })
       .def_property_readonly("version",
                              [](PyModel& self) {
                                return py::make_tuple(self.info().layout.major,
                                                      self.info().layout.minor);
                              })
-      .def_property_readonly("nbytes", [](const PyModel& self) { return self.file_bytes; })
+      .def_property_readonly("nbytes",
+                             [](const PyModel& self) {
+                               self.check("cbrdf.Model");
+                               return self.file_bytes;
+                             })
       .def_property_readonly("not_measured_bins",
                              [](PyModel& self) { return self.info().not_measured_bins; })
       .def_property_readonly("footprint_bytes",
@@ -987,6 +1290,7 @@ PYBIND11_MODULE(_cbrdf, m) {
       .def_property_readonly("_slices", &model_slices)
       .def("close",
            [](PyModel& self) {
+             if (!self.constructed) return;
              std::lock_guard<std::mutex> lock(self.sampler_mutex);
              self.sampler.reset();
              self.evaluator.reset();
@@ -1013,6 +1317,7 @@ PYBIND11_MODULE(_cbrdf, m) {
           "write_merl",
           [](PyModel& self, const std::string& path) {
             auto ev = self.ev();
+            checked_path(path);
             Status s;
             {
               py::gil_scoped_release release;

@@ -17,6 +17,7 @@ namespace {
 // Just under 2E: rounding to the nearest code then errs by at most step/2 < E, and the margin
 // (about 1e-6 E) absorbs the reconstruction's rounding; the decode check catches the rest.
 constexpr double kStepFraction = 1.0 - 1.0 / 1024.0 / 1024.0;
+constexpr double kTargetLimit = kMaxResidualValue - kMaxResidualError;
 
 // The residual to code: log1p(src / k) - log1p(base / k) at every measured bin against the
 // decoded base table, NaN at the others (code 0 in modes 0 and 2; any value will do in mode 3).
@@ -28,13 +29,30 @@ std::vector<double> residual_target(const BrdfTable& source, const BrdfTable& ba
     const double* b = base.channel_data(c);
     double* out = t.data() + std::size_t(c) * kBinsPerChannel;
     for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
-      if (!mask.test(c, i)) out[i] = std::log1p(s[i] / knee) - std::log1p(b[i] / knee);
+      if (mask.test(c, i)) continue;
+      // Within the format's residual limit less the largest bound, so every rebuilt residual
+      // stays inside it; a bin beyond fails the check and is stored exactly.
+      const double r = std::log1p(s[i] / knee) - std::log1p(b[i] / knee);
+      out[i] = std::clamp(r, -kTargetLimit, kTargetLimit);
     }
   }
   return t;
 }
 
 }  // namespace
+
+double residual_knee(const BrdfTable& source) {
+  double peak = 0;
+  for (double v : source.stored_values()) {
+    if (v > peak) peak = v;  // not-measured values are negative or NaN
+  }
+  // Every real MERL table peaks far above 1 (stored units): k = 1e-4 as measured (spec 4.6).
+  // Below, k sits as far under the peak's power of two as 1e-4 under a bright material's peak of
+  // 2^13, so the bound stays relative at any scale, and a table scaled by a power of two gets the
+  // same codes.
+  if (!(peak < 1.0) || peak == 0.0) return kResidualKnee;
+  return std::max(std::ldexp(kResidualKnee, std::ilogb(peak) - 13), kMinResidualKnee);
+}
 
 double max_log_error(const BrdfTable& source, const BrdfTable& decoded, const Residual& residual,
                      std::vector<std::uint32_t>* violations) {
@@ -136,7 +154,7 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings, En
   Model& model = result->model;
   model.residual.max_error = bound;
   model.residual.step = 2.0 * bound * kStepFraction;
-  model.residual.knee = kResidualKnee;
+  model.residual.knee = residual_knee(source);
   model.residual.row_shift.clear();
   model.residual.levels = std::uint8_t(settings.residual.levels);
   model.residual.fine_multiplier =

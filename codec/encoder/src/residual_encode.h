@@ -8,6 +8,11 @@
 
 namespace cbrdf::internal {
 
+// The knee k the writer uses for a source table: 1e-4 (stored units), or for a table whose
+// values all lie below 1 (scaled down: no real material), 1e-4 times its peak's power of two
+// over 2^13.
+double residual_knee(const BrdfTable& source);
+
 // `result` holds the base file (bytes, bits) and the fitted model; on success its bytes are the
 // file with the residual layer and its model carries the residual. Fails with kInternal if the
 // decoded file misses the bound after the fix-up (it cannot: escapes store those bins exactly).

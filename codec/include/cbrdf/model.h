@@ -120,6 +120,14 @@ struct CBRDF_EXPORT Residual {
                          : std::ldexp(max_error, row_shift[i / std::size_t{kPhiDBins}]);
     return interpolated() && finest_level(i) ? b * double(fine_multiplier) : b;
   }
+  // The bound every measured bin meets, the largest bound_at: max_error x 2^max_row_shift(), times
+  // fine_multiplier in mode 3 (0 in mode 1 and without a residual). What the encoder prints,
+  // `cbrdf info`, the C API and Python show.
+  double bound() const {
+    if (exact || !present()) return 0.0;
+    const double b = std::ldexp(max_error, max_row_shift());
+    return interpolated() ? b * double(fine_multiplier) : b;
+  }
   // Mode 3's finest level at MERL index i: an odd theta_d or phi_d.
   static bool finest_level(std::size_t i) { return ((i % kPhiDBins) | (i / kPhiDBins)) & 1; }
   // The residual of bin b = c x kBinsPerChannel + i in log1p units: code x step (modes 0, 2) or

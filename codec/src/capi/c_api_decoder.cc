@@ -317,7 +317,7 @@ cbrdf_status cbrdf_model_get_info(const cbrdf_model* model, cbrdf_model_info* in
     const bool rows = ci.residual_mode == CBRDF_RESIDUAL_ROW_BOUNDED ||
                       ci.residual_mode == CBRDF_RESIDUAL_INTERPOLATED;
     const bool bounded = rows || ci.residual_mode == CBRDF_RESIDUAL_BOUNDED;
-    out.residual_max_error = bounded ? ci.residual_max_error : 0;
+    out.residual_max_error = model->model.residual.bound();  // 0 in mode 1 and without RESD
     out.residual_min_error = rows ? ci.residual_min_error : bounded ? ci.residual_max_error : 0;
     out.residual_knee = bounded ? ci.residual_knee : 0;
     for (const cbrdf::ChunkInfo& c : ci.layout.chunks) {

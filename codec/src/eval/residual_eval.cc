@@ -42,6 +42,15 @@ void apply_residual_to_table(const Model& model, BrdfTable* table) {
 ResidualEval::ResidualEval(const Model& model)
     : residual_(&model.residual), mask_(&model.not_measured) {}
 
+std::size_t ResidualEval::footprint_bytes() const {
+  const Residual& r = *residual_;
+  std::size_t n = sizeof(*this) + r.codes.capacity() * sizeof(r.codes[0]) +
+                  r.values.capacity() * sizeof(r.values[0]) + r.row_shift.capacity() +
+                  r.escapes.capacity() * sizeof(ResidualEscape);
+  if (r.exact) n += sizeof(BrdfTable) + r.exact->stored_values().capacity() * sizeof(double);
+  return n;
+}
+
 double ResidualEval::at_bin(int channel, std::size_t index, double physical) const {
   if (mask_->test(channel, index)) return physical;
   const double scale = kMerlScale[std::size_t(channel)];

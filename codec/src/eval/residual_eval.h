@@ -42,7 +42,9 @@ class ResidualEval {
   void apply(const Vec3& wi, const Vec3& wo, double rgb[3]) const;
   void apply(const float wi[3], const float wo[3], float rgb[3]) const;
 
-  std::size_t footprint_bytes() const { return sizeof(*this); }
+  // This object and the residual it evaluates (held by the model): codes, rebuilt values, row
+  // shifts, escapes and the exact table, all of which evaluation reads.
+  std::size_t footprint_bytes() const;
 
  private:
   const Residual* residual_;

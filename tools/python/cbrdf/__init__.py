@@ -158,6 +158,12 @@ def _physical_array(pair) -> MerlArray:
     return MerlArray(physical, stored)
 
 
+def _stored_array(stored: _np.ndarray) -> _np.ndarray:
+    """A stored-units result: read-only, as documented (the file's values, not a working copy)."""
+    stored.flags.writeable = False
+    return stored
+
+
 def _check_units(units: str) -> None:
     if units not in ("physical", "stored"):
         raise Error(f"units must be 'physical' or 'stored', not {units!r}",
@@ -200,7 +206,7 @@ def read_merl(source: _Any, *, units: str = "physical") -> _np.ndarray:
     _check_units(units)
     physical, stored = _read_table(source).arrays()
     if units == "stored":
-        return stored
+        return _stored_array(stored)
     return _physical_array((physical, stored))
 
 
@@ -282,7 +288,7 @@ def sample(name: str, *, units: str = "physical") -> _np.ndarray:
     """
     _check_units(units)
     physical, stored = _cbrdf._Table.sample(name).arrays()
-    return stored if units == "stored" else _physical_array((physical, stored))
+    return _stored_array(stored) if units == "stored" else _physical_array((physical, stored))
 
 
 def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, slices: int | str = 6,
@@ -317,12 +323,15 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
         target_bytes: search slices, components and bits for the best tone-mapped
             sphere PSNR within this many bytes (``--target-bytes``).
         target_psnr: search for the fewest bytes reaching this tone-mapped PSNR
-            in dB (``--target-psnr``).  Give at most one target.  Either target
+            in dB (``--target-psnr``).  Give at most one target, and neither with
+            ``max_error`` or ``lossless`` (refused: the target chooses the residual
+            layer itself).  Either target
             searches the whole ladder: the model alone, then the model plus the
             residual layer (container 1.2) when the model cannot reach it.
         max_error: add the residual layer: every measured bin decodes within this
             bound, ``|log1p(decoded / k) - log1p(source / k)| <= max_error`` on
-            stored values with k = 1e-4 (a relative bound, 1e-6 to 16;
+            stored values with k = 1e-4 (scaled down with a table whose values are
+            all below 1; a relative bound, 1e-6 to 16;
             ``--max-error``).
         lossless: add the residual layer that makes the decoded table equal to the
             source bit for bit (``--lossless``; excludes ``max_error``).
@@ -342,7 +351,9 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
         Error: an option out of range (``exit_code`` 2, the message naming the
             option and its valid values) or a table the encoder refuses (``exit_code`` 1).
 
-    The GIL is released while fitting.
+    The GIL is released while fitting, and Ctrl-C raises KeyboardInterrupt within
+    about 20 ms (the interrupted fit finishes on its own thread, its result dropped;
+    a normal interpreter exit waits for it).
     """
     t = _to_table(table, mask)
     return _cbrdf._encode(t, bits, components, slices, family, loss, level, placement,
@@ -415,8 +426,9 @@ class Slice:
 class Model(_cbrdf._Model):
     """A decoded .cbrdf model, ready to evaluate (``cbrdf::ModelEvaluator``).
 
-    Make one with :func:`decode`.  A Model holds a few hundred kilobytes; free it
-    early with :meth:`close` or a ``with`` block.  Every method is thread-safe;
+    Make one with :func:`decode`.  A Model holds a few hundred kilobytes, and with a
+    residual layer (container 1.2) that layer's 17 to 53 MB (``footprint_bytes``
+    counts it); free it early with :meth:`close` or a ``with`` block.  Every method is thread-safe;
     the batch methods release the GIL.
 
     Directions are unit vectors in the local frame (z = the normal), as arrays of
@@ -444,7 +456,7 @@ class Model(_cbrdf._Model):
         _check_units(units)
         physical, stored = self._table_arrays()
         if units == "stored":
-            return stored
+            return _stored_array(stored)
         return _physical_array((physical, stored))
 
     def eval(self, wi: _Any, wo: _Any, threads: int = 0) -> _np.ndarray:  # noqa: D401

@@ -66,6 +66,14 @@ class _SliceInfo(TypedDict):
     theta_d_bins: list[int]
     channels: list[_ChannelInfo]
 
+class _ResidualInfo(TypedDict):
+    mode: int  # 0 bounded, 1 exact table, 2 a step per row, 3 interpolated levels
+    max_error: float  # the bound every measured bin meets (0 in mode 1)
+    min_error: float  # the finest row's bound (modes 2 and 3)
+    knee: float
+    escapes: int
+    stored_bytes: int
+
 class ContainerInfo(TypedDict, total=False):
     file: str | None
     format: Literal["cbrdf"]
@@ -77,6 +85,7 @@ class ContainerInfo(TypedDict, total=False):
     not_measured_bins: int
     evaluator_bytes: int
     slices: list[_SliceInfo]
+    residual: _ResidualInfo  # only in files with the residual layer (1.2)
     metadata: dict[str, str]
 
 class _MerlChannelStats(TypedDict):
