@@ -164,17 +164,47 @@ double ModelEvaluator::bin_value(int channel, int theta_h, int theta_d, int phi_
   return residual_->at_bin(channel, merl_index(theta_h, theta_d, phi_d), v);
 }
 
-void ModelEvaluator::eval(const Vec3& wi_in, const Vec3& wo_in, double rgb[3]) const {
+namespace {
+
+// Whether a direction is used as given (unit_direction leaves it unchanged). NaN and infinities
+// fail the comparison.
+template <class T>
+bool deviation_ok(T x, T y, T z) {
+  return std::fabs(x * x + y * y + z * z - T(1)) <= kDirectionAsGiven<T>;
+}
+
+// eval of a pair with a direction to rescale or to refuse, out of eval's usual path.
+[[gnu::noinline]] void eval_rescaled(const eval::InterpTables& interp,
+                                     const eval::ResidualEval* residual, const Vec3& wi_in,
+                                     const Vec3& wo_in, double rgb[3]) {
   Vec3 wi = wi_in, wo = wo_in;
   if (!unit_direction(wi) || !unit_direction(wo)) {
     rgb[0] = rgb[1] = rgb[2] = std::numeric_limits<double>::quiet_NaN();
     return;
   }
-  interp_->eval(wi, wo, rgb);
-  if (residual_) residual_->apply(wi, wo, rgb);
+  interp.eval(wi, wo, rgb);
+  if (residual) residual->apply(wi, wo, rgb);
+}
+
+}  // namespace
+
+void ModelEvaluator::eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const {
+  // One predictable branch for the usual unit input; rescaling and refusing out of line.
+  if (deviation_ok(wi.x, wi.y, wi.z) & deviation_ok(wo.x, wo.y, wo.z)) [[likely]] {
+    interp_->eval(wi, wo, rgb);
+    if (residual_) residual_->apply(wi, wo, rgb);
+    return;
+  }
+  eval_rescaled(*interp_, residual_.get(), wi, wo, rgb);
 }
 
 void ModelEvaluator::eval_f32(const float wi_in[3], const float wo_in[3], float rgb[3]) const {
+  if (deviation_ok(wi_in[0], wi_in[1], wi_in[2]) & deviation_ok(wo_in[0], wo_in[1], wo_in[2]))
+      [[likely]] {
+    interp_->eval(wi_in, wo_in, rgb);
+    if (residual_) residual_->apply(wi_in, wo_in, rgb);
+    return;
+  }
   float wi[3] = {wi_in[0], wi_in[1], wi_in[2]}, wo[3] = {wo_in[0], wo_in[1], wo_in[2]};
   if (!unit_direction(wi[0], wi[1], wi[2]) || !unit_direction(wo[0], wo[1], wo[2])) {
     rgb[0] = rgb[1] = rgb[2] = std::numeric_limits<float>::quiet_NaN();
@@ -225,21 +255,47 @@ void apply_residual_batch(const eval::ResidualEval& stage, std::size_t n,
   });
 }
 
-// Whether every direction of a batch is used as given (unit_direction leaves it unchanged): the
-// usual case, checked in one branch-free pass before the kernel reads them.
+// The check's loop over n directions in separate coordinate arrays, compiled for AVX-512, AVX2
+// and the baseline where GCC can choose at load time (as the batch kernels are); plain C++
+// elsewhere. Comparisons only: any instruction set gives the same answer.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#define CBRDF_CHECK_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define CBRDF_CHECK_CLONES
+#endif
+
+template <class T>
+unsigned count_not_as_given(const T* x, const T* y, const T* z, std::size_t n, std::size_t s) {
+  unsigned bad = 0;
+  for (std::size_t k = 0; k < n; ++k) bad |= !deviation_ok(x[k * s], y[k * s], z[k * s]);
+  return bad;
+}
+
+CBRDF_CHECK_CLONES unsigned soa_not_as_given(const double* x, const double* y, const double* z,
+                                             std::size_t n) {
+  unsigned bad = 0;
+  for (std::size_t k = 0; k < n; ++k) bad |= !deviation_ok(x[k], y[k], z[k]);
+  return bad;
+}
+
+CBRDF_CHECK_CLONES unsigned soa_not_as_given(const float* x, const float* y, const float* z,
+                                             std::size_t n) {
+  unsigned bad = 0;
+  for (std::size_t k = 0; k < n; ++k) bad |= !deviation_ok(x[k], y[k], z[k]);
+  return bad;
+}
+
+// Whether every direction of a batch is used as given: the usual case, checked chunk by chunk
+// just before the kernel reads the same pairs (a separate pass over the whole batch cost 8%).
 template <class T>
 bool batch_as_given(std::size_t n, const eval::BatchArgs<T>& a) {
-  constexpr T kAsGiven = kDirectionAsGiven<T>;
-  const std::size_t s = a.in_stride;
-  bool ok = true;
+  unsigned bad = 0;
   for (int d = 0; d < 6; d += 3) {
-    const T *x = a.in[d], *y = a.in[d + 1], *z = a.in[d + 2];
-    for (std::size_t k = 0; k < n; ++k) {
-      const T dev = x[k * s] * x[k * s] + y[k * s] * y[k * s] + z[k * s] * z[k * s] - T(1);
-      ok &= (dev >= -kAsGiven) & (dev <= kAsGiven);  // false for NaN
-    }
+    bad |= a.in_stride == 1 ? soa_not_as_given(a.in[d], a.in[d + 1], a.in[d + 2], n)
+                            : count_not_as_given(a.in[d], a.in[d + 1], a.in[d + 2], n, a.in_stride);
   }
-  return ok;
+  return bad == 0;
 }
 
 // The kernel and the residual stage over a batch whose directions are used as given.
@@ -281,14 +337,21 @@ void eval_batch_checked(const eval::InterpTables& interp, const eval::ResidualEv
   }
 }
 
+// A batch through the pool in chunks of the kernel's size (2048 pairs), each checked and then
+// evaluated on its thread (results per pair do not depend on the chunks).
 template <class T>
 void eval_batch_any(const eval::InterpTables& interp, const eval::ResidualEval* residual,
                     std::size_t n, const eval::BatchArgs<T>& a, int threads) {
-  if (batch_as_given(n, a)) {
-    eval_batch_valid(interp, residual, n, a, threads);
-  } else {
-    eval_batch_checked(interp, residual, n, a, threads);
-  }
+  internal::parallel_chunks(n, 2048, threads, [&](std::size_t b, std::size_t e) {
+    eval::BatchArgs<T> c = a;
+    for (int d = 0; d < 6; ++d) c.in[d] += b * a.in_stride;
+    for (int ch = 0; ch < 3; ++ch) c.out[ch] += b * a.out_stride;
+    if (batch_as_given(e - b, c)) {
+      eval_batch_valid(interp, residual, e - b, c, 1);
+    } else {
+      eval_batch_checked(interp, residual, e - b, c, 1);
+    }
+  });
 }
 
 // The batch kernel's arguments for interleaved (x, y, z) triples.
