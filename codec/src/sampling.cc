@@ -628,11 +628,18 @@ void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t
     }
     lanes_pdfs(l, dphi, lanes);
     for (int k = 0; k < m; ++k) {
-      for (int i = 0; i < 3; ++i) c->wi[i][base + std::size_t(k)] = l.wi[i][k];
-      c->wo[0][base + std::size_t(k)] = l.ox[k];
-      c->wo[1][base + std::size_t(k)] = l.oy[k];
-      c->wo[2][base + std::size_t(k)] = l.oz[k];
-      c->pdf[base + std::size_t(k)] = l.pdf[k];
+      // A rejected draw (pdf 0, weight 0 whatever f is) goes to the evaluator as the pair (normal,
+      // normal), so that its batch holds only valid directions (an invalid one costs it a
+      // checking pass); its wi is output as (0, 0, 0) (lanes_pdfs' l.wi) all the same.
+      const bool valid = l.pdf[k] > 0;
+      const std::size_t j = base + std::size_t(k);
+      c->wi[0][j] = l.wi[0][k];
+      c->wi[1][j] = l.wi[1][k];
+      c->wi[2][j] = valid ? l.wi[2][k] : 1.0;
+      c->wo[0][j] = valid ? l.ox[k] : 0.0;
+      c->wo[1][j] = valid ? l.oy[k] : 0.0;
+      c->wo[2][j] = valid ? l.oz[k] : 1.0;
+      c->pdf[j] = l.pdf[k];
     }
   }
   if (evaluator_ != nullptr && n < kEvalBatchMin) {
@@ -647,19 +654,8 @@ void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t
       for (int i = 0; i < 3; ++i) c->f[i][k] = rgb[i];
     }
   } else if (evaluator_ != nullptr) {
-    // A rejected draw (pdf 0, weight 0 whatever f is) is evaluated at the normal, so that the
-    // batch holds only valid directions (an invalid one costs the evaluator a checking pass), and
-    // gets its wi = (0, 0, 0) back afterwards.
-    for (std::size_t k = 0; k < n; ++k) {
-      if (c->pdf[k] > 0) continue;
-      c->wi[2][k] = c->wo[2][k] = 1.0;
-      c->wo[0][k] = c->wo[1][k] = 0.0;
-    }
     evaluator_->eval_batch(n, c->wi[0], c->wi[1], c->wi[2], c->wo[0], c->wo[1], c->wo[2], c->f[0],
                            c->f[1], c->f[2], 1);
-    for (std::size_t k = 0; k < n; ++k) {
-      if (!(c->pdf[k] > 0)) c->wi[2][k] = 0.0;
-    }
   } else {
     for (std::size_t k = 0; k < n; ++k) {
       double rgb[3] = {0, 0, 0};
@@ -673,7 +669,9 @@ void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t
   chunk_weights(*c, n);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = begin + k;
-    for (int ch = 0; ch < 3; ++ch) io.wi[ch][i * io.wi_stride] = c->wi[ch][k];
+    io.wi[0][i * io.wi_stride] = c->wi[0][k];
+    io.wi[1][i * io.wi_stride] = c->wi[1][k];
+    io.wi[2][i * io.wi_stride] = c->pdf[k] > 0 ? c->wi[2][k] : 0.0;  // (1 for the evaluator)
     io.pdf[i] = c->pdf[k];
     for (int ch = 0; ch < 3; ++ch) io.weight[ch][i * io.weight_stride] = c->weight[ch][k];
   }
