@@ -15,6 +15,8 @@
 #include <string.h>
 #include <unistd.h>
 
+/* The experimental section is tested too. */
+#define CBRDF_EXPERIMENTAL_API 1
 #include "cbrdf/cbrdf_c.h"
 #include "cbrdf/version.h"
 
@@ -183,16 +185,19 @@ static void test_last_error_lifecycle(void) {
   CHECK(strcmp(cbrdf_last_error_message(), "") == 0);
   /* And set again by the next failure, cleared by the next success of another function. */
   CHECK_STATUS(cbrdf_model_get_slice(m, 99, NULL, NULL), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK(cbrdf_model_metadata_count(m) == 4);
-  CHECK(cbrdf_last_error_code() == CBRDF_OK && cbrdf_last_error_message()[0] == '\0');
-  CHECK(cbrdf_model_metadata_count(NULL) == 0);
-  CHECK(cbrdf_last_error_code() == CBRDF_ERROR_INVALID_ARGUMENT);
-  cbrdf_encode_settings_init(NULL);
-  CHECK(cbrdf_last_error_code() == CBRDF_ERROR_INVALID_ARGUMENT);
+  {
+    /* A count and its failure are told apart by the status, not by a count of 0. */
+    size_t count = 99;
+    CHECK_STATUS(cbrdf_model_metadata_count(m, &count), CBRDF_OK);
+    CHECK(count == 4);
+    CHECK_STATUS(cbrdf_model_metadata_count(NULL, &count), CBRDF_ERROR_INVALID_ARGUMENT);
+    CHECK_STATUS(cbrdf_model_metadata_count(m, NULL), CBRDF_ERROR_INVALID_ARGUMENT);
+  }
+  /* cbrdf_encode_settings_init can fail, and says so by its status. */
+  CHECK_STATUS(cbrdf_encode_settings_init(NULL), CBRDF_ERROR_INVALID_ARGUMENT);
   {
     cbrdf_encode_settings s;
-    cbrdf_encode_settings_init(&s);
-    CHECK(cbrdf_last_error_code() == CBRDF_OK && cbrdf_last_error_message()[0] == '\0');
+    CHECK_STATUS(cbrdf_encode_settings_init(&s), CBRDF_OK);
   }
   cbrdf_model_free(m);
 }
@@ -217,6 +222,10 @@ static void test_open_errors(void) {
   CHECK_MESSAGE_HAS("no-such-file.cbrdf");
   CHECK(cbrdf_model_open_file(CBRDF_TEST_DATA_DIR) == NULL); /* a directory */
   CHECK_STATUS(cbrdf_last_error_code(), CBRDF_ERROR_IO);
+  /* An empty path says so (it used to read ": no such file"). */
+  CHECK(cbrdf_model_open_file("") == NULL);
+  CHECK_STATUS(cbrdf_last_error_code(), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("path is empty");
 
   /* One flipped bit inside the marginals chunk's stored bytes (at offset 406 + 16 + 100): the
    * chunk's XXH64 no longer matches. */
@@ -418,7 +427,8 @@ static void test_slices_and_components(const cbrdf_model* m, const struct expect
 
 /* Value of a metadata key, or NULL. */
 static const char* metadata_value(const cbrdf_model* m, const char* key) {
-  size_t i, n = cbrdf_model_metadata_count(m);
+  size_t i, n = 0;
+  if (cbrdf_model_metadata_count(m, &n) != CBRDF_OK) return NULL;
   for (i = 0; i < n; ++i) {
     const char *k = NULL, *v = NULL;
     if (cbrdf_model_metadata_at(m, i, &k, &v) != CBRDF_OK) return NULL;
@@ -430,8 +440,9 @@ static const char* metadata_value(const cbrdf_model* m, const char* key) {
 static void test_metadata(const cbrdf_model* m, const struct expected_model* e) {
   const char *key = NULL, *value = NULL;
   const char* v;
-  CHECK(cbrdf_model_metadata_count(m) == 4);
-  CHECK(cbrdf_last_error_code() == CBRDF_OK);
+  size_t count = 0;
+  CHECK_STATUS(cbrdf_model_metadata_count(m, &count), CBRDF_OK);
+  CHECK(count == 4);
   v = metadata_value(m, "bits");
   CHECK(v != NULL && strcmp(v, e->bits_text) == 0);
   v = metadata_value(m, "zstd_level");
@@ -469,7 +480,7 @@ static void test_eval_batch_soa(const cbrdf_model* m, const double* wi, const do
   }
   memset(out, 0xEE, sizeof out);
   CHECK_STATUS(cbrdf_model_eval_batch_soa(m, N_DIRS, x[0], x[1], x[2], x[3], x[4], x[5], out[0],
-                                          out[1], out[2]),
+                                          out[1], out[2], 0),
                CBRDF_OK);
   for (k = 0; k < N_DIRS; ++k) {
     for (c = 0; c < 3; ++c) same &= memcmp(&out[c][k], &rgb[3 * k + c], sizeof(double)) == 0;
@@ -479,13 +490,13 @@ static void test_eval_batch_soa(const cbrdf_model* m, const double* wi, const do
   memcpy(keep, out, sizeof out);
   x[1][5] = 2.0;
   CHECK_STATUS(cbrdf_model_eval_batch_soa(m, N_DIRS, x[0], x[1], x[2], x[3], x[4], x[5], out[0],
-                                          out[1], out[2]),
+                                          out[1], out[2], 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_MESSAGE_HAS("wi[5]");
   x[1][5] = wi[3 * 5 + 1];
   x[5][11] = NAN;
   CHECK_STATUS(cbrdf_model_eval_batch_soa(m, N_DIRS, x[0], x[1], x[2], x[3], x[4], x[5], out[0],
-                                          out[1], out[2]),
+                                          out[1], out[2], 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_MESSAGE_HAS("wo[11]");
   x[5][11] = wo[3 * 11 + 2];
@@ -496,18 +507,18 @@ static void test_eval_batch_soa(const cbrdf_model* m, const double* wi, const do
     for (c = 0; c < 6; ++c) in[c] = k == c ? NULL : x[c];
     for (c = 0; c < 3; ++c) o[c] = k == 6 + c ? NULL : out[c];
     CHECK_STATUS(cbrdf_model_eval_batch_soa(m, 1, in[0], in[1], in[2], in[3], in[4], in[5], o[0],
-                                            o[1], o[2]),
+                                            o[1], o[2], 0),
                  CBRDF_ERROR_INVALID_ARGUMENT);
     CHECK_MESSAGE_HAS("NULL");
   }
   CHECK_STATUS(
-      cbrdf_model_eval_batch_soa(m, 0, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL),
+      cbrdf_model_eval_batch_soa(m, 0, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 0),
       CBRDF_OK);
   CHECK_STATUS(cbrdf_model_eval_batch_soa(NULL, 1, x[0], x[1], x[2], x[3], x[4], x[5], out[0],
-                                          out[1], out[2]),
+                                          out[1], out[2], 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_STATUS(cbrdf_model_eval_batch_soa(m, SIZE_MAX, x[0], x[1], x[2], x[3], x[4], x[5], out[0],
-                                          out[1], out[2]),
+                                          out[1], out[2], 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_MESSAGE_HAS("too large");
   CHECK(memcmp(keep, out, sizeof out) == 0);
@@ -540,7 +551,7 @@ static void test_eval(const cbrdf_model* m) {
 
   /* The batch is the same computation, bit for bit. */
   memset(batch, 0xEE, sizeof batch);
-  CHECK_STATUS(cbrdf_model_eval_batch(m, N_DIRS, wi, wo, batch), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_eval_batch(m, N_DIRS, wi, wo, batch, 0), CBRDF_OK);
   CHECK(memcmp(batch, rgb, sizeof rgb) == 0);
   test_eval_batch_soa(m, wi, wo, rgb);
 
@@ -591,20 +602,20 @@ static void test_eval(const cbrdf_model* m) {
   memcpy(back, batch, sizeof back);
   saved = wi[3 * 7 + 2];
   wi[3 * 7 + 2] = NAN;
-  CHECK_STATUS(cbrdf_model_eval_batch(m, N_DIRS, wi, wo, batch), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_batch(m, N_DIRS, wi, wo, batch, 0), CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_MESSAGE_HAS("wi[7]");
   CHECK(memcmp(batch, back, sizeof back) == 0);
   wi[3 * 7 + 2] = saved;
   wo[3 * 9] = 3;
-  CHECK_STATUS(cbrdf_model_eval_batch(m, N_DIRS, wi, wo, batch), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_batch(m, N_DIRS, wi, wo, batch, 0), CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_MESSAGE_HAS("wo[9]");
-  CHECK_STATUS(cbrdf_model_eval_batch(m, 0, NULL, NULL, NULL), CBRDF_OK);
-  CHECK_STATUS(cbrdf_model_eval_batch(NULL, 1, wi, wo, batch), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_eval_batch(NULL, 0, wi, wo, batch), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_eval_batch(m, 1, NULL, wo, batch), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_eval_batch(m, 1, wi, NULL, batch), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_eval_batch(m, 1, wi, wo, NULL), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_eval_batch(m, SIZE_MAX, wi, wo, batch), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_batch(m, 0, NULL, NULL, NULL, 0), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_eval_batch(NULL, 1, wi, wo, batch, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_batch(NULL, 0, wi, wo, batch, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_batch(m, 1, NULL, wo, batch, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_batch(m, 1, wi, NULL, batch, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_batch(m, 1, wi, wo, NULL, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_batch(m, SIZE_MAX, wi, wo, batch, 0), CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_MESSAGE_HAS("too large");
 }
 
@@ -626,7 +637,7 @@ static void test_sampling(const cbrdf_model* m) {
     u[2 * k] = uniform01();
     u[2 * k + 1] = uniform01();
   }
-  CHECK_STATUS(cbrdf_model_sample_batch(m, N_SAMPLES, wo, u, wi, pdf, weight), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_sample_batch(m, N_SAMPLES, wo, u, wi, pdf, weight, 0), CBRDF_OK);
   for (k = 0; k < N_SAMPLES; ++k) {
     const double* i = wi + 3 * k;
     const double* w = weight + 3 * k;
@@ -641,7 +652,7 @@ static void test_sampling(const cbrdf_model* m) {
     CHECK(fabs(i[0] * i[0] + i[1] * i[1] + i[2] * i[2] - 1.0) < 1e-9);
     CHECK(i[2] > 0.0);
     /* The density reported is the one pdf() gives, and the weight f cos / pdf. */
-    CHECK_STATUS(cbrdf_model_pdf(m, wo + 3 * k, i, &p), CBRDF_OK);
+    CHECK_STATUS(cbrdf_model_sample_pdf(m, i, wo + 3 * k, &p), CBRDF_OK);
     CHECK(p == pdf[k]);
     CHECK_STATUS(cbrdf_model_eval(m, i, wo + 3 * k, f), CBRDF_OK);
     for (c = 0; c < 3; ++c) {
@@ -654,45 +665,46 @@ static void test_sampling(const cbrdf_model* m) {
   /* pdf: zero at or below the horizon, positive above it (the cosine-weighted share). */
   direction(30, 0, up);
   direction(100, 0, down);
-  CHECK_STATUS(cbrdf_model_pdf(m, up, down, &p), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, down, up, &p), CBRDF_OK);
   CHECK(p == 0.0);
-  CHECK_STATUS(cbrdf_model_pdf(m, down, up, &p), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, up, down, &p), CBRDF_OK);
   CHECK(p == 0.0);
-  CHECK_STATUS(cbrdf_model_pdf(m, up, up, &p), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, up, up, &p), CBRDF_OK);
   CHECK(p > 0.0 && isfinite(p));
 
   /* Errors, checked before anything is written. */
   pdf[0] = 42.0;
   u[2 * 5 + 1] = NAN;
-  CHECK_STATUS(cbrdf_model_sample_batch(m, N_SAMPLES, wo, u, wi, pdf, weight),
+  CHECK_STATUS(cbrdf_model_sample_batch(m, N_SAMPLES, wo, u, wi, pdf, weight, 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_MESSAGE_HAS("u pair 5 (u[10], u[11])");
   CHECK(pdf[0] == 42.0);
   u[2 * 5 + 1] = 0.5;
   wo[3 * 6 + 1] = 5.0;
-  CHECK_STATUS(cbrdf_model_sample_batch(m, N_SAMPLES, wo, u, wi, pdf, weight),
+  CHECK_STATUS(cbrdf_model_sample_batch(m, N_SAMPLES, wo, u, wi, pdf, weight, 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_MESSAGE_HAS("wo[6]");
-  CHECK_STATUS(cbrdf_model_sample_batch(m, 0, NULL, NULL, NULL, NULL, NULL), CBRDF_OK);
-  CHECK_STATUS(cbrdf_model_sample_batch(NULL, 1, wo, u, wi, pdf, weight),
+  CHECK_STATUS(cbrdf_model_sample_batch(m, 0, NULL, NULL, NULL, NULL, NULL, 0), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_sample_batch(NULL, 1, wo, u, wi, pdf, weight, 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_sample_batch(m, 1, NULL, u, wi, pdf, weight),
+  CHECK_STATUS(cbrdf_model_sample_batch(m, 1, NULL, u, wi, pdf, weight, 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_sample_batch(m, 1, wo, NULL, wi, pdf, weight),
+  CHECK_STATUS(cbrdf_model_sample_batch(m, 1, wo, NULL, wi, pdf, weight, 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_sample_batch(m, 1, wo, u, NULL, pdf, weight),
+  CHECK_STATUS(cbrdf_model_sample_batch(m, 1, wo, u, NULL, pdf, weight, 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_sample_batch(m, 1, wo, u, wi, NULL, weight),
+  CHECK_STATUS(cbrdf_model_sample_batch(m, 1, wo, u, wi, NULL, weight, 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_sample_batch(m, 1, wo, u, wi, pdf, NULL), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_sample_batch(m, SIZE_MAX, wo, u, wi, pdf, weight),
+  CHECK_STATUS(cbrdf_model_sample_batch(m, 1, wo, u, wi, pdf, NULL, 0),
                CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_pdf(NULL, up, up, &p), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_pdf(m, NULL, up, &p), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_pdf(m, up, NULL, &p), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_pdf(m, up, up, NULL), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_pdf(m, bad, up, &p), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_STATUS(cbrdf_model_pdf(m, up, bad, &p), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_sample_batch(m, SIZE_MAX, wo, u, wi, pdf, weight, 0),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_sample_pdf(NULL, up, up, &p), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, up, NULL, &p), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, NULL, up, &p), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, up, up, NULL), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, up, bad, &p), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, bad, up, &p), CBRDF_ERROR_INVALID_ARGUMENT);
 }
 
 /* Several threads sample and evaluate one freshly opened handle at once (the sampler is built by
@@ -711,9 +723,10 @@ struct thread_job {
 static void* thread_main(void* arg) {
   struct thread_job* job = (struct thread_job*)arg;
   job->sample_status = cbrdf_model_sample_batch(job->model, N_THREAD_SAMPLES, job->wo, job->u,
-                                                job->wi, job->pdf, job->weight);
+                                                job->wi, job->pdf, job->weight, 0);
+  /* On the calling thread alone, as a renderer's own worker thread calls it. */
   job->eval_status =
-      cbrdf_model_eval_batch(job->model, N_THREAD_SAMPLES, job->wo, job->wo, job->rgb);
+      cbrdf_model_eval_batch(job->model, N_THREAD_SAMPLES, job->wo, job->wo, job->rgb, 1);
   return NULL;
 }
 
@@ -1077,6 +1090,262 @@ static void test_encode(const double* table) {
   free(decoded_file);
 }
 
+/* ---- What a renderer calls ---------------------------------------------------------------------
+ */
+
+/* Directions scaled off unit length within the 1e-3 tolerance are rescaled before use: the value
+ * is the unit vector's (before, |w| = 1.0004 at the mirror direction changed f by 0.65%). */
+static void test_renormalized(const cbrdf_model* m) {
+  double wi[3], wo[3], wi_long[3], wo_long[3], a[3], b[3], batch[6], pa = 0, pb = 0;
+  double two_wi[6], two_wo[6];
+  int c;
+  direction(30, 0, wi);
+  direction(30, 180, wo); /* the mirror direction: the specular peak */
+  for (c = 0; c < 3; ++c) {
+    wi_long[c] = wi[c] * 1.0004;
+    wo_long[c] = wo[c] * 0.9997;
+  }
+  CHECK_STATUS(cbrdf_model_eval(m, wi, wo, a), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_eval(m, wi_long, wo_long, b), CBRDF_OK);
+  for (c = 0; c < 3; ++c) CHECK(a[c] > 0 && close_rel(a[c], b[c], 1e-12));
+  /* The batch rescales as eval does, one pair unit and one not. */
+  memcpy(two_wi, wi, sizeof wi);
+  memcpy(two_wi + 3, wi_long, sizeof wi);
+  memcpy(two_wo, wo, sizeof wo);
+  memcpy(two_wo + 3, wo_long, sizeof wo);
+  CHECK_STATUS(cbrdf_model_eval_batch(m, 2, two_wi, two_wo, batch, 1), CBRDF_OK);
+  CHECK(memcmp(batch, a, sizeof a) == 0 && memcmp(batch + 3, b, sizeof b) == 0);
+  /* So does the sampler's density. */
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, wi, wo, &pa), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, wi_long, wo_long, &pb), CBRDF_OK);
+  CHECK(pa > 0 && close_rel(pa, pb, 1e-12));
+}
+
+/* One draw: cbrdf_model_sample equals the batch's draw bit for bit, for valid, rejected and
+ * below-horizon draws, with any thread count; weight = f cos / pdf. */
+#define N_SINGLE 300
+static void test_single_sample(const cbrdf_model* m) {
+  static double wo[N_SINGLE * 3], u[N_SINGLE * 2], wi[N_SINGLE * 3], pdf[N_SINGLE],
+      weight[N_SINGLE * 3], wi1[N_SINGLE * 3], pdf1[N_SINGLE], weight1[N_SINGLE * 3];
+  double one_wi[3], one_pdf, one_w[3], f[3], p;
+  double up[3], bad[3] = {0.5, 0.5, 0.5};
+  int k, c, same = 1, rejected = 0, valid = 0;
+  for (k = 0; k < N_SINGLE; ++k) {
+    const double theta_o = k % 10 == 9 ? 100.0 : 88.0 * uniform01();
+    direction(theta_o, 360.0 * uniform01(), wo + 3 * k);
+    u[2 * k] = k == 3 ? -0.5 : uniform01(); /* clamped into [0, 1) */
+    u[2 * k + 1] = k == 4 ? 7.0 : uniform01();
+  }
+  CHECK_STATUS(cbrdf_model_sample_batch(m, N_SINGLE, wo, u, wi, pdf, weight, 0), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_sample_batch(m, N_SINGLE, wo, u, wi1, pdf1, weight1, 1), CBRDF_OK);
+  CHECK(memcmp(wi, wi1, sizeof wi) == 0 && memcmp(pdf, pdf1, sizeof pdf) == 0 &&
+        memcmp(weight, weight1, sizeof weight) == 0);
+  for (k = 0; k < N_SINGLE; ++k) {
+    CHECK_STATUS(cbrdf_model_sample(m, wo + 3 * k, u[2 * k], u[2 * k + 1], one_wi, &one_pdf, one_w),
+                 CBRDF_OK);
+    same &= memcmp(one_wi, wi + 3 * k, sizeof one_wi) == 0;
+    same &= memcmp(&one_pdf, pdf + k, sizeof one_pdf) == 0;
+    same &= memcmp(one_w, weight + 3 * k, sizeof one_w) == 0;
+    if (one_pdf == 0) {
+      ++rejected;
+      CHECK(one_wi[0] == 0 && one_wi[1] == 0 && one_wi[2] == 0 && one_w[0] == 0);
+      continue;
+    }
+    ++valid;
+    CHECK_STATUS(cbrdf_model_eval(m, one_wi, wo + 3 * k, f), CBRDF_OK);
+    CHECK_STATUS(cbrdf_model_sample_pdf(m, one_wi, wo + 3 * k, &p), CBRDF_OK);
+    CHECK(p == one_pdf);
+    for (c = 0; c < 3; ++c) CHECK(one_w[c] == f[c] * one_wi[2] / one_pdf);
+  }
+  CHECK(same);
+  CHECK(valid > N_SINGLE / 2 && rejected >= N_SINGLE / 10);
+  /* Small batches are each draw's own: a batch of 1 and of 5 from the middle of the arrays. */
+  CHECK_STATUS(cbrdf_model_sample_batch(m, 1, wo + 3 * 17, u + 2 * 17, wi1, pdf1, weight1, 1),
+               CBRDF_OK);
+  CHECK(memcmp(wi1, wi + 3 * 17, 3 * sizeof(double)) == 0 && pdf1[0] == pdf[17]);
+  CHECK_STATUS(cbrdf_model_sample_batch(m, 5, wo + 3 * 40, u + 2 * 40, wi1, pdf1, weight1, 1),
+               CBRDF_OK);
+  CHECK(memcmp(wi1, wi + 3 * 40, 15 * sizeof(double)) == 0 &&
+        memcmp(weight1, weight + 3 * 40, 15 * sizeof(double)) == 0);
+  /* Errors leave the outputs alone. */
+  direction(20, 0, up);
+  one_pdf = 42.0;
+  one_wi[0] = 42.0;
+  CHECK_STATUS(cbrdf_model_sample(m, bad, 0.5, 0.5, one_wi, &one_pdf, one_w),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("wo");
+  CHECK_STATUS(cbrdf_model_sample(m, up, NAN, 0.5, one_wi, &one_pdf, one_w),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("u1, u2");
+  CHECK_STATUS(cbrdf_model_sample(m, up, 0.5, INFINITY, one_wi, &one_pdf, one_w),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK(one_pdf == 42.0 && one_wi[0] == 42.0);
+  CHECK_STATUS(cbrdf_model_sample(NULL, up, 0.5, 0.5, one_wi, &one_pdf, one_w),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_sample(m, NULL, 0.5, 0.5, one_wi, &one_pdf, one_w),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_sample(m, up, 0.5, 0.5, NULL, &one_pdf, one_w),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_sample(m, up, 0.5, 0.5, one_wi, NULL, one_w),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_sample(m, up, 0.5, 0.5, one_wi, &one_pdf, NULL),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+}
+
+/* The argument order: cbrdf_model_sample_pdf(wi, wo) is the deprecated cbrdf_model_pdf(wo, wi),
+ * and cbrdf_model_eval_pdf(wi, wo) is eval and sample_pdf at once. */
+static void test_eval_pdf(const cbrdf_model* m) {
+  double wi[3], wo[3], rgb[3], f[3], p = -1, q = -1, r = -1, bad[3] = {0, 0, 1.01};
+  direction(50, 30, wi);
+  direction(20, 250, wo);
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, wi, wo, &p), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_sample_pdf(m, wo, wi, &r), CBRDF_OK);
+  CHECK(p > 0 && r > 0 && p != r); /* not symmetric: the order matters */
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+#endif
+  CHECK_STATUS(cbrdf_model_pdf(m, wo, wi, &q), CBRDF_OK);
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+  CHECK(p == q);
+  CHECK_STATUS(cbrdf_model_eval_pdf(m, wi, wo, rgb, &q), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_eval(m, wi, wo, f), CBRDF_OK);
+  CHECK(q == p && memcmp(rgb, f, sizeof f) == 0);
+  q = 42;
+  rgb[0] = 42;
+  CHECK_STATUS(cbrdf_model_eval_pdf(m, bad, wo, rgb, &q), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("wi");
+  CHECK_STATUS(cbrdf_model_eval_pdf(m, wi, bad, rgb, &q), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("wo");
+  CHECK(q == 42 && rgb[0] == 42);
+  CHECK_STATUS(cbrdf_model_eval_pdf(NULL, wi, wo, rgb, &q), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_pdf(m, wi, wo, NULL, &q), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_pdf(m, wi, wo, rgb, NULL), CBRDF_ERROR_INVALID_ARGUMENT);
+}
+
+/* Single precision: the batch equals the call bit for bit, both are close to the double
+ * evaluation, and bad float directions are refused. */
+#define N_F32 200
+static void test_eval_f32(const cbrdf_model* m) {
+  static float wi[N_F32 * 3], wo[N_F32 * 3], rgb[N_F32 * 3], batch[N_F32 * 3];
+  double di[3], dout[3], ref[3], peak = 0;
+  float one[3], big[3] = {1e30f, 0, 1e30f}, nan3[3] = {NAN, 0, 1};
+  int k, c, same = 1, close = 1;
+  for (k = 0; k < N_F32; ++k) {
+    direction(85.0 * uniform01(), 360.0 * uniform01(), di);
+    direction(85.0 * uniform01(), 360.0 * uniform01(), dout);
+    for (c = 0; c < 3; ++c) {
+      wi[3 * k + c] = (float)di[c];
+      wo[3 * k + c] = (float)dout[c];
+    }
+    CHECK_STATUS(cbrdf_model_eval_f32(m, wi + 3 * k, wo + 3 * k, rgb + 3 * k), CBRDF_OK);
+  }
+  CHECK_STATUS(cbrdf_model_eval_batch_f32(m, N_F32, wi, wo, batch, 0), CBRDF_OK);
+  for (k = 0; k < 3 * N_F32; ++k) same &= memcmp(&batch[k], &rgb[k], sizeof(float)) == 0;
+  CHECK(same);
+  for (k = 0; k < 3 * N_F32; ++k) peak = fmax(peak, (double)rgb[k]);
+  for (k = 0; k < N_F32; ++k) {
+    for (c = 0; c < 3; ++c) {
+      di[c] = wi[3 * k + c];
+      dout[c] = wo[3 * k + c];
+    }
+    CHECK_STATUS(cbrdf_model_eval(m, di, dout, ref), CBRDF_OK);
+    for (c = 0; c < 3; ++c) {
+      close &= fabs((double)rgb[3 * k + c] - ref[c]) <= 1e-4 * ref[c] + 1e-6 * peak;
+    }
+  }
+  CHECK(peak > 0 && close);
+  one[0] = 42;
+  CHECK_STATUS(cbrdf_model_eval_f32(m, big, wo, one), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_f32(m, wi, nan3, one), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK(one[0] == 42);
+  memcpy(batch, rgb, sizeof rgb);
+  wo[3 * 8 + 2] = 2.0f;
+  CHECK_STATUS(cbrdf_model_eval_batch_f32(m, N_F32, wi, wo, rgb, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("wo[8]");
+  CHECK(memcmp(batch, rgb, sizeof rgb) == 0);
+  CHECK_STATUS(cbrdf_model_eval_batch_f32(m, 0, NULL, NULL, NULL, 0), CBRDF_OK);
+  CHECK_STATUS(cbrdf_model_eval_batch_f32(NULL, 1, wi, wo, rgb, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_batch_f32(m, 1, NULL, wo, rgb, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_batch_f32(m, SIZE_MAX, wi, wo, rgb, 0),
+               CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_eval_f32(m, NULL, wo, one), CBRDF_ERROR_INVALID_ARGUMENT);
+}
+
+/* The directional albedo (experimental): the quadrature agrees with the mean weight of
+ * stratified draws from the sampler (an independent estimate of the same integral), the table
+ * holds the same values, and the horizon gives 0. */
+#define N_STRATA 256
+static void test_albedo(const cbrdf_model* m) {
+  static double wo[N_STRATA * N_STRATA * 3], u[N_STRATA * N_STRATA * 2],
+      wi[N_STRATA * N_STRATA * 3], pdf[N_STRATA * N_STRATA], weight[N_STRATA * N_STRATA * 3];
+  const size_t n = (size_t)N_STRATA * N_STRATA;
+  const double thetas[3] = {10.0, 45.0, 75.0};
+  double table[8 * 3], a[3], mean[3], below[3], t;
+  size_t k;
+  int i, c;
+  for (i = 0; i < 3; ++i) {
+    direction(thetas[i], 0, wo);
+    CHECK_STATUS(cbrdf_model_albedo(m, wo, a, 0), CBRDF_OK);
+    for (k = 0; k < n; ++k) {
+      memcpy(wo + 3 * k, wo, 3 * sizeof(double));
+      u[2 * k] = ((double)(k / N_STRATA) + uniform01()) / N_STRATA;
+      u[2 * k + 1] = ((double)(k % N_STRATA) + uniform01()) / N_STRATA;
+    }
+    CHECK_STATUS(cbrdf_model_sample_batch(m, n, wo, u, wi, pdf, weight, 0), CBRDF_OK);
+    mean[0] = mean[1] = mean[2] = 0;
+    for (k = 0; k < n; ++k) {
+      for (c = 0; c < 3; ++c) mean[c] += weight[3 * k + c] / (double)n;
+    }
+    printf("albedo at %g deg: %.5f %.5f %.5f, sampled %.5f %.5f %.5f\n", thetas[i], a[0], a[1],
+           a[2], mean[0], mean[1], mean[2]);
+    /* 1%, and a floor for a channel near 0 (G of the Frank file, about 1e-6). */
+    for (c = 0; c < 3; ++c) {
+      CHECK(a[c] >= 0 && a[c] < 1.5 &&
+            fabs(a[c] - mean[c]) <= 0.01 * fmax(a[c], mean[c]) + 1e-3 * (a[0] + a[1] + a[2]));
+    }
+    CHECK(a[0] + a[1] + a[2] > 0);
+  }
+  /* The table: entry k at theta = (k + 0.5) / 8 * 90 degrees, bit for bit. */
+  CHECK_STATUS(cbrdf_model_albedo_table(m, 8, table, 1), CBRDF_OK);
+  for (i = 0; i < 8; ++i) {
+    t = (i + 0.5) / 8 * (PI / 2);
+    wo[0] = sin(t);
+    wo[1] = 0;
+    wo[2] = cos(t);
+    CHECK_STATUS(cbrdf_model_albedo(m, wo, a, 1), CBRDF_OK);
+    CHECK(memcmp(a, table + 3 * i, sizeof a) == 0);
+  }
+  direction(100, 0, wo);
+  CHECK_STATUS(cbrdf_model_albedo(m, wo, below, 0), CBRDF_OK);
+  CHECK(below[0] == 0 && below[1] == 0 && below[2] == 0);
+  table[0] = 42;
+  CHECK_STATUS(cbrdf_model_albedo_table(m, 0, table, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_albedo_table(m, 1025, table, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("1 to 1024");
+  CHECK(table[0] == 42);
+  wo[2] = NAN;
+  CHECK_STATUS(cbrdf_model_albedo(m, wo, a, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_albedo(NULL, wo, a, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_STATUS(cbrdf_model_albedo_table(m, 8, NULL, 0), CBRDF_ERROR_INVALID_ARGUMENT);
+}
+
+/* The residual modes are an enum type (they were #defines beside the enums). */
+static void test_residual_mode_enum(void) {
+  cbrdf_residual_mode mode = CBRDF_RESIDUAL_INTERPOLATED;
+  CHECK(mode == 3 && CBRDF_RESIDUAL_NONE == -1 && sizeof(cbrdf_residual_mode) == sizeof(int));
+}
+
+static void test_renderer_calls(const cbrdf_model* m) {
+  test_renormalized(m);
+  test_single_sample(m);
+  test_eval_pdf(m);
+  test_eval_f32(m);
+  test_albedo(m);
+}
+
 /* ---- Main -------------------------------------------------------------------------------------
  */
 
@@ -1115,6 +1384,7 @@ static void test_golden(const struct expected_model* e, double** table_out) {
   test_metadata(from_file, e);
   test_eval(from_file);
   test_sampling(from_file);
+  test_renderer_calls(from_file);
   if (table_out != NULL) {
     *table_out = test_table(from_file, e);
   } else {
@@ -1259,6 +1529,7 @@ int main(void) {
   test_version_and_names();
   test_last_error_lifecycle();
   test_open_errors();
+  test_residual_mode_enum();
   test_golden(&kFrank6, &frank6_table);
   test_golden(&kMixture3, NULL);
   test_threads();

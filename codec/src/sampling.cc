@@ -3,15 +3,25 @@
 // This file's functions set no errno (their square roots see non-negative values, or values whose
 // results are discarded; CMakeLists.txt adds -fno-math-errno, which the pragma does not give sqrt),
 // may evaluate both sides of a select and contract no multiply-adds: no value changes, and the
-// batch's lane loops vectorize with each lane rounding as sample() does.
-#if defined(__GNUC__) && !defined(__clang__)
+// batch's lane loops vectorize with each lane rounding as sample() does. Everything below is plain
+// C++ with a scalar meaning; the pragmas and attributes only let GCC and clang vectorize it and
+// must never change a result: each compiler is told not to contract a * b + c into a fused
+// multiply-add, which rounds once where sample() rounds twice.
+#if defined(__clang__)
+#pragma clang fp contract(off)
+#elif defined(__GNUC__)
 #pragma GCC optimize("no-math-errno", "no-trapping-math", "fp-contract=off")
+#elif defined(_MSC_VER)
+#pragma fp_contract(off)
+#else
+#pragma STDC FP_CONTRACT OFF
 #endif
 #include "cbrdf/sampling.h"
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <utility>
@@ -74,6 +84,8 @@ inline int pick(const double* cdf, int n, double* u) {
 // full-width units. Every lane computes what sample() computes for its draw, with the same
 // functions: vector lanes round as scalar instructions do (no multiply-add is contracted: the
 // pragma above).
+// Elsewhere (clang, MSVC, emscripten, other targets) the same loops are compiled once for the
+// baseline instruction set, which the compiler may still vectorize.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
     !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 #define CBRDF_SAMPLING_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
@@ -81,19 +93,29 @@ inline int pick(const double* cdf, int n, double* u) {
 #define CBRDF_SAMPLING_CLONES
 #endif
 
-constexpr int kLanes = 128;  // draws in a block of sample_batch
+// A hint to start loading the line of p (no effect on results).
+#if defined(__GNUC__) || defined(__clang__)
+#define CBRDF_SAMPLING_PREFETCH(p) __builtin_prefetch(p)
+#else
+#define CBRDF_SAMPLING_PREFETCH(p) ((void)(p))
+#endif
 
-// pick() for kLanes CDFs of n + 1 entries at once (bin[k] of cdf[k] at u[k]), one step for all
-// lanes at a time: the lanes' loads (cache misses, in large tables) are in flight together, and
-// with AVX-512 a step is a vector loop of gathers.
-CBRDF_SAMPLING_CLONES void pick_lanes(const double* const* cdf, int n, double* u, int* bin) {
+constexpr int kLanes = 128;  // draws in a block of sample_batch, at most
+// The lane loops run over the block's draws rounded up to a multiple of this (the widest vector,
+// AVX-512's 8 doubles), so that a small batch costs what it holds and no loop has a scalar tail.
+constexpr int kLaneGroup = 8;
+
+// pick() for m <= kLanes CDFs of n + 1 entries at once (bin[k] of cdf[k] at u[k]), one step for
+// all lanes at a time: the lanes' loads (cache misses, in large tables) are in flight together,
+// and with AVX-512 a step is a vector loop of gathers.
+CBRDF_SAMPLING_CLONES void pick_lanes(const double* const* cdf, int n, double* u, int* bin, int m) {
   const double* base[kLanes];
-  for (int k = 0; k < kLanes; ++k) base[k] = cdf[k];
+  for (int k = 0; k < m; ++k) base[k] = cdf[k];
   for (std::size_t len = std::size_t(n) + 1; len > 1; len -= len >> 1) {
     const std::size_t half = len >> 1;
-    for (int k = 0; k < kLanes; ++k) base[k] = pick_step(base[k], half, u[k]);
+    for (int k = 0; k < m; ++k) base[k] = pick_step(base[k], half, u[k]);
   }
-  for (int k = 0; k < kLanes; ++k) bin[k] = pick_end(cdf[k], base[k], n, &u[k]);
+  for (int k = 0; k < m; ++k) bin[k] = pick_end(cdf[k], base[k], n, &u[k]);
 }
 
 // Where lanes without a table row or cell search (cosine-weighted or refused draws) search.
@@ -198,8 +220,9 @@ struct internal::SamplerLanes {
 namespace {
 using Lanes = internal::SamplerLanes;
 
-CBRDF_SAMPLING_CLONES void lanes_frames(Lanes& l, int bins) {
-  for (int k = 0; k < kLanes; ++k) {
+// Each lane loop runs over the first m lanes (a multiple of kLaneGroup).
+CBRDF_SAMPLING_CLONES void lanes_frames(Lanes& l, int bins, int m) {
+  for (int k = 0; k < m; ++k) {
     const Frame f = azimuth_frame(l.ox[k], l.oy[k]);
     l.fxx[k] = f.xx;
     l.fxy[k] = f.xy;
@@ -208,8 +231,8 @@ CBRDF_SAMPLING_CLONES void lanes_frames(Lanes& l, int bins) {
 }
 
 // choose() per lane (c set per lane); a refused lane (live 0) is no table draw.
-CBRDF_SAMPLING_CLONES void lanes_choices(Lanes& l) {
-  for (int k = 0; k < kLanes; ++k) {
+CBRDF_SAMPLING_CLONES void lanes_choices(Lanes& l, int m) {
+  for (int k = 0; k < m; ++k) {
     const Choice ch = choose(l.c[k], l.u1[k], l.u2[k]);
     l.v1[k] = ch.v1;
     l.v2[k] = ch.v2;
@@ -219,8 +242,8 @@ CBRDF_SAMPLING_CLONES void lanes_choices(Lanes& l) {
   }
 }
 
-CBRDF_SAMPLING_CLONES void lanes_directions(Lanes& l, int nh, int np, double dphi) {
-  for (int k = 0; k < kLanes; ++k) {
+CBRDF_SAMPLING_CLONES void lanes_directions(Lanes& l, int nh, int np, double dphi, int m) {
+  for (int k = 0; k < m; ++k) {
     const Frame f{l.fxx[k], l.fxy[k]};
     const Dir w = draw_direction(l.ox[k], l.oy[k], l.oz[k], f, l.b[k], l.v1[k], l.v2[k], l.ce0[k],
                                  l.ce1[k], dphi);
@@ -237,8 +260,8 @@ CBRDF_SAMPLING_CLONES void lanes_directions(Lanes& l, int nh, int np, double dph
 
 // sample()'s pdf and validity from the cells' probabilities (p, pce0, pce1); wi is 0 where
 // rejected.
-CBRDF_SAMPLING_CLONES void lanes_pdfs(Lanes& l, double dphi) {
-  for (int k = 0; k < kLanes; ++k) {
+CBRDF_SAMPLING_CLONES void lanes_pdfs(Lanes& l, double dphi, int m) {
+  for (int k = 0; k < m; ++k) {
     const double pdf = mix_pdf(l.p[k], l.pce0[k], l.pce1[k], l.d[k], l.c[k], l.wz[k], dphi);
     const bool valid = (l.live[k] != 0.0) & (l.wz[k] > 0) & (pdf > 0);
     l.pdf[k] = valid ? pdf : 0.0;
@@ -249,18 +272,36 @@ CBRDF_SAMPLING_CLONES void lanes_pdfs(Lanes& l, double dphi) {
 }
 
 // A chunk's draws for the evaluator (whole chunks at once: its batch has a cost per call) and
-// their weights.
+// their weights: 13 arrays of the chunk's n draws in one buffer, on the stack for small chunks
+// (a heap block of a whole chunk's size cost more than a few draws).
 constexpr std::size_t kSampleChunk = 1024;  // draws per task of the pool
+constexpr std::size_t kStackDraws = 64;
+// Below this many draws a chunk's BRDF values are evaluated one by one (ModelEvaluator's batch
+// works in blocks of 32 pairs).
+constexpr std::size_t kEvalBatchMin = 32;
+// Below this many draws a chunk is drawn one draw at a time (sample() with weights).
+constexpr std::size_t kScalarDraws = 4;
 struct ChunkDraws {
-  alignas(64) double wi[3][kSampleChunk], wo[3][kSampleChunk], pdf[kSampleChunk];
-  alignas(64) double f[3][kSampleChunk], weight[3][kSampleChunk];
+  double *wi[3], *wo[3], *pdf, *f[3], *weight[3];
+  ChunkDraws(double* buffer, std::size_t n) {
+    double* p = buffer;
+    for (double** a : {&wi[0], &wi[1], &wi[2], &wo[0], &wo[1], &wo[2], &pdf, &f[0], &f[1], &f[2],
+                       &weight[0], &weight[1], &weight[2]}) {
+      *a = p;
+      p += n;
+    }
+  }
 };
 
-CBRDF_SAMPLING_CLONES void chunk_weights(ChunkDraws& c, std::size_t n) {
+// The weight f cos(theta_i) / pdf, as sample() with weights computes it per draw.
+inline double draw_weight(double f, double wi_z, double pdf) {
+  return pdf > 0 ? f * wi_z / pdf : 0.0;
+}
+
+CBRDF_SAMPLING_CLONES void chunk_weights(const ChunkDraws& c, std::size_t n) {
   for (int ch = 0; ch < 3; ++ch) {
-    for (std::size_t k = 0; k < n; ++k) {
-      c.weight[ch][k] = c.pdf[k] > 0 ? c.f[ch][k] * c.wi[2][k] / c.pdf[k] : 0.0;
-    }
+    for (std::size_t k = 0; k < n; ++k)
+      c.weight[ch][k] = draw_weight(c.f[ch][k], c.wi[2][k], c.pdf[k]);
   }
 }
 
@@ -388,7 +429,9 @@ void BrdfSampler::draw_cell(const Table& t, int row, Draw* d) const {
   d->ce1 = cos_edges_[std::size_t(row) + 1];
 }
 
-double BrdfSampler::pdf(const Vec3& wo, const Vec3& wi) const {
+double BrdfSampler::pdf(const Vec3& wo_in, const Vec3& wi_in) const {
+  Vec3 wo = wo_in, wi = wi_in;
+  if (!unit_direction(wo) || !unit_direction(wi)) return std::numeric_limits<double>::quiet_NaN();
   if (!(wo.z > 0) || !(wi.z > 0)) return 0.0;
   const Table& t = table_at(theta_o_bin(wo.z, settings_.theta_o_bins));
   const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
@@ -401,8 +444,9 @@ double BrdfSampler::pdf(const Vec3& wo, const Vec3& wi) const {
                  2 * kPi / np);
 }
 
-BrdfSample BrdfSampler::sample(const Vec3& wo, double u1, double u2) const {
-  if (!(wo.z > 0)) return BrdfSample{};
+BrdfSample BrdfSampler::sample(const Vec3& wo_in, double u1, double u2) const {
+  Vec3 wo = wo_in;
+  if (!unit_direction(wo) || !(wo.z > 0)) return BrdfSample{};
   const Table& t = table_at(theta_o_bin(wo.z, settings_.theta_o_bins));
   // A NaN draw passes std::clamp unchanged and every comparison: refuse it (valid = false)
   // rather than search a table with it.
@@ -430,6 +474,21 @@ BrdfSample BrdfSampler::sample(const Vec3& wo, double u1, double u2) const {
   return s;
 }
 
+BrdfSample BrdfSampler::sample(const Vec3& wo_in, double u1, double u2, double weight[3]) const {
+  weight[0] = weight[1] = weight[2] = 0.0;
+  BrdfSample s = sample(wo_in, u1, u2);
+  if (!s.valid) {
+    s.wi = Vec3{0, 0, 0};  // as sample_batch reports a rejected draw
+    return s;
+  }
+  Vec3 wo = wo_in;
+  unit_direction(wo);  // valid: sample() accepted it
+  double f[3] = {0, 0, 0};
+  f_(s.wi, wo, f);
+  for (int ch = 0; ch < 3; ++ch) weight[ch] = draw_weight(f[ch], s.wi.z, s.pdf);
+  return s;
+}
+
 // The arrays of a batch, each read or written at index k * its stride (1: structure of arrays,
 // 3 or 2: interleaved).
 struct BrdfSampler::BatchIo {
@@ -444,39 +503,46 @@ struct BrdfSampler::BatchIo {
   std::size_t weight_stride = 1;
 };
 
-void BrdfSampler::draw_lanes(const BatchIo& io, std::size_t base, int m, Lanes& l) const {
-  // Inputs; lanes past m hold a harmless draw (wo at the normal) whose results are dropped, so
-  // that the lane loops run over whole blocks.
-  for (int k = 0; k < kLanes; ++k) {
+int BrdfSampler::draw_lanes(const BatchIo& io, std::size_t base, int m, Lanes& l) const {
+  // Inputs; lanes from m up to the group's end hold a harmless draw (wo at the normal) whose
+  // results are dropped, so that the lane loops run over whole groups. A wo that is not a unit
+  // vector (within kDirectionTolerance) is rescaled as sample() does, or refused (oz = 0).
+  const int lanes = (m + kLaneGroup - 1) / kLaneGroup * kLaneGroup;
+  for (int k = 0; k < lanes; ++k) {
     const std::size_t i = base + std::size_t(k);
     const bool in = k < m;
-    l.ox[k] = in ? io.wo[0][i * io.wo_stride] : 0.0;
-    l.oy[k] = in ? io.wo[1][i * io.wo_stride] : 0.0;
-    l.oz[k] = in ? io.wo[2][i * io.wo_stride] : 1.0;
+    double x = in ? io.wo[0][i * io.wo_stride] : 0.0;
+    double y = in ? io.wo[1][i * io.wo_stride] : 0.0;
+    double z = in ? io.wo[2][i * io.wo_stride] : 1.0;
+    if (!unit_direction(x, y, z)) x = y = z = 0.0;
+    l.ox[k] = x;
+    l.oy[k] = y;
+    l.oz[k] = z;
     l.u1[k] = in ? io.u[0][i * io.u_stride] : 0.5;
     l.u2[k] = in ? io.u[1][i * io.u_stride] : 0.5;
   }
-  lanes_frames(l, settings_.theta_o_bins);
+  m = lanes;
+  lanes_frames(l, settings_.theta_o_bins, m);
   // sample()'s steps per lane: its table and choice, then its row and its cell, each search
   // across the lanes at once (lanes without one search kNoCdf, their results unused).
   const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
   const double* cdf[kLanes];
   double u[kLanes];
   int row[kLanes], cell[kLanes];
-  for (int k = 0; k < kLanes; ++k) {
+  for (int k = 0; k < m; ++k) {
     const bool live = l.oz[k] > 0 && !std::isnan(l.u1[k]) && !std::isnan(l.u2[k]);
     const Table* t = live ? &table_at(l.bin[k]) : nullptr;
     l.live[k] = live ? 1.0 : 0.0;
     l.c[k] = t != nullptr && !t->empty ? settings_.cosine_fraction : 1.0;  // as draw_choice
     cdf[k] = t != nullptr && !t->empty ? t->row_cdf.data() : kNoCdf;
   }
-  lanes_choices(l);
-  for (int k = 0; k < kLanes; ++k) {
+  lanes_choices(l, m);
+  for (int k = 0; k < m; ++k) {
     cdf[k] = l.table_draw[k] != 0.0 ? cdf[k] : kNoCdf;
     u[k] = l.table_draw[k] != 0.0 ? l.v1[k] : 0.5;
   }
-  pick_lanes(cdf, nh, u, row);
-  for (int k = 0; k < kLanes; ++k) {
+  pick_lanes(cdf, nh, u, row, m);
+  for (int k = 0; k < m; ++k) {
     const bool table_draw = l.table_draw[k] != 0.0;
     if (table_draw) l.v1[k] = u[k];
     cdf[k] = table_draw ? &tables_[std::size_t(l.bin[k])].cell_cdf[std::size_t(row[k]) * (np + 1)]
@@ -486,17 +552,20 @@ void BrdfSampler::draw_lanes(const BatchIo& io, std::size_t base, int m, Lanes& 
     // the row) requested at once, rather than its misses waited for one after another; fewer
     // requests than the row's every line, which cost more than the later probes' misses save.
     if (table_draw) {
-      for (int i = 1; i < 4; ++i) __builtin_prefetch(cdf[k] + std::size_t(i) * (np + 1) / 4);
+      for (int i = 1; i < 4; ++i) {
+        CBRDF_SAMPLING_PREFETCH(cdf[k] + std::size_t(i) * (np + 1) / 4);
+      }
     }
   }
-  pick_lanes(cdf, np, u, cell);
-  for (int k = 0; k < kLanes; ++k) {
+  pick_lanes(cdf, np, u, cell, m);
+  for (int k = 0; k < m; ++k) {
     if (l.table_draw[k] == 0.0) continue;  // as draw_cell
     l.b[k] = cell[k];
     l.v2[k] = u[k];
     l.ce0[k] = cos_edges_[std::size_t(row[k])];
     l.ce1[k] = cos_edges_[std::size_t(row[k]) + 1];
   }
+  return m;
 }
 
 void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t end) const {
@@ -509,24 +578,45 @@ void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t
     }
     return;
   }
-  Lanes l;
-  const std::unique_ptr<ChunkDraws> c(new ChunkDraws);  // not zeroed: every entry read is written
   const std::size_t n = end - begin;
+  if (n < kScalarDraws) {
+    // A block of lanes for one to three draws costs more than sample() per draw, whose results
+    // are the lanes' bit for bit.
+    for (std::size_t i = begin; i < end; ++i) {
+      const Vec3 wo{io.wo[0][i * io.wo_stride], io.wo[1][i * io.wo_stride],
+                    io.wo[2][i * io.wo_stride]};
+      double w[3];
+      const BrdfSample s = sample(wo, io.u[0][i * io.u_stride], io.u[1][i * io.u_stride], w);
+      io.wi[0][i * io.wi_stride] = s.wi.x;
+      io.wi[1][i * io.wi_stride] = s.wi.y;
+      io.wi[2][i * io.wi_stride] = s.wi.z;
+      io.pdf[i] = s.pdf;
+      for (int ch = 0; ch < 3; ++ch) io.weight[ch][i * io.weight_stride] = w[ch];
+    }
+    return;
+  }
+  Lanes l;
+  // Not zeroed: every entry read is written.
+  double stack_buffer[13 * kStackDraws];
+  std::unique_ptr<double[]> heap_buffer;
+  if (n > kStackDraws) heap_buffer.reset(new double[13 * n]);
+  const ChunkDraws draws(n > kStackDraws ? heap_buffer.get() : stack_buffer, n);
+  const ChunkDraws* c = &draws;
   const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
   const double dphi = 2 * kPi / np;
   for (std::size_t base = 0; base < n; base += kLanes) {
     const int m = int(std::min<std::size_t>(kLanes, n - base));
-    draw_lanes(io, begin + base, m, l);
-    lanes_directions(l, nh, np, dphi);
-    for (int k = 0; k < kLanes; ++k) {
+    const int lanes = draw_lanes(io, begin + base, m, l);
+    lanes_directions(l, nh, np, dphi, lanes);
+    for (int k = 0; k < lanes; ++k) {
       // The cells' CDF entries requested together (a cosine-weighted draw's cell is anywhere).
       if (l.live[k] == 0.0 || l.ok[k] == 0.0) continue;
       const Table& t = tables_[std::size_t(l.bin[k])];
       if (!t.empty) {
-        __builtin_prefetch(&t.cell_cdf[std::size_t(l.cell_a[k]) * (np + 1) + l.cell_b[k]]);
+        CBRDF_SAMPLING_PREFETCH(&t.cell_cdf[std::size_t(l.cell_a[k]) * (np + 1) + l.cell_b[k]]);
       }
     }
-    for (int k = 0; k < kLanes; ++k) {
+    for (int k = 0; k < lanes; ++k) {
       // Only a live lane's table is known to be built.
       const Located at{l.d[k], l.cell_a[k], l.cell_b[k], l.ok[k] != 0.0};
       const Table* t = l.live[k] != 0.0 ? &tables_[std::size_t(l.bin[k])] : nullptr;
@@ -536,16 +626,34 @@ void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t
       l.pce0[k] = cos_edges_[std::size_t(at.a)];
       l.pce1[k] = cos_edges_[std::size_t(at.a) + 1];
     }
-    lanes_pdfs(l, dphi);
+    lanes_pdfs(l, dphi, lanes);
     for (int k = 0; k < m; ++k) {
-      for (int i = 0; i < 3; ++i) c->wi[i][base + std::size_t(k)] = l.wi[i][k];
-      c->wo[0][base + std::size_t(k)] = l.ox[k];
-      c->wo[1][base + std::size_t(k)] = l.oy[k];
-      c->wo[2][base + std::size_t(k)] = l.oz[k];
-      c->pdf[base + std::size_t(k)] = l.pdf[k];
+      // A rejected draw (pdf 0, weight 0 whatever f is) goes to the evaluator as the pair (normal,
+      // normal), so that its batch holds only valid directions (an invalid one costs it a
+      // checking pass); its wi is output as (0, 0, 0) (lanes_pdfs' l.wi) all the same.
+      const bool valid = l.pdf[k] > 0;
+      const std::size_t j = base + std::size_t(k);
+      c->wi[0][j] = l.wi[0][k];
+      c->wi[1][j] = l.wi[1][k];
+      c->wi[2][j] = valid ? l.wi[2][k] : 1.0;
+      c->wo[0][j] = valid ? l.ox[k] : 0.0;
+      c->wo[1][j] = valid ? l.oy[k] : 0.0;
+      c->wo[2][j] = valid ? l.oz[k] : 1.0;
+      c->pdf[j] = l.pdf[k];
     }
   }
-  if (evaluator_ != nullptr) {
+  if (evaluator_ != nullptr && n < kEvalBatchMin) {
+    // Few draws: eval per draw (equal to eval_batch bit for bit), as the batch evaluates whole
+    // blocks of 32 pairs whatever n is.
+    for (std::size_t k = 0; k < n; ++k) {
+      double rgb[3] = {0, 0, 0};
+      if (c->pdf[k] > 0) {
+        evaluator_->eval(Vec3{c->wi[0][k], c->wi[1][k], c->wi[2][k]},
+                         Vec3{c->wo[0][k], c->wo[1][k], c->wo[2][k]}, rgb);
+      }
+      for (int i = 0; i < 3; ++i) c->f[i][k] = rgb[i];
+    }
+  } else if (evaluator_ != nullptr) {
     evaluator_->eval_batch(n, c->wi[0], c->wi[1], c->wi[2], c->wo[0], c->wo[1], c->wo[2], c->f[0],
                            c->f[1], c->f[2], 1);
   } else {
@@ -561,7 +669,9 @@ void BrdfSampler::sample_chunk(const BatchIo& io, std::size_t begin, std::size_t
   chunk_weights(*c, n);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = begin + k;
-    for (int ch = 0; ch < 3; ++ch) io.wi[ch][i * io.wi_stride] = c->wi[ch][k];
+    io.wi[0][i * io.wi_stride] = c->wi[0][k];
+    io.wi[1][i * io.wi_stride] = c->wi[1][k];
+    io.wi[2][i * io.wi_stride] = c->pdf[k] > 0 ? c->wi[2][k] : 0.0;  // (1 for the evaluator)
     io.pdf[i] = c->pdf[k];
     for (int ch = 0; ch < 3; ++ch) io.weight[ch][i * io.weight_stride] = c->weight[ch][k];
   }
@@ -617,8 +727,8 @@ Vec3 sample_cosine_hemisphere(double u1, double u2) {
 }
 
 BrdfFn model_brdf_fn(const ModelEvaluator& evaluator) {
-  const ModelEvaluator* e = &evaluator;
-  return [e](const Vec3& wi, const Vec3& wo, double rgb[3]) { e->eval(wi, wo, rgb); };
+  // A copy (sharing the evaluator's tables): valid whatever happens to `evaluator` later.
+  return model_brdf_fn(std::make_shared<const ModelEvaluator>(evaluator));
 }
 
 BrdfFn model_brdf_fn(std::shared_ptr<const ModelEvaluator> evaluator) {
@@ -628,9 +738,9 @@ BrdfFn model_brdf_fn(std::shared_ptr<const ModelEvaluator> evaluator) {
 }
 
 BrdfSampler make_model_sampler(const ModelEvaluator& evaluator, const SamplerSettings& settings) {
-  BrdfSampler s(model_brdf_fn(evaluator), settings);
-  s.evaluator_ = &evaluator;
-  return s;
+  // A copy (sharing the evaluator's tables), so that moving or destroying `evaluator` afterwards
+  // leaves the sampler valid.
+  return make_model_sampler(std::make_shared<const ModelEvaluator>(evaluator), settings);
 }
 
 BrdfSampler make_model_sampler(std::shared_ptr<const ModelEvaluator> evaluator,

@@ -5,7 +5,18 @@
 // (sample_batch()). Every function is branch-free: both sides of a select are evaluated.
 #pragma once
 
+#include <cmath>
 #include <numbers>
+
+// GCC and clang's builtins are the instructions, with no errno path, even without
+// -fno-math-errno; elsewhere the standard functions, which round the same (IEEE sqrt and fabs).
+#if defined(__GNUC__) || defined(__clang__)
+#define CBRDF_SAMPLING_SQRT(x) __builtin_sqrt(x)
+#define CBRDF_SAMPLING_FABS(x) __builtin_fabs(x)
+#else
+#define CBRDF_SAMPLING_SQRT(x) std::sqrt(x)
+#define CBRDF_SAMPLING_FABS(x) std::fabs(x)
+#endif
 
 namespace cbrdf::sampling_math {
 
@@ -36,7 +47,7 @@ inline double acos01(double x) {
   const bool low = x <= 0.5;
   const double t = low ? x * x : (1.0 - x) * 0.5;
   const double r = asin_ratio(t);
-  const double s = __builtin_sqrt(t);  // low: x itself (unused); both sides are evaluated
+  const double s = CBRDF_SAMPLING_SQRT(t);  // low: x itself (unused); both sides are evaluated
   const double near_zero = kPio2Hi - (x - (kPio2Lo - x * r));
   const double near_one = 2.0 * (s + s * r);
   return low ? near_zero : near_one;
@@ -78,7 +89,7 @@ inline SinCos sincos_0_2pi(double phi) {
   // (sq, cq) = (sin, cos)(q pi/2) in {0, 1, -1}, exact as triangle waves of q: one product is 0,
   // the other exact, so the sums round nothing (and, unlike quadrant selects, vectorize).
   auto peak = [q](double at) {
-    const double t = 1.0 - __builtin_fabs(q - at);
+    const double t = 1.0 - CBRDF_SAMPLING_FABS(q - at);
     return t > 0.0 ? t : 0.0;
   };
   const double cq = peak(0.0) - peak(2.0) + peak(4.0), sq = peak(1.0) - peak(3.0) + peak(5.0);

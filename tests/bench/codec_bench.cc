@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "cbrdf/cbrdf_c.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/encoder.h"
 #include "cbrdf/file_io.h"
@@ -347,6 +348,98 @@ void BM_SampleBatch(benchmark::State& state) {
   set_pair_counters(state, kDraws);
 }
 BENCHMARK(BM_SampleBatch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Small batches, as a renderer's path tracer makes them (one bounce of a few paths): kDraws draws
+// in calls of n (interleaved arrays, the calling thread only), for the cost per draw at each n
+// against the large batch's (n = 1024 is one pool chunk).
+void BM_SampleSmallBatch(benchmark::State& state) {
+  const cbrdf::BrdfSampler& s = bench_sampler();
+  const SampleInputs in;
+  const std::size_t n = std::size_t(state.range(0));
+  std::vector<double> wo(3 * std::size_t(kDraws)), u(2 * std::size_t(kDraws));
+  for (int k = 0; k < kDraws; ++k) {
+    wo[3 * k] = in.x[k], wo[3 * k + 1] = in.y[k], wo[3 * k + 2] = in.z[k];
+    u[2 * k] = in.u1[k], u[2 * k + 1] = in.u2[k];
+  }
+  std::vector<double> wi(3 * n), pdf(n), weight(3 * n);
+  for (auto _ : state) {
+    for (std::size_t b = 0; b + n <= std::size_t(kDraws); b += n) {
+      s.sample_batch(n, &wo[3 * b], &u[2 * b], wi.data(), pdf.data(), weight.data(), 1);
+      benchmark::DoNotOptimize(weight.data());
+    }
+  }
+  set_pair_counters(state, kDraws / int(n) * int(n));
+}
+BENCHMARK(BM_SampleSmallBatch)
+    ->Arg(1)
+    ->Arg(4)
+    ->Arg(16)
+    ->Arg(64)
+    ->Arg(1024)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The same through the C API: cbrdf_model_sample per draw, and cbrdf_model_sample_batch in
+// calls of n (threads = 1).
+const cbrdf_model* bench_c_model() {
+  static cbrdf_model* m = [] {
+    cbrdf_model* h = cbrdf_model_open_memory(encoded().data(), encoded().size());
+    if (h == nullptr) std::abort();
+    return h;
+  }();
+  return m;
+}
+
+void BM_CSampleSingle(benchmark::State& state) {
+  const cbrdf_model* m = bench_c_model();
+  const SampleInputs in;
+  double wi[3], pdf, weight[3];
+  for (int k = 0; k < kDraws; ++k) {  // the sampler's tables, before timing
+    const double wo[3] = {in.x[k], in.y[k], in.z[k]};
+    if (cbrdf_model_sample(m, wo, in.u1[k], in.u2[k], wi, &pdf, weight) != CBRDF_OK) std::abort();
+  }
+  for (auto _ : state) {
+    for (int k = 0; k < kDraws; ++k) {
+      const double wo[3] = {in.x[k], in.y[k], in.z[k]};
+      cbrdf_model_sample(m, wo, in.u1[k], in.u2[k], wi, &pdf, weight);
+      benchmark::DoNotOptimize(weight);
+    }
+  }
+  set_pair_counters(state, kDraws);
+}
+BENCHMARK(BM_CSampleSingle)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_CSampleBatch(benchmark::State& state) {
+  const cbrdf_model* m = bench_c_model();
+  const SampleInputs in;
+  const std::size_t n = std::size_t(state.range(0));
+  std::vector<double> wo(3 * std::size_t(kDraws)), u(2 * std::size_t(kDraws));
+  for (int k = 0; k < kDraws; ++k) {
+    wo[3 * k] = in.x[k], wo[3 * k + 1] = in.y[k], wo[3 * k + 2] = in.z[k];
+    u[2 * k] = in.u1[k], u[2 * k + 1] = in.u2[k];
+  }
+  std::vector<double> wi(3 * std::size_t(kDraws)), pdf(kDraws), weight(3 * std::size_t(kDraws));
+  if (cbrdf_model_sample_batch(m, kDraws, wo.data(), u.data(), wi.data(), pdf.data(), weight.data(),
+                               1) != CBRDF_OK) {
+    std::abort();
+  }
+  for (auto _ : state) {
+    for (std::size_t b = 0; b + n <= std::size_t(kDraws); b += n) {
+      cbrdf_model_sample_batch(m, n, &wo[3 * b], &u[2 * b], wi.data(), pdf.data(), weight.data(),
+                               1);
+      benchmark::DoNotOptimize(weight.data());
+    }
+  }
+  set_pair_counters(state, kDraws / int(n) * int(n));
+}
+BENCHMARK(BM_CSampleBatch)
+    ->Arg(1)
+    ->Arg(4)
+    ->Arg(16)
+    ->Arg(64)
+    ->Arg(1 << 15)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // The measured table's nearest-bin lookup (the reference reader's), the baseline the model's
 // evaluation is compared with.

@@ -33,7 +33,7 @@ def test_eval_equals_the_c_api_bitwise(model, work, decoder_lib):
     lib.cbrdf_model_open_file.restype = ctypes.c_void_p
     lib.cbrdf_model_open_file.argtypes = [ctypes.c_char_p]
     lib.cbrdf_model_eval_batch.argtypes = [ctypes.c_void_p, ctypes.c_size_t] + [
-        np.ctypeslib.ndpointer(np.float64, flags="C")] * 3
+        np.ctypeslib.ndpointer(np.float64, flags="C")] * 3 + [ctypes.c_int]
     lib.cbrdf_model_free.argtypes = [ctypes.c_void_p]
     h = lib.cbrdf_model_open_file(str(work / "plastic.cbrdf").encode())
     assert h
@@ -41,7 +41,7 @@ def test_eval_equals_the_c_api_bitwise(model, work, decoder_lib):
         rng = np.random.default_rng(2)
         wi, wo = random_dirs(5000, rng), random_dirs(5000, rng)
         ref = np.zeros((5000, 3))
-        assert lib.cbrdf_model_eval_batch(h, 5000, wi, wo, ref) == 0
+        assert lib.cbrdf_model_eval_batch(h, 5000, wi, wo, ref, 0) == 0
     finally:
         lib.cbrdf_model_free(h)
     assert np.array_equal(model.eval(wi, wo).view(np.uint64), ref.view(np.uint64))

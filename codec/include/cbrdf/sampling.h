@@ -71,9 +71,15 @@ class CBRDF_EXPORT BrdfSampler {
   BrdfSampler& operator=(BrdfSampler&&) noexcept;
 
   // Draws wi for a unit wo (local frame, z = normal) from u1, u2 in [0, 1) (clamped into it; a
-  // NaN u1 or u2 gives a rejected sample, valid = false).
+  // NaN u1 or u2 gives a rejected sample, valid = false). wo is rescaled or refused as
+  // unit_direction (model.h) says: a wo that is not a finite unit vector gives a rejected sample.
   BrdfSample sample(const Vec3& wo, double u1, double u2) const;
-  // The density of sample() per unit solid angle of wi; 0 when wo or wi is at or below the horizon.
+  // The same with the draw's weight f(wi, wo) cos(theta_i) / pdf in RGB, equal bit for bit to
+  // sample_batch's; a rejected draw has wi = (0, 0, 0), pdf 0 and weight 0 (as in sample_batch).
+  BrdfSample sample(const Vec3& wo, double u1, double u2, double weight[3]) const;
+  // The density of sample() per unit solid angle of wi; 0 when wo or wi is at or below the horizon;
+  // NaN when either is not a finite unit vector (within kDirectionTolerance; rescaled as sample()
+  // rescales wo).
   double pdf(const Vec3& wo, const Vec3& wi) const;
 
   // n draws at once, in structure-of-arrays form: for wo = (wo_x[k], wo_y[k], wo_z[k]) and
@@ -108,8 +114,9 @@ class CBRDF_EXPORT BrdfSampler {
   bool draw_choice(const Table& t, double u1, double u2, Draw* d) const;
   void draw_cell(const Table& t, int row, Draw* d) const;
   void sample_chunk(const BatchIo& io, std::size_t begin, std::size_t end) const;
-  // Draws [base, base + m) of a batch loaded into lanes, their tables and choices made.
-  void draw_lanes(const BatchIo& io, std::size_t base, int m, internal::SamplerLanes& l) const;
+  // Draws [base, base + m) of a batch loaded into lanes, their tables and choices made; returns
+  // the lanes the lane loops run over (m rounded up to whole vector groups).
+  int draw_lanes(const BatchIo& io, std::size_t base, int m, internal::SamplerLanes& l) const;
 
   BrdfFn f_;
   SamplerSettings settings_;
@@ -118,9 +125,9 @@ class CBRDF_EXPORT BrdfSampler {
   const ModelEvaluator* evaluator_ = nullptr;  // f_'s evaluator (make_model_sampler), for batches
 };
 
-// The model's eval() as a BrdfFn, and a sampler for the copula model through it. The first forms
-// reference the evaluator (it must outlive them and must not be moved); the shared forms keep it
-// alive themselves.
+// The model's eval() as a BrdfFn, and a sampler for the copula model through it. Each holds its
+// own copy of the evaluator (the first forms copy it, sharing its tables; the shared forms keep
+// the given one alive), so the caller's evaluator may be moved or destroyed afterwards.
 CBRDF_EXPORT BrdfFn model_brdf_fn(const ModelEvaluator& evaluator);
 CBRDF_EXPORT BrdfFn model_brdf_fn(std::shared_ptr<const ModelEvaluator> evaluator);
 CBRDF_EXPORT BrdfSampler make_model_sampler(const ModelEvaluator& evaluator,

@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: MIT
-// The C API (cbrdf/cbrdf_c.h) except encoding: errors, model handles, description, evaluation,
-// sampling and tables. Everything here is a thin boundary over the C++ API: arguments are checked,
-// results copied out, and every exception is caught and reported as the thread's last error.
+// The C API's decoder part (cbrdf/cbrdf_decode.h), its experimental section included: errors, model
+// handles, description, evaluation, sampling and tables. Everything here is a thin boundary over
+// the C++ API: arguments are checked, results copied out, and every exception is caught and
+// reported as the thread's last error. The experimental calls are defined here too.
+#define CBRDF_EXPERIMENTAL_API 1
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -13,13 +17,15 @@
 #include <memory>
 #include <mutex>
 #include <new>
+#include <numbers>
 #include <span>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "capi/c_api_internal.h"
 #include "cbrdf/brdf_table.h"
-#include "cbrdf/cbrdf_c.h"
+#include "cbrdf/cbrdf_decode.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/copula_family.h"
@@ -63,6 +69,9 @@ struct cbrdf_model {
   std::unique_ptr<const cbrdf::ModelEvaluator> evaluator;  // built from `model` where it lives
   mutable std::once_flag sampler_once;
   mutable std::unique_ptr<const cbrdf::BrdfSampler> sampler;
+  // Set once the sampler is built: checked first, as std::call_once costs more than a load on
+  // every call (a single draw is about 100 ns).
+  mutable std::atomic<const cbrdf::BrdfSampler*> sampler_ready{nullptr};
 
   cbrdf_model() = default;
   cbrdf_model(const cbrdf_model&) = delete;
@@ -84,31 +93,42 @@ LastError& last_error() noexcept {
 
 // Largest element count for which n triples of doubles can exist in memory.
 constexpr std::size_t kMaxTriples = SIZE_MAX / (3 * sizeof(double));
-// How far a direction's squared length may be from 1 (float directions are well inside).
-constexpr double kUnitTolerance = 1e-3;
-
-std::string format_vector(const double* w) {
+template <class T>
+std::string format_vector(const T* w) {
   char buf[96];
-  std::snprintf(buf, sizeof buf, "(%.9g, %.9g, %.9g)", w[0], w[1], w[2]);
+  std::snprintf(buf, sizeof buf, "(%.9g, %.9g, %.9g)", double(w[0]), double(w[1]), double(w[2]));
   return buf;
 }
 
-// A finite unit vector (within kUnitTolerance). Checked per element of a batch, so it allocates
-// nothing unless it fails.
-bool is_direction(const double* w) {
-  const bool finite = std::isfinite(w[0]) && std::isfinite(w[1]) && std::isfinite(w[2]);
-  return finite && std::fabs(w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - 1.0) <= kUnitTolerance;
+// A finite unit vector (within kDirectionTolerance: the evaluator rescales it, model.h). Checked
+// per element of a batch, so it allocates nothing unless it fails.
+template <class T>
+bool is_direction(const T* w) {
+  T x = w[0], y = w[1], z = w[2];
+  return unit_direction(x, y, z);
 }
 
 // `name`, or `name[index]` for an element of a batch.
-Status direction_error(const double* w, const char* name, std::size_t index = SIZE_MAX) {
+template <class T>
+Status direction_error(const T* w, const char* name, std::size_t index = SIZE_MAX) {
   std::string what = name;
   if (index != SIZE_MAX) what += "[" + std::to_string(index) + "]";
-  return invalid_argument(what + " must be a finite unit vector, not " + format_vector(w));
+  return invalid_argument(what +
+                          " must be a finite unit vector (squared length within 1e-3 of 1)"
+                          ", not " +
+                          format_vector(w));
 }
 
-Status check_direction(const double* w, const char* name, std::size_t index = SIZE_MAX) {
+template <class T>
+Status check_direction(const T* w, const char* name, std::size_t index = SIZE_MAX) {
   return is_direction(w) ? ok_status() : direction_error(w, name, index);
+}
+
+Status check_unit_numbers(double u1, double u2, const std::string& what) {
+  if (std::isfinite(u1) && std::isfinite(u2)) return ok_status();
+  char buf[96];
+  std::snprintf(buf, sizeof buf, " (%.9g, %.9g) must be finite numbers in [0, 1)", u1, u2);
+  return invalid_argument(what + buf);
 }
 
 Vec3 to_vec3(const double* w) {
@@ -164,9 +184,11 @@ cbrdf_model* open_reported(Open&& open) noexcept {
 }
 
 const BrdfSampler& sampler_of(const cbrdf_model* model) {
+  if (const BrdfSampler* s = model->sampler_ready.load(std::memory_order_acquire)) return *s;
   // A throw inside leaves the flag unset, so the next call tries again.
   std::call_once(model->sampler_once, [model] {
     model->sampler = std::make_unique<const BrdfSampler>(make_model_sampler(*model->evaluator));
+    model->sampler_ready.store(model->sampler.get(), std::memory_order_release);
   });
   return *model->sampler;
 }
@@ -273,6 +295,10 @@ cbrdf_model* cbrdf_model_open_memory(const void* data, size_t size) {
 cbrdf_model* cbrdf_model_open_file(const char* path) {
   return cbrdf::capi::open_reported([&]() -> cbrdf::Expected<std::unique_ptr<cbrdf_model>> {
     if (path == nullptr) return invalid_argument("cbrdf_model_open_file: path is NULL");
+    if (*path == '\0') {
+      return invalid_argument(
+          "cbrdf_model_open_file: path is empty (give the path of a .cbrdf file)");
+    }
     auto bytes = cbrdf::read_file(path, cbrdf::kMaxContainerBytes);
     if (!bytes.ok()) return bytes.status();
     auto handle = cbrdf::capi::build_model(*bytes);
@@ -382,14 +408,14 @@ cbrdf_status cbrdf_model_get_component(const cbrdf_model* model, int slice, int 
   });
 }
 
-size_t cbrdf_model_metadata_count(const cbrdf_model* model) {
-  if (model == nullptr) {
-    cbrdf::capi::set_last_error(CBRDF_ERROR_INVALID_ARGUMENT,
-                                "cbrdf_model_metadata_count: model is NULL");
-    return 0;
-  }
-  cbrdf::capi::clear_last_error();
-  return model->info.metadata.size();
+cbrdf_status cbrdf_model_metadata_count(const cbrdf_model* model, size_t* count) {
+  return guarded([&] {
+    if (model == nullptr || count == nullptr) {
+      return invalid_argument("cbrdf_model_metadata_count: model or count is NULL");
+    }
+    *count = model->info.metadata.size();
+    return cbrdf::ok_status();
+  });
 }
 
 cbrdf_status cbrdf_model_metadata_at(const cbrdf_model* model, size_t i, const char** key,
@@ -424,7 +450,7 @@ cbrdf_status cbrdf_model_eval(const cbrdf_model* model, const double wi[3], cons
 }
 
 cbrdf_status cbrdf_model_eval_batch(const cbrdf_model* model, size_t n, const double* wi,
-                                    const double* wo, double* rgb) {
+                                    const double* wo, double* rgb, int threads) {
   return guarded([&] {
     if (model == nullptr) return invalid_argument("cbrdf_model_eval_batch: model is NULL");
     if (n == 0) return cbrdf::ok_status();
@@ -438,7 +464,8 @@ cbrdf_status cbrdf_model_eval_batch(const cbrdf_model* model, size_t n, const do
       CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wi + 3 * k, "wi", k));
       CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo + 3 * k, "wo", k));
     }
-    model->evaluator->eval_batch(n, wi, wo, rgb);  // bit for bit eval's, vectorized and threaded
+    // Bit for bit eval's, vectorized and threaded.
+    model->evaluator->eval_batch(n, wi, wo, rgb, threads);
     return cbrdf::ok_status();
   });
 }
@@ -446,7 +473,7 @@ cbrdf_status cbrdf_model_eval_batch(const cbrdf_model* model, size_t n, const do
 cbrdf_status cbrdf_model_eval_batch_soa(const cbrdf_model* model, size_t n, const double* wi_x,
                                         const double* wi_y, const double* wi_z, const double* wo_x,
                                         const double* wo_y, const double* wo_z, double* r,
-                                        double* g, double* b) {
+                                        double* g, double* b, int threads) {
   return guarded([&] {
     if (model == nullptr) return invalid_argument("cbrdf_model_eval_batch_soa: model is NULL");
     if (n == 0) return cbrdf::ok_status();
@@ -464,13 +491,68 @@ cbrdf_status cbrdf_model_eval_batch_soa(const cbrdf_model* model, size_t n, cons
       CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(i, "wi", k));
       CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(o, "wo", k));
     }
-    model->evaluator->eval_batch(n, wi_x, wi_y, wi_z, wo_x, wo_y, wo_z, r, g, b);
+    model->evaluator->eval_batch(n, wi_x, wi_y, wi_z, wo_x, wo_y, wo_z, r, g, b, threads);
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_eval_f32(const cbrdf_model* model, const float wi[3], const float wo[3],
+                                  float rgb[3]) {
+  return guarded([&] {
+    if (model == nullptr || wi == nullptr || wo == nullptr || rgb == nullptr) {
+      return invalid_argument("cbrdf_model_eval_f32: model, wi, wo or rgb is NULL");
+    }
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wi, "wi"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo, "wo"));
+    model->evaluator->eval_f32(wi, wo, rgb);
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_eval_batch_f32(const cbrdf_model* model, size_t n, const float* wi,
+                                        const float* wo, float* rgb, int threads) {
+  return guarded([&] {
+    if (model == nullptr) return invalid_argument("cbrdf_model_eval_batch_f32: model is NULL");
+    if (n == 0) return cbrdf::ok_status();
+    if (wi == nullptr || wo == nullptr || rgb == nullptr) {
+      return invalid_argument("cbrdf_model_eval_batch_f32: wi, wo or rgb is NULL");
+    }
+    if (n > SIZE_MAX / (3 * sizeof(float))) {
+      return invalid_argument("cbrdf_model_eval_batch_f32: n = " + std::to_string(n) +
+                              " is too large");
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wi + 3 * k, "wi", k));
+      CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo + 3 * k, "wo", k));
+    }
+    model->evaluator->eval_batch_f32(n, wi, wo, rgb, threads);
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_sample(const cbrdf_model* model, const double wo[3], double u1, double u2,
+                                double wi[3], double* pdf, double weight[3]) {
+  return guarded([&] {
+    if (model == nullptr || wo == nullptr || wi == nullptr || pdf == nullptr || weight == nullptr) {
+      return invalid_argument("cbrdf_model_sample: model, wo, wi, pdf or weight is NULL");
+    }
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo, "wo"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_unit_numbers(u1, u2, "u1, u2"));
+    double w[3];
+    const cbrdf::BrdfSample s =
+        cbrdf::capi::sampler_of(model).sample(cbrdf::capi::to_vec3(wo), u1, u2, w);
+    wi[0] = s.wi.x;
+    wi[1] = s.wi.y;
+    wi[2] = s.wi.z;
+    *pdf = s.pdf;
+    std::copy(w, w + 3, weight);
     return cbrdf::ok_status();
   });
 }
 
 cbrdf_status cbrdf_model_sample_batch(const cbrdf_model* model, size_t n, const double* wo,
-                                      const double* u, double* wi, double* pdf, double* weight) {
+                                      const double* u, double* wi, double* pdf, double* weight,
+                                      int threads) {
   return guarded([&] {
     if (model == nullptr) return invalid_argument("cbrdf_model_sample_batch: model is NULL");
     if (n == 0) return cbrdf::ok_status();
@@ -484,13 +566,43 @@ cbrdf_status cbrdf_model_sample_batch(const cbrdf_model* model, size_t n, const 
     for (std::size_t k = 0; k < n; ++k) {
       CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo + 3 * k, "wo", k));
       if (!std::isfinite(u[2 * k]) || !std::isfinite(u[2 * k + 1])) {
-        return invalid_argument("u pair " + std::to_string(k) + " (u[" + std::to_string(2 * k) +
-                                "], u[" + std::to_string(2 * k + 1) +
-                                "]) must be finite numbers in [0, 1)");
+        return cbrdf::capi::check_unit_numbers(u[2 * k], u[2 * k + 1],
+                                               "u pair " + std::to_string(k) + " (u[" +
+                                                   std::to_string(2 * k) + "], u[" +
+                                                   std::to_string(2 * k + 1) + "])");
       }
     }
     // The batch path: the same draws, pdfs and weights as sample() and eval per draw, bit for bit.
-    cbrdf::capi::sampler_of(model).sample_batch(n, wo, u, wi, pdf, weight);
+    cbrdf::capi::sampler_of(model).sample_batch(n, wo, u, wi, pdf, weight, threads);
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_sample_pdf(const cbrdf_model* model, const double wi[3],
+                                    const double wo[3], double* pdf) {
+  return guarded([&] {
+    if (model == nullptr || wi == nullptr || wo == nullptr || pdf == nullptr) {
+      return invalid_argument("cbrdf_model_sample_pdf: model, wi, wo or pdf is NULL");
+    }
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wi, "wi"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo, "wo"));
+    *pdf = cbrdf::capi::sampler_of(model).pdf(cbrdf::capi::to_vec3(wo), cbrdf::capi::to_vec3(wi));
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_eval_pdf(const cbrdf_model* model, const double wi[3], const double wo[3],
+                                  double rgb[3], double* pdf) {
+  return guarded([&] {
+    if (model == nullptr || wi == nullptr || wo == nullptr || rgb == nullptr || pdf == nullptr) {
+      return invalid_argument("cbrdf_model_eval_pdf: model, wi, wo, rgb or pdf is NULL");
+    }
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wi, "wi"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo, "wo"));
+    const cbrdf::Vec3 i = cbrdf::capi::to_vec3(wi), o = cbrdf::capi::to_vec3(wo);
+    const double p = cbrdf::capi::sampler_of(model).pdf(o, i);  // may throw: before any output
+    model->evaluator->eval(i, o, rgb);
+    *pdf = p;
     return cbrdf::ok_status();
   });
 }
@@ -504,6 +616,40 @@ cbrdf_status cbrdf_model_pdf(const cbrdf_model* model, const double wo[3], const
     CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo, "wo"));
     CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wi, "wi"));
     *pdf = cbrdf::capi::sampler_of(model).pdf(cbrdf::capi::to_vec3(wo), cbrdf::capi::to_vec3(wi));
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_albedo(const cbrdf_model* model, const double wo[3], double rgb[3],
+                                int threads) {
+  return guarded([&] {
+    if (model == nullptr || wo == nullptr || rgb == nullptr) {
+      return invalid_argument("cbrdf_model_albedo: model, wo or rgb is NULL");
+    }
+    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_direction(wo, "wo"));
+    cbrdf::Vec3 o = cbrdf::capi::to_vec3(wo);
+    cbrdf::unit_direction(o);
+    model->evaluator->albedo(o.z, rgb, threads);
+    return cbrdf::ok_status();
+  });
+}
+
+cbrdf_status cbrdf_model_albedo_table(const cbrdf_model* model, size_t n, double* rgb,
+                                      int threads) {
+  return guarded([&] {
+    if (model == nullptr || rgb == nullptr) {
+      return invalid_argument("cbrdf_model_albedo_table: model or rgb is NULL");
+    }
+    if (n < 1 || n > 1024) {
+      return invalid_argument("cbrdf_model_albedo_table: n = " + std::to_string(n) +
+                              " is out of range (1 to 1024)");
+    }
+    std::vector<double> out(3 * n);  // rgb is written only on success
+    for (std::size_t k = 0; k < n; ++k) {
+      const double theta = (double(k) + 0.5) / double(n) * (std::numbers::pi / 2);
+      model->evaluator->albedo(std::cos(theta), &out[3 * k], threads);
+    }
+    std::copy(out.begin(), out.end(), rgb);
     return cbrdf::ok_status();
   });
 }

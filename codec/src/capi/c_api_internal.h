@@ -8,7 +8,7 @@
 #include <string_view>
 #include <utility>
 
-#include "cbrdf/cbrdf_c.h"
+#include "cbrdf/cbrdf_decode.h"
 #include "cbrdf/status.h"
 
 // These are called across the future decoder/encoder library boundary, so they stay visible

@@ -17,7 +17,7 @@
 
 #include "capi/c_api_internal.h"
 #include "cbrdf/brdf_table.h"
-#include "cbrdf/cbrdf_c.h"
+#include "cbrdf/cbrdf_encode.h"
 #include "cbrdf/encoder.h"
 #include "cbrdf/file_io.h"
 #include "cbrdf/fit.h"
@@ -132,14 +132,14 @@ Status check_no_positive_infinity(const BrdfTable& table) {
 
 extern "C" {
 
-void cbrdf_encode_settings_init(cbrdf_encode_settings* settings) {
-  if (settings == nullptr) {
-    cbrdf::capi::set_last_error(CBRDF_ERROR_INVALID_ARGUMENT,
-                                "cbrdf_encode_settings_init: settings is NULL");
-    return;
-  }
-  *settings = cbrdf::capi::default_settings();
-  cbrdf::capi::clear_last_error();
+cbrdf_status cbrdf_encode_settings_init(cbrdf_encode_settings* settings) {
+  return cbrdf::capi::guarded([&]() -> cbrdf::Status {
+    if (settings == nullptr) {
+      return cbrdf::capi::invalid_argument("cbrdf_encode_settings_init: settings is NULL");
+    }
+    *settings = cbrdf::capi::default_settings();
+    return cbrdf::ok_status();
+  });
 }
 
 cbrdf_status cbrdf_encode_table(const double* stored_values, size_t count,
