@@ -96,7 +96,7 @@ void expect_finite_sampling(const Bytes& file) {
     u[2 * k + 1] = uni(rng);
   }
   ASSERT_EQ(
-      cbrdf_model_sample_batch(h, n, wo.data(), u.data(), wi.data(), pdf.data(), weight.data()),
+      cbrdf_model_sample_batch(h, n, wo.data(), u.data(), wi.data(), pdf.data(), weight.data(), 0),
       CBRDF_OK);
   std::size_t bad = 0;
   for (double x : weight) bad += !(std::isfinite(x) && x >= 0.0);
@@ -104,7 +104,7 @@ void expect_finite_sampling(const Bytes& file) {
   for (std::size_t k = 0; k < n; ++k) {
     if (!(pdf[k] > 0)) std::memcpy(&wi[3 * k], &wo[3 * k], 3 * sizeof(double));
   }
-  ASSERT_EQ(cbrdf_model_eval_batch(h, n, wi.data(), wo.data(), rgb.data()), CBRDF_OK);
+  ASSERT_EQ(cbrdf_model_eval_batch(h, n, wi.data(), wo.data(), rgb.data(), 0), CBRDF_OK);
   bad = 0;
   for (double x : rgb) bad += !(std::isfinite(x) && x >= 0.0);
   EXPECT_EQ(bad, 0u) << "non-finite or negative values";

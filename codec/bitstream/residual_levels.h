@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdint>
 
-#include "cbrdf/export.h"
 #include "cbrdf/model.h"
 #include "chunks.h"
 
@@ -23,11 +22,11 @@ inline std::int32_t residual_code(double r, double step) {
 
 // Rebuilds residual.values from residual.codes (levels, steps, row shifts and fine multiplier
 // taken from `residual`). Codes at not-measured bins are 0 and their values predictions only.
-CBRDF_INTERNAL_EXPORT void rebuild_interpolated(Residual* residual);
+void rebuild_interpolated(Residual* residual);
 
 // The writer's side: `target` holds the residual to code (kMaskBits values, NaN where any value
 // will do, e.g. not-measured bins). Sets residual.codes to round((target - prediction) / step),
 // clamped to -2^28..2^28 (0 where the target is NaN), and residual.values to the rebuilt values.
-CBRDF_INTERNAL_EXPORT void quantize_interpolated(const double* target, Residual* residual);
+void quantize_interpolated(const double* target, Residual* residual);
 
 }  // namespace cbrdf::internal

@@ -75,12 +75,13 @@ inline Result run_capi(Bytes input) {
               "eval pair " + std::to_string(k) + ": " + std::to_string(rgb[o + std::size_t(c)]));
     }
   }
-  r.check(cbrdf_model_eval_batch(model, kCapiPairs, wi.data(), wo.data(), batch.data()) == CBRDF_OK,
-          "cbrdf_model_eval_batch");
+  r.check(
+      cbrdf_model_eval_batch(model, kCapiPairs, wi.data(), wo.data(), batch.data(), 1) == CBRDF_OK,
+      "cbrdf_model_eval_batch");
   r.check(std::memcmp(batch.data(), rgb.data(), batch.size() * sizeof(double)) == 0,
           "cbrdf_model_eval_batch differs from cbrdf_model_eval");
   const cbrdf_status sampled = cbrdf_model_sample_batch(model, kCapiPairs, wo.data(), u.data(),
-                                                        drawn.data(), pdf.data(), weight.data());
+                                                        drawn.data(), pdf.data(), weight.data(), 1);
   r.check(sampled == CBRDF_OK, "cbrdf_model_sample_batch failed");
   for (int k = 0; sampled == CBRDF_OK && k < kCapiPairs; ++k) {
     const std::size_t o = 3 * std::size_t(k);
@@ -96,8 +97,8 @@ inline Result run_capi(Bytes input) {
       r.check(w[2] > 0 && std::abs(w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - 1) < 1e-6,
               "sample " + std::to_string(k) + " wi is not a unit vector above the horizon");
       double p = -1;
-      r.check(cbrdf_model_pdf(model, &wo[o], w, &p) == CBRDF_OK && finite_nonnegative(p),
-              "cbrdf_model_pdf at a drawn direction");
+      r.check(cbrdf_model_sample_pdf(model, w, &wo[o], &p) == CBRDF_OK && finite_nonnegative(p),
+              "cbrdf_model_sample_pdf at a drawn direction");
     }
   }
   cbrdf_model_free(model);

@@ -150,7 +150,8 @@ static void print_info(const cbrdf_model* m) {
     printf("]}");
   }
   printf("],\"metadata\":[");
-  const size_t n = cbrdf_model_metadata_count(m);
+  size_t n = 0;
+  if (cbrdf_model_metadata_count(m, &n) != CBRDF_OK) fail_api("metadata count");
   for (size_t i = 0; i < n; ++i) {
     const char *key = NULL, *value = NULL;
     if (cbrdf_model_metadata_at(m, i, &key, &value) != CBRDF_OK) fail_api("metadata");
@@ -210,7 +211,7 @@ int main(int argc, char** argv) {
     const size_t n = count / 6;
     double* rgb = xmalloc(3 * n * sizeof(double));
     if (strcmp(mode, "eval") == 0) {
-      if (cbrdf_model_eval_batch(m, n, in, in + 3 * n, rgb) != CBRDF_OK) fail_api("eval");
+      if (cbrdf_model_eval_batch(m, n, in, in + 3 * n, rgb, 1) != CBRDF_OK) fail_api("eval");
       write_doubles(rgb, 3 * n);
     } else {
       const double budget = (argc > 3 ? atof(argv[3]) : 1000.0) * 1e6;
@@ -218,7 +219,7 @@ int main(int argc, char** argv) {
       const double start = now_ns();
       double elapsed = 0;
       do {
-        if (cbrdf_model_eval_batch(m, n, in, in + 3 * n, rgb) != CBRDF_OK) fail_api("eval");
+        if (cbrdf_model_eval_batch(m, n, in, in + 3 * n, rgb, 1) != CBRDF_OK) fail_api("eval");
         ++reps;
         elapsed = now_ns() - start;
       } while (elapsed < budget);
@@ -232,7 +233,8 @@ int main(int argc, char** argv) {
     double* in = read_doubles(&count);
     const size_t n = count / 5;
     double* out = xmalloc(7 * n * sizeof(double));
-    if (cbrdf_model_sample_batch(m, n, in, in + 3 * n, out, out + 3 * n, out + 4 * n) != CBRDF_OK) {
+    if (cbrdf_model_sample_batch(m, n, in, in + 3 * n, out, out + 3 * n, out + 4 * n, 1) !=
+        CBRDF_OK) {
       fail_api("sample");
     }
     write_doubles(out, 7 * n);

@@ -8,6 +8,7 @@
 //   model.eval([0, 0, 1], [0.6, 0, 0.8]);       // [r, g, b] (1/sr)
 //   model.eval(wi, wo);                         // n pairs: Float64Array/Float32Array of 3n
 //   model.sample(wo, u);                        // { wi, pdf, weight }
+//   model.pdf(wi, wo);                          // the sampler's density of wi given wo
 //   model.table();                              // Float64Array, a MERL .binary's values
 //   model.free();
 //
@@ -176,7 +177,8 @@ export class Model {
         info.sliceList.push({ thetaDBegin: begin, thetaDEnd: end, channels });
       }
       info.metadata = [];
-      const n = rt.x.cbrdf_model_metadata_count(h);
+      rt.check(rt.x.cbrdf_model_metadata_count(h, ints));
+      const n = rt.i32(ints, 1)[0];  // a size_t: 32 bits in wasm32
       for (let i = 0; i < n; ++i) {
         rt.check(rt.x.cbrdf_model_metadata_at(h, i, ints, ints + 4));
         const [key, value] = rt.i32(ints, 2);
@@ -211,7 +213,7 @@ export class Model {
       const p = alloc(8 * 9 * n);
       put(rt, p, wi);
       put(rt, p + 24 * n, wo);
-      rt.check(rt.x.cbrdf_model_eval_batch(h, n, p, p + 24 * n, p + 48 * n));
+      rt.check(rt.x.cbrdf_model_eval_batch(h, n, p, p + 24 * n, p + 48 * n, 1));
       return take(rt, p + 48 * n, 3 * n, wi);
     });
   }
@@ -240,7 +242,7 @@ export class Model {
       const pu = p + 24 * n, pwi = pu + 16 * n, ppdf = pwi + 24 * n, pw = ppdf + 8 * n;
       put(rt, p, wo);
       put(rt, pu, u);
-      rt.check(rt.x.cbrdf_model_sample_batch(h, n, p, pu, pwi, ppdf, pw));
+      rt.check(rt.x.cbrdf_model_sample_batch(h, n, p, pu, pwi, ppdf, pw, 1));
       if (!batch) {
         return { wi: Array.from(rt.f64(pwi, 3)), pdf: rt.f64(ppdf, 1)[0],
                  weight: Array.from(rt.f64(pw, 3)) };
@@ -250,17 +252,18 @@ export class Model {
     });
   }
 
-  // The sampler's density of wi given wo (cbrdf_model_pdf; note the order), single pairs.
-  pdf(wo, wi) {
+  // The sampler's density of drawing wi given wo (cbrdf_model_sample_pdf), single pairs; (wi, wo)
+  // as every call here.
+  pdf(wi, wo) {
     const { rt } = this;
     const h = this.live();
-    single('wo', wo, 3);
     single('wi', wi, 3);
+    single('wo', wo, 3);
     return rt.scoped((alloc) => {
       const p = alloc(56);
-      put(rt, p, wo);
-      put(rt, p + 24, wi);
-      rt.check(rt.x.cbrdf_model_pdf(h, p, p + 24, p + 48));
+      put(rt, p, wi);
+      put(rt, p + 24, wo);
+      rt.check(rt.x.cbrdf_model_sample_pdf(h, p, p + 24, p + 48));
       return rt.f64(p + 48, 1)[0];
     });
   }

@@ -14,7 +14,6 @@
 #include <vector>
 
 #include "cbrdf/container.h"
-#include "cbrdf/export.h"
 #include "cbrdf/model.h"
 #include "cbrdf/status.h"
 
@@ -33,8 +32,8 @@ struct ContainerSettings {
 // (unknown family, parameter outside its family's domain, K < 0 or not finite, slices not
 // contiguous over [0, 90), marginal tables of the wrong size or with negative or non-finite
 // masses, mask values that are not negative, or a values list of the wrong length).
-CBRDF_EXPORT Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
-                                                              const ContainerSettings& settings);
+Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
+                                                 const ContainerSettings& settings);
 
 // Full validation; errors name the chunk tag and its byte offset.
 struct ContainerInfo;
@@ -42,17 +41,15 @@ struct ContainerInfo;
 // CPU without a residual layer (the first call in a process about 4 ms more: the below-horizon
 // reference mask, built once); a residual layer's 4,374,000 codes are decoded on every call,
 // 15 to 55 ms (cbrdf/cbrdf_decode.h, Cost).
-CBRDF_EXPORT Expected<Model> decode_model(std::span<const std::uint8_t> bytes,
-                                          ContainerInfo* info = nullptr);
+Expected<Model> decode_model(std::span<const std::uint8_t> bytes, ContainerInfo* info = nullptr);
 
 // Reads a .cbrdf file (a regular file or a path naming an open descriptor such as /dev/stdin; at
 // most kMaxContainerBytes) and decodes it as decode_model does. Errors: kInvalidArgument (an empty
 // path), kNotFound, kIo, kLimit (reading), then decode_model's; messages start with the path.
-CBRDF_EXPORT Expected<Model> decode_model_file(const std::string& path,
-                                               ContainerInfo* info = nullptr);
+Expected<Model> decode_model_file(const std::string& path, ContainerInfo* info = nullptr);
 
 // decode_model, then the full MERL-resolution table (Model::table()).
-CBRDF_EXPORT Expected<BrdfTable> decode_table(std::span<const std::uint8_t> bytes);
+Expected<BrdfTable> decode_table(std::span<const std::uint8_t> bytes);
 
 // The parameters of one slice as the file stores them.
 struct SliceParams {
@@ -83,9 +80,9 @@ struct ContainerInfo {
 };
 
 // Validates exactly as decode_model does (every chunk is decoded) and describes the file.
-CBRDF_EXPORT Expected<ContainerInfo> inspect_container(std::span<const std::uint8_t> bytes);
+Expected<ContainerInfo> inspect_container(std::span<const std::uint8_t> bytes);
 
 // Valid parameter domain of each family as this codec checks it (documented in the spec).
-CBRDF_EXPORT bool copula_parameter_valid(CopulaFamily family, double theta);
+bool copula_parameter_valid(CopulaFamily family, double theta);
 
 }  // namespace cbrdf

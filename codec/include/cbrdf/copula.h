@@ -31,7 +31,6 @@
 #include <limits>
 
 #include "cbrdf/copula_family.h"
-#include "cbrdf/export.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf {
@@ -121,6 +120,6 @@ class Copula {
 
 // The one instance of each family. Values outside CopulaFamily give the independence copula
 // (validate raw bytes with family_valid first).
-CBRDF_EXPORT const Copula& copula_for(CopulaFamily family);
+const Copula& copula_for(CopulaFamily family);
 
 }  // namespace cbrdf

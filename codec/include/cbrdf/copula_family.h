@@ -6,8 +6,6 @@
 #include <optional>
 #include <string_view>
 
-#include "cbrdf/export.h"
-
 namespace cbrdf {
 
 enum class CopulaFamily : std::uint8_t {
@@ -18,8 +16,8 @@ enum class CopulaFamily : std::uint8_t {
   kJoe = 4,
 };
 
-CBRDF_EXPORT std::string_view family_name(CopulaFamily f);
-CBRDF_EXPORT std::optional<CopulaFamily> family_from_name(std::string_view name);
-CBRDF_EXPORT bool family_valid(std::uint8_t raw);
+std::string_view family_name(CopulaFamily f);
+std::optional<CopulaFamily> family_from_name(std::string_view name);
+bool family_valid(std::uint8_t raw);
 
 }  // namespace cbrdf

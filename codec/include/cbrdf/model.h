@@ -18,7 +18,6 @@
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/coords.h"
 #include "cbrdf/copula_family.h"
-#include "cbrdf/export.h"
 
 namespace cbrdf {
 
@@ -52,7 +51,7 @@ struct Slice {
 };
 
 // Which bins the source did not measure, and the exact stored values it had there.
-struct CBRDF_EXPORT NotMeasured {
+struct NotMeasured {
   // Bit (c * kBinsPerChannel + i) set when channel c's bin i was not measured.
   std::vector<std::uint64_t> bits =
       std::vector<std::uint64_t>((kChannels * kBinsPerChannel + 63) / 64, 0);
@@ -83,7 +82,7 @@ struct ResidualEscape {
 };
 // The lossless mode (RESD mode 1) holds the exact table instead: the decoded table is it, bit for
 // bit, and continuous evaluation interpolates it.
-struct CBRDF_EXPORT Residual {
+struct Residual {
   double max_error = 0.0;                  // mode 0's bound; 0 with neither mode
   double step = 0.0;                       // quantizer step, at most 2 max_error
   double knee = 0.0;                       // k, stored units (1e-12 to 1e12)
@@ -139,7 +138,7 @@ struct CBRDF_EXPORT Residual {
 };
 
 // Pure data: what a .cbrdf file holds. Evaluate it through a ModelEvaluator.
-struct CBRDF_EXPORT Model {
+struct Model {
   std::vector<Slice> slices;  // contiguous, covering theta_d bins [0, 90)
   NotMeasured not_measured;
   Residual residual;  // absent (max_error 0) in files of version 1.0 and 1.1
@@ -195,7 +194,7 @@ inline bool unit_direction(Vec3& w) {
 // Invalid input: eval and eval_f32 of a direction that is not a finite unit vector (within
 // kDirectionTolerance; see unit_direction) give NaN in every channel, never a BRDF value; so do
 // the batch forms for that pair. (The C API refuses such a call with an error instead.)
-class CBRDF_EXPORT ModelEvaluator {
+class ModelEvaluator {
  public:
   // Takes the model (move it in to avoid a copy).
   explicit ModelEvaluator(Model model);

@@ -23,16 +23,14 @@
 
 #include <functional>
 
-#include "cbrdf/export.h"
-
 namespace cbrdf {
 
 // The most threads any loop uses, including the calling thread: n >= 1 caps it at n (at most
 // kMaxThreadLimit), n <= 0 restores the default of one per hardware thread. Takes effect for loops
 // started afterwards; thread-safe.
-CBRDF_EXPORT void set_thread_limit(int n);
+void set_thread_limit(int n);
 // The limit in force, resolved: the value set, or the hardware thread count (at least 1).
-[[nodiscard]] CBRDF_EXPORT int thread_limit();
+[[nodiscard]] int thread_limit();
 inline constexpr int kMaxThreadLimit = 256;
 
 // Runs body(task) exactly once for every task in [0, tasks), on any threads and in any order,
@@ -42,6 +40,6 @@ using ParallelRunner = std::function<void(int tasks, const std::function<void(in
 // Replaces the built-in pool for loops started afterwards; nullptr restores it. Thread-safe; loops
 // already running finish on the runner they started with. The thread limit still decides how many
 // tasks some loops are split into, and a loop limited to one thread still runs inline.
-CBRDF_EXPORT void set_parallel_runner(ParallelRunner runner);
+void set_parallel_runner(ParallelRunner runner);
 
 }  // namespace cbrdf

@@ -8,20 +8,18 @@
 #include <cstdint>
 #include <functional>
 
-#include "cbrdf/export.h"
 #include "cbrdf/parallel.h"
 
 namespace cbrdf::internal {
 
 // The threads a loop of `tasks` tasks may use: min(max_threads, thread_limit(), tasks), where
 // max_threads <= 0 means no request of its own; 1 inside a task of another loop. At least 1.
-[[nodiscard]] CBRDF_INTERNAL_EXPORT int threads_for(int tasks, int max_threads);
+[[nodiscard]] int threads_for(int tasks, int max_threads);
 
 // body(task) for every task in [0, tasks) on at most threads_for(tasks, max_threads) threads (see
 // cbrdf/parallel.h for nesting and exceptions). Tasks are handed out one at a time, so uneven
 // tasks balance; a task must write only its own results.
-CBRDF_INTERNAL_EXPORT void parallel_for(int tasks, int max_threads,
-                                        const std::function<void(int task)>& body);
+void parallel_for(int tasks, int max_threads, const std::function<void(int task)>& body);
 
 // Splits rows [0, rows) into threads_for(rows, max_threads) contiguous blocks and calls
 // fn(row_begin, row_end) once per block. The split depends only on the thread count, and callers

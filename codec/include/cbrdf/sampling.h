@@ -39,7 +39,6 @@
 
 #include "cbrdf/brdf_fn.h"
 #include "cbrdf/coords.h"
-#include "cbrdf/export.h"
 #include "cbrdf/model.h"
 
 namespace cbrdf {
@@ -61,7 +60,7 @@ struct BrdfSample {
   bool valid = false;  // false: rejected (wo below the horizon or wi reflected below it)
 };
 
-class CBRDF_EXPORT BrdfSampler {
+class BrdfSampler {
  public:
   // f is called from several threads (it must not mutate shared state) and must outlive the
   // sampler. Settings are clamped to sensible ranges (at least 1 bin/cell, c in [0, 1]).
@@ -128,14 +127,14 @@ class CBRDF_EXPORT BrdfSampler {
 // The model's eval() as a BrdfFn, and a sampler for the copula model through it. Each holds its
 // own copy of the evaluator (the first forms copy it, sharing its tables; the shared forms keep
 // the given one alive), so the caller's evaluator may be moved or destroyed afterwards.
-CBRDF_EXPORT BrdfFn model_brdf_fn(const ModelEvaluator& evaluator);
-CBRDF_EXPORT BrdfFn model_brdf_fn(std::shared_ptr<const ModelEvaluator> evaluator);
-CBRDF_EXPORT BrdfSampler make_model_sampler(const ModelEvaluator& evaluator,
-                                            const SamplerSettings& settings = {});
-CBRDF_EXPORT BrdfSampler make_model_sampler(std::shared_ptr<const ModelEvaluator> evaluator,
-                                            const SamplerSettings& settings = {});
+BrdfFn model_brdf_fn(const ModelEvaluator& evaluator);
+BrdfFn model_brdf_fn(std::shared_ptr<const ModelEvaluator> evaluator);
+BrdfSampler make_model_sampler(const ModelEvaluator& evaluator,
+                               const SamplerSettings& settings = {});
+BrdfSampler make_model_sampler(std::shared_ptr<const ModelEvaluator> evaluator,
+                               const SamplerSettings& settings = {});
 
 // Cosine-weighted hemisphere sampling, the usual baseline: wi with pdf cos(theta_i) / pi.
-CBRDF_EXPORT Vec3 sample_cosine_hemisphere(double u1, double u2);
+Vec3 sample_cosine_hemisphere(double u1, double u2);
 
 }  // namespace cbrdf

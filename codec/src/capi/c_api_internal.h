@@ -11,28 +11,23 @@
 #include "cbrdf/cbrdf_decode.h"
 #include "cbrdf/status.h"
 
-// These are called across the future decoder/encoder library boundary, so they stay visible
-// under -fvisibility=hidden: when the two parts become shared libraries, the encoder's calls bind
-// to the decoder's one thread-local last error. (Not part of the public API: not installed.)
-#if defined(__GNUC__) || defined(__clang__)
-#define CBRDF_CAPI_INTERNAL __attribute__((visibility("default")))
-#else
-#define CBRDF_CAPI_INTERNAL
-#endif
+// Shared by the C API's decoder and encoder halves, which always sit in one library
+// (ARCHITECTURE.md: the shared libraries export the C API only). Not part of the public API: not
+// installed.
 
 namespace cbrdf::capi {
 
-CBRDF_CAPI_INTERNAL cbrdf_status to_c_status(ErrorCode code) noexcept;
+cbrdf_status to_c_status(ErrorCode code) noexcept;
 
 // Records a failure as the calling thread's last error (when memory runs out, the message may be
 // cut short or empty; the code is always kept).
-CBRDF_CAPI_INTERNAL void set_last_error(cbrdf_status code, std::string_view message) noexcept;
-CBRDF_CAPI_INTERNAL void clear_last_error() noexcept;
+void set_last_error(cbrdf_status code, std::string_view message) noexcept;
+void clear_last_error() noexcept;
 // Records a non-ok status, clears the last error for an ok one; returns the status's code.
-CBRDF_CAPI_INTERNAL cbrdf_status report(const Status& status) noexcept;
+cbrdf_status report(const Status& status) noexcept;
 // Call only inside a catch block: records the exception in flight (std::bad_alloc as "out of
 // memory", anything else as an internal error) and returns the code recorded.
-CBRDF_CAPI_INTERNAL cbrdf_status report_current_exception() noexcept;
+cbrdf_status report_current_exception() noexcept;
 
 // The boundary of every status-returning function: runs body (returning Status) and reports its
 // result; no exception leaves it.

@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "cbrdf/copula_family.h"
-#include "cbrdf/export.h"
 
 namespace cbrdf::fit {
 
@@ -27,12 +26,12 @@ class GridCopula {
   virtual void row(int i, int j, double* c, double* dc) const = 0;
 };
 
-CBRDF_INTERNAL_EXPORT std::unique_ptr<GridCopula> make_grid_copula(CopulaFamily family);
+std::unique_ptr<GridCopula> make_grid_copula(CopulaFamily family);
 // The general grid of the Archimedean fast path (log domain, log_density where it is not finite,
 // a non-finite density read as 0) for Frank, Clayton, Gumbel and Joe; null for independence.
 // ModelEvaluator uses it for Frank parameters below kFrankGridMinAlpha, where FrankGrid's terms
 // underflow and its density turns NaN, since a file may hold any parameter of the domain.
-CBRDF_INTERNAL_EXPORT std::unique_ptr<GridCopula> make_archimedean_grid(CopulaFamily family);
+std::unique_ptr<GridCopula> make_archimedean_grid(CopulaFamily family);
 
 // Bins of the calling thread that the Archimedean grid evaluated off its fast path, for tests
 // that bound the decoder's work (spec/container.md, "Resource bounds"): log_sum_paths formed log s
@@ -42,14 +41,14 @@ struct GridWorkCounters {
   std::uint64_t log_sum_paths = 0;
   std::uint64_t general_paths = 0;
 };
-CBRDF_INTERNAL_EXPORT GridWorkCounters& grid_work_counters();
+GridWorkCounters& grid_work_counters();
 
 class FrankGrid;
 // The Frank grid inside a GridCopula made for kFrank (null for other families), so that hot loops
 // can call its inline density directly.
-CBRDF_INTERNAL_EXPORT const FrankGrid* frank_grid_of(const GridCopula& copula);
+const FrankGrid* frank_grid_of(const GridCopula& copula);
 
 // Midpoint CDF of bin masses: U_i = sum_{k<i} f_k + f_i / 2 (the decoder's and the fit's).
-CBRDF_INTERNAL_EXPORT void midpoint_cdf(const std::vector<double>& f, std::vector<double>* u);
+void midpoint_cdf(const std::vector<double>& f, std::vector<double>* u);
 
 }  // namespace cbrdf::fit

@@ -11,8 +11,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "cbrdf/export.h"
-
 namespace cbrdf {
 
 inline constexpr int kThetaHBins = 90;
@@ -43,7 +41,7 @@ constexpr BinIndex merl_bin(std::size_t index) {
                   int((index / kPhiDBins) % kThetaDBins), int(index % kPhiDBins)};
 }
 
-class CBRDF_EXPORT BrdfTable {
+class BrdfTable {
  public:
   // All bins 0 (measured, black).
   BrdfTable() : stored_(kChannels * kBinsPerChannel, 0.0) {}

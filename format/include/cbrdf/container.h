@@ -13,7 +13,6 @@
 #include <string_view>
 #include <vector>
 
-#include "cbrdf/export.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf {
@@ -50,12 +49,11 @@ inline constexpr std::string_view kTagResidual = "RESD";  // optional; version 1
 inline constexpr std::string_view kTagMetadata = "mETA";
 inline constexpr std::string_view kTagEnd = "CEND";
 
-CBRDF_EXPORT bool chunk_tag_valid(
-    std::string_view tag);  // four ASCII letters or digits, first a letter
-CBRDF_EXPORT bool chunk_tag_critical(std::string_view tag);
-CBRDF_EXPORT bool chunk_tag_known(std::string_view tag);
+bool chunk_tag_valid(std::string_view tag);  // four ASCII letters or digits, first a letter
+bool chunk_tag_critical(std::string_view tag);
+bool chunk_tag_known(std::string_view tag);
 // Largest payload (after decompression) a version-1 reader accepts for a known tag; 0 otherwise.
-CBRDF_EXPORT std::uint32_t max_chunk_payload_bytes(std::string_view tag);
+std::uint32_t max_chunk_payload_bytes(std::string_view tag);
 
 struct ChunkInfo {
   std::string tag;
@@ -87,19 +85,18 @@ struct ParsedContainer {
 // Validates the whole container: signature (with a diagnosis of text-mode damage), version,
 // every chunk's bounds, flags, checksum and size limits, the set and order of critical chunks,
 // and nothing after the end chunk. Decompresses the known chunks.
-CBRDF_EXPORT Expected<ParsedContainer> parse_container(std::span<const std::uint8_t> bytes);
+Expected<ParsedContainer> parse_container(std::span<const std::uint8_t> bytes);
 
 // XXH64 (seed 0) of a chunk's 16 header bytes followed by its stored bytes.
-CBRDF_EXPORT std::uint64_t chunk_checksum(std::span<const std::uint8_t> header_and_stored);
+std::uint64_t chunk_checksum(std::span<const std::uint8_t> header_and_stored);
 
 // Appends one chunk exactly as given (no compression, no checks): the low-level writer, also
 // used by tests and fuzz seeds to build files that a normal writer would never produce.
-CBRDF_EXPORT void append_raw_chunk(std::vector<std::uint8_t>* out, std::string_view tag,
-                                   std::uint32_t flags, std::span<const std::uint8_t> stored,
-                                   std::uint32_t payload_bytes);
+void append_raw_chunk(std::vector<std::uint8_t>* out, std::string_view tag, std::uint32_t flags,
+                      std::span<const std::uint8_t> stored, std::uint32_t payload_bytes);
 // The 12-byte file header: signature and version.
-CBRDF_EXPORT std::vector<std::uint8_t> container_file_header(
-    std::uint16_t major = kContainerMajorVersion, std::uint16_t minor = 0);
+std::vector<std::uint8_t> container_file_header(std::uint16_t major = kContainerMajorVersion,
+                                                std::uint16_t minor = 0);
 
 struct ChunkToWrite {
   std::string tag;
@@ -111,7 +108,7 @@ struct ChunkToWrite {
 // Writes header (version 1.minor), chunks in the given order and the end chunk. Refuses invalid
 // tags and payloads above their limits (kInvalidArgument / kLimit), so that whatever it writes
 // parses.
-CBRDF_EXPORT Expected<std::vector<std::uint8_t>> write_container(
-    std::span<const ChunkToWrite> chunks, int zstd_level, std::uint16_t minor = 0);
+Expected<std::vector<std::uint8_t>> write_container(std::span<const ChunkToWrite> chunks,
+                                                    int zstd_level, std::uint16_t minor = 0);
 
 }  // namespace cbrdf

@@ -9,7 +9,6 @@
 #include <cstddef>
 
 #include "cbrdf/brdf_table.h"
-#include "cbrdf/export.h"
 
 namespace cbrdf {
 
@@ -26,26 +25,26 @@ struct HalfDiff {
 };
 
 // (wi, wo) -> (theta_h, phi_h, theta_d, phi_d). phi_h, phi_d in (-pi, pi].
-CBRDF_EXPORT HalfDiff to_half_diff(const Vec3& wi, const Vec3& wo);
+HalfDiff to_half_diff(const Vec3& wi, const Vec3& wo);
 // The inverse: the pair (wi, wo) with these coordinates.
-CBRDF_EXPORT void from_half_diff(const HalfDiff& hd, Vec3* wi, Vec3* wo);
+void from_half_diff(const HalfDiff& hd, Vec3* wi, Vec3* wo);
 
 // Bin indices exactly as the reference MERL reader (BRDFRead.cpp) computes them, clamped to the
 // grid.
-CBRDF_EXPORT int theta_h_index(double theta_h);
-CBRDF_EXPORT int theta_d_index(double theta_d);
-CBRDF_EXPORT int phi_d_index(double phi_d);  // folds phi_d < 0 by + pi (reciprocity)
+int theta_h_index(double theta_h);
+int theta_d_index(double theta_d);
+int phi_d_index(double phi_d);  // folds phi_d < 0 by + pi (reciprocity)
 
 // Continuous positions on the grid: bin i sits at position i exactly (the inverse of the bin
 // angle).
-CBRDF_EXPORT double theta_h_position(double theta_h);  // sqrt(theta_h / 90deg) * 90
-CBRDF_EXPORT double theta_d_position(double theta_d);  // theta_d / 1deg
-CBRDF_EXPORT double phi_d_position(double phi_d);      // folded to [0, pi), / 1deg
+double theta_h_position(double theta_h);  // sqrt(theta_h / 90deg) * 90
+double theta_d_position(double theta_d);  // theta_d / 1deg
+double phi_d_position(double phi_d);      // folded to [0, pi), / 1deg
 
 // The angle a bin (or fractional position) sits at.
-CBRDF_EXPORT double theta_h_of(double position);  // (position / 90)^2 * pi / 2
-CBRDF_EXPORT double theta_d_of(double position);
-CBRDF_EXPORT double phi_d_of(double position);
+double theta_h_of(double position);  // (position / 90)^2 * pi / 2
+double theta_d_of(double position);
+double phi_d_of(double position);
 
 // Continuous MERL grid position of a direction pair (theta_h and theta_d positions, and phi_d
 // folded to [0, 180)): the same as the *_position functions of to_half_diff's angles, computed
@@ -53,21 +52,19 @@ CBRDF_EXPORT double phi_d_of(double position);
 struct GridPosition {
   double theta_h = 0, theta_d = 0, phi_d = 0;
 };
-CBRDF_EXPORT GridPosition grid_position(const Vec3& wi, const Vec3& wo);
+GridPosition grid_position(const Vec3& wi, const Vec3& wo);
 
 // Nearest-bin MERL index of a direction pair, identical to the reference reader's lookup.
-CBRDF_EXPORT std::size_t nearest_bin(const Vec3& wi, const Vec3& wo);
+std::size_t nearest_bin(const Vec3& wi, const Vec3& wo);
 
 // RGB physical value at a direction pair from a table: nearest bin (the reference behaviour), or
 // trilinear between the bins around the continuous position (theta_h and theta_d clamped at the
 // grid's ends, phi_d periodic with period 180 bins). Not-measured bins read as 0 in both.
-CBRDF_EXPORT void lookup_nearest(const BrdfTable& table, const Vec3& wi, const Vec3& wo,
-                                 double rgb[3]);
-CBRDF_EXPORT void lookup_linear(const BrdfTable& table, const Vec3& wi, const Vec3& wo,
-                                double rgb[3]);
+void lookup_nearest(const BrdfTable& table, const Vec3& wi, const Vec3& wo, double rgb[3]);
+void lookup_linear(const BrdfTable& table, const Vec3& wi, const Vec3& wo, double rgb[3]);
 
 // True when a bin's grid direction pair has wi or wo at or below the horizon: the configurations a
 // MERL file marks not measured. Evaluated at the bin's grid angles with phi_h = 0.
-CBRDF_EXPORT bool bin_below_horizon(int theta_h, int theta_d, int phi_d);
+bool bin_below_horizon(int theta_h, int theta_d, int phi_d);
 
 }  // namespace cbrdf

@@ -29,7 +29,6 @@
 #include <vector>
 
 #include "cbrdf/brdf_table.h"
-#include "cbrdf/export.h"
 #include "cbrdf/file_io.h"  // ChunkSink
 #include "cbrdf/status.h"
 
@@ -66,32 +65,28 @@ struct MerlInfo {
 // (implausible dims, longer than its dims need), kUnsupported (dims other than 90x90x180 or
 // 90x90x360), kNumeric (+Inf: the count and the first one's channel and bin).
 // Regular files only (cbrdf/file_io.h).
-CBRDF_EXPORT Expected<BrdfTable> read_merl(const std::filesystem::path& path,
-                                           const MerlReadOptions& options = {},
-                                           MerlInfo* info = nullptr);
+Expected<BrdfTable> read_merl(const std::filesystem::path& path,
+                              const MerlReadOptions& options = {}, MerlInfo* info = nullptr);
 // The same from bytes in memory; name_for_errors prefixes every message.
-CBRDF_EXPORT Expected<BrdfTable> parse_merl(std::span<const std::uint8_t> bytes,
-                                            std::string_view name_for_errors,
-                                            const MerlReadOptions& options = {},
-                                            MerlInfo* info = nullptr);
+Expected<BrdfTable> parse_merl(std::span<const std::uint8_t> bytes,
+                               std::string_view name_for_errors,
+                               const MerlReadOptions& options = {}, MerlInfo* info = nullptr);
 
 // From any reader: size is the number of bytes the source holds and read_exact(dst, n) reads the
 // next n of them (kTruncated when the source ends first). For readers of one's own (the `cbrdf`
 // command reads standard input and pipes this way).
 using MerlReadExact = std::function<Status(void* dst, std::size_t n)>;
-CBRDF_EXPORT Expected<BrdfTable> read_merl_stream(std::uint64_t size,
-                                                  const MerlReadExact& read_exact,
-                                                  std::string_view name_for_errors,
-                                                  const MerlReadOptions& options = {},
-                                                  MerlInfo* info = nullptr);
+Expected<BrdfTable> read_merl_stream(std::uint64_t size, const MerlReadExact& read_exact,
+                                     std::string_view name_for_errors,
+                                     const MerlReadOptions& options = {}, MerlInfo* info = nullptr);
 
 // Streams a 90x90x180 .binary's bytes to sink (the header, then the table's memory, no copy).
-CBRDF_EXPORT Status write_merl(const BrdfTable& table, const ChunkSink& sink);
+Status write_merl(const BrdfTable& table, const ChunkSink& sink);
 // Writes a 90x90x180 .binary (write_file_atomic of cbrdf/file_io.h), straight from the table's
 // memory.
-CBRDF_EXPORT Status write_merl(const std::filesystem::path& path, const BrdfTable& table);
+Status write_merl(const std::filesystem::path& path, const BrdfTable& table);
 // The file's bytes (kMerlFileBytes of them).
-CBRDF_EXPORT std::vector<std::uint8_t> serialize_merl(const BrdfTable& table);
+std::vector<std::uint8_t> serialize_merl(const BrdfTable& table);
 
 struct MerlChannelStats {
   std::size_t measured = 0;
@@ -103,7 +98,7 @@ struct MerlChannelStats {
 struct MerlStats {
   std::array<MerlChannelStats, kChannels> channel;  // R, G, B
 };
-CBRDF_EXPORT MerlStats merl_stats(const BrdfTable& table);
+MerlStats merl_stats(const BrdfTable& table);
 
 // How a table's not-measured mask compares with the geometric below-horizon bins (coords.h
 // bin_below_horizon): a mismatch is a (channel, bin) measured below the horizon or not measured
@@ -114,6 +109,6 @@ struct HorizonMaskCheck {
   std::size_t first_index = 0;  // MERL index within the channel
   bool matches() const { return mismatches == 0; }
 };
-CBRDF_EXPORT HorizonMaskCheck check_horizon_mask(const BrdfTable& table);
+HorizonMaskCheck check_horizon_mask(const BrdfTable& table);
 
 }  // namespace cbrdf

@@ -8,8 +8,6 @@
 #include <utility>
 #include <variant>
 
-#include "cbrdf/export.h"
-
 namespace cbrdf {
 
 // Stable numeric codes: never renumber, only append.
@@ -28,9 +26,9 @@ enum class ErrorCode : int {
   kInternal = 11,        // a bug in cbrdf
 };
 
-CBRDF_EXPORT const char* error_code_name(ErrorCode code);
+const char* error_code_name(ErrorCode code);
 
-class [[nodiscard]] CBRDF_EXPORT Status {
+class [[nodiscard]] Status {
  public:
   Status() = default;
   Status(ErrorCode code, std::string message) : code_(code), message_(std::move(message)) {}

@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "cbrdf/coords.h"
-#include "cbrdf/export.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf {
@@ -35,7 +34,7 @@ enum class LobeKind : std::uint8_t {
   kAshikhminShirley = 3,
 };
 
-CBRDF_EXPORT std::string_view lobe_kind_name(LobeKind kind);
+std::string_view lobe_kind_name(LobeKind kind);
 
 struct Lobe {
   LobeKind kind = LobeKind::kLambertian;
@@ -54,12 +53,12 @@ inline constexpr double kMinAlpha = 1e-4;
 inline constexpr double kMaxAlpha = 10.0;
 inline constexpr double kMaxExponent = 1e8;
 
-CBRDF_EXPORT Lobe lambertian(const std::array<double, 3>& albedo);
-CBRDF_EXPORT Lobe ggx(const std::array<double, 3>& f0, double alpha);
-CBRDF_EXPORT Lobe ward(const std::array<double, 3>& rho_s, double alpha);
-CBRDF_EXPORT Lobe ashikhmin_shirley(const std::array<double, 3>& rs, double exponent);
+Lobe lambertian(const std::array<double, 3>& albedo);
+Lobe ggx(const std::array<double, 3>& f0, double alpha);
+Lobe ward(const std::array<double, 3>& rho_s, double alpha);
+Lobe ashikhmin_shirley(const std::array<double, 3>& rs, double exponent);
 
-struct CBRDF_EXPORT AnalyticBrdf {
+struct AnalyticBrdf {
   std::vector<Lobe> lobes;
 
   // Sum of the lobes at a pair of unit directions; 0 in every channel when wi or wo is at or below
@@ -82,7 +81,7 @@ struct CBRDF_EXPORT AnalyticBrdf {
 // for a unit wo above the horizon (0 otherwise). Numerical quadrature over half vectors, each lobe
 // with a change of variable matched to its width, so that even a near-mirror lobe integrates
 // accurately; resolution scales the node count (nodes ~ 1600 * resolution^2 per lobe).
-CBRDF_EXPORT std::array<double, 3> directional_albedo(const AnalyticBrdf& brdf, const Vec3& wo,
-                                                      int resolution = 8);
+std::array<double, 3> directional_albedo(const AnalyticBrdf& brdf, const Vec3& wo,
+                                         int resolution = 8);
 
 }  // namespace cbrdf

@@ -12,7 +12,6 @@
 
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/codec.h"
-#include "cbrdf/export.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/model.h"
 #include "cbrdf/status.h"
@@ -52,7 +51,7 @@ struct ResidualSettings {
 
 // The residual the rate control (--target-psnr, --target-bytes) and the report's ladder write at
 // bound E of the finest rows: row steps, 3 levels, the finest level's bound 8 times its row's.
-CBRDF_EXPORT ResidualSettings target_residual_settings(double max_error);
+ResidualSettings target_residual_settings(double max_error);
 
 struct EncoderSettings {
   FitSettings fit;
@@ -70,8 +69,8 @@ struct CountOrAuto {
 
 // `text` as an integer from lo to hi or, when allow_auto, "auto"; nullopt for anything else (no
 // sign, spaces or fraction). Callers word the message: an option and a sweep list name it apart.
-CBRDF_EXPORT std::optional<CountOrAuto> parse_count_or_auto(std::string_view text, int lo, int hi,
-                                                            bool allow_auto);
+std::optional<CountOrAuto> parse_count_or_auto(std::string_view text, int lo, int hi,
+                                               bool allow_auto);
 
 // EncoderOptions::bits for `--bits auto`.
 inline constexpr int kAutoBits = 0;
@@ -96,13 +95,13 @@ struct EncoderOptions {
 
 // The settings the options stand for. kInvalidArgument names the option and its valid values in
 // one line ("--slices must be 1 to 90 or auto, not '0'"), the same wording for every caller.
-CBRDF_EXPORT Expected<EncoderSettings> encoder_settings(const EncoderOptions& options);
+Expected<EncoderSettings> encoder_settings(const EncoderOptions& options);
 
 // Sets a slice count (fixed: explicit boundaries cleared, auto_slices left as it is; auto: chosen
 // from the data) and a
 // component count (auto: up to kAutoMaxComponents) on `settings`: what encoder_settings does with
 // --slices and --components, and what rate control does for each candidate it tries.
-CBRDF_EXPORT void set_counts(CountOrAuto slices, CountOrAuto components, FitSettings* settings);
+void set_counts(CountOrAuto slices, CountOrAuto components, FitSettings* settings);
 
 struct EncodeResult {
   std::vector<std::uint8_t> bytes;  // the .cbrdf file
@@ -120,18 +119,17 @@ struct AutoBitsChoice {
 // whose decoded sphere PSNR stays within the settings' losses of the unquantized model's, by
 // bisection over 6..16 (3 or 4 files written and decoded: quantization error falls with every
 // bit, so the first depth that passes is the knee). `container.bits` is ignored.
-CBRDF_EXPORT Expected<AutoBitsChoice> choose_bits(const BrdfTable& source, const Model& model,
-                                                  const ContainerSettings& container,
-                                                  const AutoBitsSettings& settings);
+Expected<AutoBitsChoice> choose_bits(const BrdfTable& source, const Model& model,
+                                     const ContainerSettings& container,
+                                     const AutoBitsSettings& settings);
 
 // Fits the model to the table and writes it as a .cbrdf container.
-CBRDF_EXPORT Expected<EncodeResult> encode_table(const BrdfTable& table,
-                                                 const EncoderSettings& settings);
+Expected<EncodeResult> encode_table(const BrdfTable& table, const EncoderSettings& settings);
 
 // What encode_table does after the fit: `result` holds a base file (bytes, bits, model) of
 // `table`, and receives the file with the residual layer of settings.residual (the bound checked
 // after decoding). One fit then serves several bounds (the report's ladder).
-CBRDF_EXPORT Status add_residual_layer(const BrdfTable& table, const EncoderSettings& settings,
-                                       EncodeResult* result);
+Status add_residual_layer(const BrdfTable& table, const EncoderSettings& settings,
+                          EncodeResult* result);
 
 }  // namespace cbrdf

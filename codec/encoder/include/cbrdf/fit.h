@@ -23,7 +23,6 @@
 
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/copula_family.h"
-#include "cbrdf/export.h"
 #include "cbrdf/model.h"
 #include "cbrdf/slicing.h"
 #include "cbrdf/status.h"
@@ -111,8 +110,8 @@ inline constexpr double kMinPeakMeasuredValue = 1e-250;
 
 // Fits the model. Errors: invalid settings (kInvalidArgument); a channel whose largest measured
 // value is outside the supported range above (kNumeric, naming the channel and the value).
-CBRDF_EXPORT Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings,
-                                       FitReport* report = nullptr);
+Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings,
+                          FitReport* report = nullptr);
 
 // Fits of one table at one slicing with 1, 2, 3, ... components (fixed counts per slice and
 // channel), for searches over the component count (rate control): fit(k) equals fit_model with
@@ -121,7 +120,7 @@ CBRDF_EXPORT Expected<Model> fit_model(const BrdfTable& table, const FitSettings
 // added one at a time either way), so fitting 1..K costs about what fitting K alone does instead
 // of their sum. Models are kept: asking again for a count is free. Slicing (auto, adaptive) is
 // resolved once. The table must outlive the ladder.
-class CBRDF_EXPORT FitLadder {
+class FitLadder {
  public:
   // Settings are checked by the first fit(), which reports their errors as fit_model does.
   FitLadder(const BrdfTable& table, const FitSettings& settings);
@@ -142,6 +141,6 @@ class CBRDF_EXPORT FitLadder {
 };
 
 // The slice boundaries the settings describe, validated.
-CBRDF_EXPORT Expected<std::vector<int>> slice_bounds(const FitSettings& settings);
+Expected<std::vector<int>> slice_bounds(const FitSettings& settings);
 
 }  // namespace cbrdf

@@ -9,8 +9,6 @@
 #include <cstddef>
 #include <vector>
 
-#include "cbrdf/export.h"
-
 namespace cbrdf {
 
 struct Image {

@@ -38,7 +38,6 @@
 #include "cbrdf/brdf_fn.h"
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/coords.h"
-#include "cbrdf/export.h"
 #include "cbrdf/image.h"
 #include "cbrdf/model.h"
 
@@ -46,7 +45,7 @@ namespace cbrdf {
 
 // A table's nearest-bin lookup (coords.h lookup_nearest; not-measured bins read as 0). The table
 // is referenced, not copied: it must outlive the returned function.
-CBRDF_EXPORT BrdfFn nearest_lookup_fn(const BrdfTable& table);
+BrdfFn nearest_lookup_fn(const BrdfTable& table);
 
 struct BrdfMetrics {
   std::array<double, 3> rel_rmse{};
@@ -60,12 +59,12 @@ struct BrdfMetrics {
 };
 
 // Bin against bin.
-CBRDF_EXPORT BrdfMetrics brdf_metrics(const BrdfTable& reference, const BrdfTable& test);
+BrdfMetrics brdf_metrics(const BrdfTable& reference, const BrdfTable& test);
 // The test evaluated at each measured reference bin's grid direction pair (phi_h = 0), so a model
 // is measured without materializing a table. Calls test from several threads. Not for table
 // lookups: grid angles sit on bin edges, so a nearest-bin lookup there may read the neighbouring
 // bin; compare tables with the overload above.
-CBRDF_EXPORT BrdfMetrics brdf_metrics(const BrdfTable& reference, const BrdfFn& test);
+BrdfMetrics brdf_metrics(const BrdfTable& reference, const BrdfFn& test);
 
 // ---- Sphere images ----
 //
@@ -86,15 +85,14 @@ struct SphereSetup {
   int threads = 0;  // 0: one per hardware thread
 };
 
-CBRDF_EXPORT Image render_sphere(const BrdfFn& f, double light_angle_deg, int size = 256,
-                                 int threads = 0);
+Image render_sphere(const BrdfFn& f, double light_angle_deg, int size = 256, int threads = 0);
 // The same image as render_sphere(nearest_lookup_fn(table), ...), bit for bit, but each pixel's
 // MERL bin is computed once per (size, light angle) and cached (a few dozen settings at most), so
 // rendering another table with the same setup is a gather.
-CBRDF_EXPORT Image render_sphere(const BrdfTable& table, double light_angle_deg, int size = 256,
-                                 int threads = 0);
+Image render_sphere(const BrdfTable& table, double light_angle_deg, int size = 256,
+                    int threads = 0);
 // 1 for pixels inside the sphere of render_sphere, 0 for the background; size * size entries.
-CBRDF_EXPORT std::vector<std::uint8_t> sphere_mask(int size);
+std::vector<std::uint8_t> sphere_mask(int size);
 
 // The PSNR reported for identical images (and the most reported for any).
 inline constexpr double kPsnrCapDb = 100.0;
@@ -112,14 +110,14 @@ struct ImageMetrics {
   std::vector<LightMetrics> per_light;
 };
 
-CBRDF_EXPORT ImageMetrics sphere_psnr(const BrdfFn& reference, const BrdfFn& test,
-                                      const SphereSetup& setup = {});
+ImageMetrics sphere_psnr(const BrdfFn& reference, const BrdfFn& test,
+                         const SphereSetup& setup = {});
 // Tables render through the cached-bin path above; the results equal the BrdfFn overload's with
 // nearest_lookup_fn.
-CBRDF_EXPORT ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfTable& test,
-                                      const SphereSetup& setup = {});
-CBRDF_EXPORT ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfFn& test,
-                                      const SphereSetup& setup = {});
+ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfTable& test,
+                         const SphereSetup& setup = {});
+ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfFn& test,
+                         const SphereSetup& setup = {});
 
 // sphere_psnr against one reference table, for measuring many candidates (rate control, --bits
 // auto): the reference's renders, exposures and tone-mapped images are made once, and a model is
@@ -127,7 +125,7 @@ CBRDF_EXPORT ImageMetrics sphere_psnr(const BrdfTable& reference, const BrdfFn& 
 // each light sees about one theta_d) instead of decoding its whole table. score() equals
 // sphere_psnr(reference, table) with the table, or the model's table(), bit for bit. The reference
 // must outlive the scorer.
-class CBRDF_EXPORT SphereScorer {
+class SphereScorer {
  public:
   explicit SphereScorer(const BrdfTable& reference, SphereSetup setup = {});
   ~SphereScorer();
@@ -148,26 +146,24 @@ class CBRDF_EXPORT SphereScorer {
 // PSNR of one channel, 10 log10(peak^2 / MSE), capped at kPsnrCapDb (so MSE = 0 gives the cap);
 // -inf when peak is 0 and the images differ, or when a pixel differs by an infinite amount (an
 // inf or NaN against any other value). NaN when the sizes differ or nothing is counted.
-CBRDF_EXPORT double psnr(const Image& reference, const Image& test, int channel, double peak,
-                         const std::vector<std::uint8_t>* mask = nullptr);
+double psnr(const Image& reference, const Image& test, int channel, double peak,
+            const std::vector<std::uint8_t>* mask = nullptr);
 // The p-th percentile (p in [0, 100]) of all channel values of the counted pixels, linearly
 // interpolated between order statistics (value at rank p/100 * (n - 1)). 0 when nothing counts.
-CBRDF_EXPORT double percentile(const Image& image, double p,
-                               const std::vector<std::uint8_t>* mask = nullptr);
+double percentile(const Image& image, double p, const std::vector<std::uint8_t>* mask = nullptr);
 // Exposure that maps the 99th percentile to 1: 1 / percentile(image, 99, mask). When that
 // percentile is 0, 1 / max instead; 1 for an all-black image.
-CBRDF_EXPORT double tonemap_exposure(const Image& reference,
-                                     const std::vector<std::uint8_t>* mask = nullptr);
+double tonemap_exposure(const Image& reference, const std::vector<std::uint8_t>* mask = nullptr);
 // Display encoding: clamp(x * exposure, 0, 1)^(1 / gamma) per channel (NaN becomes 0).
-CBRDF_EXPORT Image tonemap(const Image& image, double exposure, double gamma = 2.2);
+Image tonemap(const Image& image, double exposure, double gamma = 2.2);
 
 // The viridis colour map at t in [0, 1] (clamped), as display-encoded RGB in [0, 1]: linear
 // interpolation between matplotlib's viridis at t = 0, 1/9, ..., 1.
-CBRDF_EXPORT std::array<float, 3> viridis(double t);
+std::array<float, 3> viridis(double t);
 // False-colour difference: d = mean over channels of |a - b|, shown as viridis(d / scale), so 0 is
 // dark purple and scale (and above) is yellow. Pixels outside the mask are black. An empty image
 // when the sizes differ or scale is not positive.
-CBRDF_EXPORT Image difference_image(const Image& a, const Image& b, double scale,
-                                    const std::vector<std::uint8_t>* mask = nullptr);
+Image difference_image(const Image& a, const Image& b, double scale,
+                       const std::vector<std::uint8_t>* mask = nullptr);
 
 }  // namespace cbrdf

@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "cbrdf/encoder.h"
-#include "cbrdf/export.h"
 
 namespace cbrdf {
 
@@ -46,24 +45,23 @@ struct RateResult {
 // smaller ones (PSNR against slices rises to a few slices, then is flat or falls), then adds one
 // component at a time to the slice counts still open, each continuing the fit of the count
 // before (FitLadder; mixtures with their copulas at independence unless target.mixture_copulas).
-// Candidates are measured with a SphereScorer (metrics.h): the same PSNR as decoding the file. Per fitted model the bits are bisected: at a budget on bytes alone (encoding
-// without decoding), and only the most bits within it are measured; at a PSNR the fewest bits
-// reaching it (16 bits alone when even they miss it). A slice or component count is not fitted
-// when it cannot win: its least possible bytes (6 bits, measured, or forecast from the counts
-// fitted with a 6% margin) are over the budget or no fewer than a setting reaching the PSNR; or
-// its PSNR, bounded by the row before plus the largest gain that component brought at any slice
-// count (else the gain of the component before) plus 1 dB, cannot beat the best setting within
-// the budget or reach a PSNR already met; or the component before did not raise its row's PSNR.
-// The forecasts, the gain bound and the end of the slice search are heuristics, not proofs (they
-// matched the full search of the previous version on the real materials measured, and an
-// exhaustive search on a small grid in tests/rate_control_test.cc); they are what keeps a search
-// within a few default encodes. When no setting reaches the PSNR, the closest row is also measured
-// at fewer bits while its PSNR stays saturated (within 0.05 dB of the best), since the last bits
-// can cost a hair of PSNR there. Exactly one of max_bytes, min_psnr must be > 0 (kInvalidArgument
-// otherwise).
-CBRDF_EXPORT Expected<RateResult> encode_to_target(const BrdfTable& table,
-                                                   const EncoderSettings& base,
-                                                   const RateTarget& target);
+// Candidates are measured with a SphereScorer (metrics.h): the same PSNR as decoding the file. Per
+// fitted model the bits are bisected: at a budget on bytes alone (encoding without decoding), and
+// only the most bits within it are measured; at a PSNR the fewest bits reaching it (16 bits alone
+// when even they miss it). A slice or component count is not fitted when it cannot win: its least
+// possible bytes (6 bits, measured, or forecast from the counts fitted with a 6% margin) are over
+// the budget or no fewer than a setting reaching the PSNR; or its PSNR, bounded by the row before
+// plus the largest gain that component brought at any slice count (else the gain of the component
+// before) plus 1 dB, cannot beat the best setting within the budget or reach a PSNR already met; or
+// the component before did not raise its row's PSNR. The forecasts, the gain bound and the end of
+// the slice search are heuristics, not proofs (they matched the full search of the previous version
+// on the real materials measured, and an exhaustive search on a small grid in
+// tests/rate_control_test.cc); they are what keeps a search within a few default encodes. When no
+// setting reaches the PSNR, the closest row is also measured at fewer bits while its PSNR stays
+// saturated (within 0.05 dB of the best), since the last bits can cost a hair of PSNR there.
+// Exactly one of max_bytes, min_psnr must be > 0 (kInvalidArgument otherwise).
+Expected<RateResult> encode_to_target(const BrdfTable& table, const EncoderSettings& base,
+                                      const RateTarget& target);
 
 // The whole ladder (residual_rate.cc): encode_to_target, then, when the model alone misses the
 // PSNR (or a budget leaves room beyond it), the chosen model plus the residual layer with its
@@ -75,8 +73,7 @@ CBRDF_EXPORT Expected<RateResult> encode_to_target(const BrdfTable& table,
 // materials); a PSNR more than any mixture adds (8 dB) above the best one-component row fits no
 // mixture. When even the smallest E misses the PSNR, the closest file is chosen.
 // chosen.max_error > 0 names the layer.
-CBRDF_EXPORT Expected<RateResult> encode_to_target_ladder(const BrdfTable& table,
-                                                          const EncoderSettings& base,
-                                                          const RateTarget& target);
+Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const EncoderSettings& base,
+                                             const RateTarget& target);
 
 }  // namespace cbrdf

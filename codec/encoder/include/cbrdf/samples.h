@@ -9,7 +9,6 @@
 
 #include "cbrdf/analytic.h"
 #include "cbrdf/brdf_table.h"
-#include "cbrdf/export.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf {
@@ -32,22 +31,22 @@ struct SampleInfo {
 };
 
 // The built-in samples in a stable order: the measured ones first, then the analytic ones.
-CBRDF_EXPORT std::span<const SampleInfo> sample_materials();
+std::span<const SampleInfo> sample_materials();
 
 // The analytic BRDF behind an analytic sample. A measured sample fails with kInvalidArgument
 // saying it has no analytic form; an unknown name fails with kInvalidArgument listing the valid
 // ones.
-CBRDF_EXPORT Expected<AnalyticBrdf> sample_brdf(std::string_view name);
+Expected<AnalyticBrdf> sample_brdf(std::string_view name);
 
 // Any sample as a MERL table: an analytic one through tabulate(); a measured one by evaluating
 // its embedded network at the same grid angles, with the same not-measured bins (stored -1). The
 // values are bit-for-bit the same for any thread count. Unknown names fail as in sample_brdf().
-CBRDF_EXPORT Expected<BrdfTable> make_sample(std::string_view name);
+Expected<BrdfTable> make_sample(std::string_view name);
 
 // An analytic BRDF at every MERL bin's grid angles (theta_h = (i/90)^2 90 deg, theta_d = j deg,
 // phi_d = k deg, phi_h = 0), with the bins bin_below_horizon() names marked not measured (stored
 // -1) exactly as real MERL files are. Fails when the BRDF does not validate or yields a non-finite
 // value.
-CBRDF_EXPORT Expected<BrdfTable> tabulate(const AnalyticBrdf& brdf);
+Expected<BrdfTable> tabulate(const AnalyticBrdf& brdf);
 
 }  // namespace cbrdf

@@ -21,7 +21,6 @@
 #include <vector>
 
 #include "cbrdf/brdf_table.h"
-#include "cbrdf/export.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf {
@@ -43,14 +42,13 @@ struct SlicingSettings {
 // Boundaries 0 = b0 < ... < bn = 90 (theta_d bins) of exactly `slices` slices (1 to 90) minimizing
 // the predicted cost above. Errors: kInvalidArgument for a count outside 1 to 90, kNumeric when a
 // measured bin holds a non-finite value.
-CBRDF_EXPORT Expected<std::vector<int>> adaptive_slice_bounds(const BrdfTable& table, int slices,
-                                                              const SlicingSettings& settings = {});
+Expected<std::vector<int>> adaptive_slice_bounds(const BrdfTable& table, int slices,
+                                                 const SlicingSettings& settings = {});
 
 // The least predicted cost for 1, 2, ..., max_slices slices (entry s - 1 for s slices); it never
 // increases with s. Errors as adaptive_slice_bounds (max_slices outside 1 to 90).
-CBRDF_EXPORT Expected<std::vector<double>> slicing_cost_curve(const BrdfTable& table,
-                                                              int max_slices,
-                                                              const SlicingSettings& settings = {});
+Expected<std::vector<double>> slicing_cost_curve(const BrdfTable& table, int max_slices,
+                                                 const SlicingSettings& settings = {});
 
 // `--slices auto`: the fewest slices (1 to max_slices) whose least predicted cost is at most
 // `tolerance` times the cost of one slice; max_slices when none is. A table whose shape does not
@@ -58,9 +56,8 @@ CBRDF_EXPORT Expected<std::vector<double>> slicing_cost_curve(const BrdfTable& t
 // outside [0, 1], and those of adaptive_slice_bounds.
 inline constexpr double kDefaultSliceTolerance = 0.05;
 inline constexpr int kDefaultMaxAutoSlices = 12;
-CBRDF_EXPORT Expected<int> choose_slice_count(const BrdfTable& table,
-                                              double tolerance = kDefaultSliceTolerance,
-                                              int max_slices = kDefaultMaxAutoSlices,
-                                              const SlicingSettings& settings = {});
+Expected<int> choose_slice_count(const BrdfTable& table, double tolerance = kDefaultSliceTolerance,
+                                 int max_slices = kDefaultMaxAutoSlices,
+                                 const SlicingSettings& settings = {});
 
 }  // namespace cbrdf
