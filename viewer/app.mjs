@@ -281,11 +281,12 @@ async function main() {
     const t0 = performance.now();
     const before = state.brdfs.length;
     await addFiles(await readDropped(ev.dataTransfer.files));
+    const openMs = performance.now() - t0;
     // The dropped file is shown: it becomes the model side when it opened.
     if (state.brdfs.length > before && state.brdfs[before].kind === 'model') state.a = before;
     fillPickers();
     renderSphere();
-    window.cbrdfViewer.drops.push({ firstFrameMs: performance.now() - t0, errors: window.cbrdfViewer.lastErrors });
+    window.cbrdfViewer.drops.push({ firstFrameMs: performance.now() - t0, openMs, errors: window.cbrdfViewer.lastErrors });
     renderPlots();
     renderFacts();
   });

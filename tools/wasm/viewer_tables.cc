@@ -213,16 +213,18 @@ CBRDF_WASM_EXPORT cbrdf_viewer* cbrdf_viewer_open(const void* data, std::size_t 
   t[4] = any_generic ? 1.0f : 0.0f;
 
   if (any_generic) {
-    // Their bin values, as ModelEvaluator::bin_value forms them, from a copy of the model that
-    // holds only them.
-    const ModelEvaluator ge(std::move(generic_only));
+    // Their bin values, as the evaluator's table forms them (ModelEvaluator::table, in stored
+    // units, times the channel's scale), from a copy of the model that holds only them and marks
+    // every bin measured.
+    generic_only.not_measured = NotMeasured{};
+    const BrdfTable gt = ModelEvaluator(std::move(generic_only)).table();
     std::vector<float>& g = v->arrays[1];
     g.resize(kChannels * kBinsPerChannel);
-    for (int i = 0; i < kThetaHBins; ++i)
-      for (int j = 0; j < kThetaDBins; ++j)
-        for (int k = 0; k < kPhiDBins; ++k)
-          for (int c = 0; c < kChannels; ++c)
-            g[merl_index(i, j, k) * kChannels + std::size_t(c)] = float(ge.bin_value(c, i, j, k));
+    for (int c = 0; c < kChannels; ++c) {
+      for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+        g[i * kChannels + std::size_t(c)] = float(gt.physical(c, i));
+      }
+    }
   }
   if (res.present()) {
     std::vector<float>& r = v->arrays[2];
