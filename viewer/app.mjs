@@ -201,23 +201,25 @@ async function readDropped(files) {
   return Promise.all([...files].map(async (f) => ({ name: f.name, bytes: new Uint8Array(await f.arrayBuffer()) })));
 }
 
-// Frame time of a file's sphere: `frames` renders of kPanel^2 pixels, each waited for (a one-pixel
-// read), after two warm-up frames. Milliseconds per frame.
-function timeSphere(index, frames) {
-  const t = gpu.target(kPanel, kPanel), b = state.brdfs[index];
+// Frame times of files' spheres, in milliseconds per frame: `frames` renders of kPanel^2 pixels
+// per file, interleaved (file 1, file 2, file 1, ...) so that a change of the machine's load
+// weighs on each alike, each waited for (a one-pixel read), after one warm-up frame each.
+function timeSpheres(indices, frames) {
+  const t = gpu.target(kPanel, kPanel);
   const gl = gpu.gl, px = new Float32Array(4);
-  const once = () => {
+  const once = (b) => {
+    const t0 = performance.now();
     gpu.sphere(b.gpu, t, state.light, state.intensity);
     gl.bindFramebuffer(gl.FRAMEBUFFER, t.fb);
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.FLOAT, px);
+    return performance.now() - t0;
   };
-  once();
-  once();
-  const t0 = performance.now();
-  for (let i = 0; i < frames; ++i) once();
-  const ms = (performance.now() - t0) / frames;
+  const total = indices.map((i) => (once(state.brdfs[i]), 0));
+  for (let f = 0; f < frames; ++f) {
+    indices.forEach((i, k) => { total[k] += once(state.brdfs[i]); });
+  }
   gpu.freeTarget(t);
-  return ms;
+  return total.map((ms) => ms / frames);
 }
 
 function lightFromPointer(ev) {
@@ -249,7 +251,7 @@ async function main() {
     evalPairs: (i, wi, wo) => Array.from(gpu.evalPairs(state.brdfs[i].gpu, new Float32Array(wi), new Float32Array(wo))),
     select(a, b) { state.a = a; state.b = b; fillPickers(); renderAll(); },
     setLight(l) { state.light = l; renderSphere(); },
-    timeSphere,
+    timeSpheres,
     render: renderAll,
   });
   const bind = (id, key, fmt, parse = Number) => {
@@ -296,6 +298,9 @@ async function main() {
     const r = await fetch('files.json');
     if (r.ok) list = await r.json();
   } catch { /* a static copy of the page: no served files */ }
+  // #only=a.cbrdf,b.binary: only these of the served files.
+  const only = new URLSearchParams(location.hash.slice(1)).get('only');
+  if (only) list = list.filter((f) => only.split(',').includes(f.name));
   const files = await Promise.all(list.map(async (f) => ({ name: f.name, bytes: new Uint8Array(await (await fetch(f.url)).arrayBuffer()) })));
   await addFiles(files);
   renderAll();
