@@ -1,14 +1,16 @@
 // SPDX-License-Identifier: MIT
 // cbrdf view FILE...: serves the browser viewer (viewer/), cbrdf.wasm and the given files on
 // 127.0.0.1 and prints the address; the page evaluates models on the GPU (viewer/README.md).
-// A small HTTP/1.1 server over POSIX sockets, one request per connection, GET and HEAD only,
-// loopback only (and only for Host headers naming the loopback, against DNS rebinding). Ctrl-C
-// (SIGINT) or SIGTERM stops it.
+// A small HTTP/1.1 server over POSIX sockets: one request per connection (a thread each), GET and
+// HEAD only, loopback only (and only for Host headers naming the loopback, against DNS
+// rebinding). Ctrl-C (SIGINT) or SIGTERM stops it.
 #include <arpa/inet.h>
 #include <fcntl.h>
 #include <netinet/in.h>
+#include <pthread.h>
 #include <signal.h>
 #include <sys/socket.h>
+#include <sys/time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,6 +25,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <system_error>
+#include <thread>
 #include <vector>
 
 #include "cli.h"
@@ -144,7 +148,7 @@ class Server {
   Server(const ViewOptions& o, fs::path viewer, fs::path wasm, int port)
       : o_(o), viewer_(std::move(viewer)), wasm_(std::move(wasm)), port_(port) {}
 
-  void handle(int fd) {
+  void handle(int fd) const {
     std::string req;
     char buf[4096];
     while (req.find("\r\n\r\n") == std::string::npos && req.size() < 65536) {
@@ -223,7 +227,7 @@ class Server {
     return false;
   }
 
-  const ViewOptions& o_;
+  ViewOptions o_;
   fs::path viewer_, wasm_;
   int port_;
 };
@@ -306,15 +310,33 @@ int run_view(const Context& ctx, const ViewOptions& o) {
   std::fflush(stdout);
   if (!o.no_open) open_browser(url);
 
-  Server server(o, *viewer, *wasm, port);
+  // One thread per connection, so that a connection a browser opens ahead of time and leaves
+  // idle does not hold up the others; idle ones are dropped after 30 s. The threads block SIGINT
+  // and SIGTERM, so that the signal interrupts accept() here.
+  auto server = std::make_shared<const Server>(o, *viewer, *wasm, port);
+  sigset_t stop_signals, previous;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
   while (!g_stop) {
     const int c = ::accept4(fd, nullptr, nullptr, SOCK_CLOEXEC);
     if (c < 0) {
       if (errno == EINTR || errno == ECONNABORTED) continue;
       break;
     }
-    server.handle(c);
-    ::close(c);
+    const timeval idle{30, 0};
+    ::setsockopt(c, SOL_SOCKET, SO_RCVTIMEO, &idle, sizeof idle);
+    ::pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
+    try {
+      std::thread([server, c] {
+        server->handle(c);
+        ::close(c);
+      }).detach();
+    } catch (const std::system_error&) {
+      server->handle(c);  // no thread to be had: serve it here
+      ::close(c);
+    }
+    ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
   }
   ::close(fd);
   if (!ctx.quiet) std::fprintf(stderr, "cbrdf view: stopped\n");

@@ -3,7 +3,8 @@
 // `cbrdf view --no-open --port 0`, driven by puppeteer-core:
 //   1. the shader's values at 10,000 random direction pairs per file against the native
 //      ModelEvaluator::eval_f32 (viewer_reference): relative error <= 1e-3 where the native value
-//      is above 1e-6 of the file's peak; on every golden file and a default-encoded sample;
+//      is above 1e-6 of the file's peak; on every golden file and the sample nickel encoded with
+//      the defaults, with Clayton and lossless;
 //   2. screenshots of each view have content; the sphere's highlight is where the light puts it;
 //      the difference view of a file against itself is black (PSNR at the 100 dB cap); a file
 //      against its measurement shows a finite PSNR;
@@ -53,7 +54,12 @@ const golden = readdirSync(args.golden).filter((f) => f.endsWith('.cbrdf')).sort
 const nickelBinary = join(work, 'nickel.binary'), nickel = join(work, 'nickel.cbrdf');
 execFileSync(args.cbrdf, ['-q', 'sample', 'nickel', '-o', nickelBinary]);
 execFileSync(args.cbrdf, ['-q', 'encode', nickelBinary, '-o', nickel]);
-const files = [...golden, nickel, nickelBinary];
+// And two paths the golden files do not take on a real material: Clayton everywhere (the generic
+// terms' volume) and the lossless residual (the exact table replaces the model).
+const nickelClayton = join(work, 'nickel-clayton.cbrdf'), nickelLossless = join(work, 'nickel-lossless.cbrdf');
+execFileSync(args.cbrdf, ['-q', 'encode', nickelBinary, '--family', 'clayton', '-o', nickelClayton]);
+execFileSync(args.cbrdf, ['-q', 'encode', nickelBinary, '--lossless', '-o', nickelLossless]);
+const files = [...golden, nickelClayton, nickelLossless, nickel, nickelBinary];
 
 // A PNG's pixels (8-bit RGB or RGBA, non-interlaced: what chromium writes).
 function decodePng(buf) {
