@@ -120,6 +120,23 @@ function renderPlots() {
     b.albedo ??= P.albedoOf(gpu.evalPairs(b.gpu, albedoGrid.wi, albedoGrid.wo), albedoGrid);
     return { colour: P.palette[i % P.palette.length], albedo: b.albedo };
   }));
+  renderSlice();
+}
+
+function renderSlice() {
+  const A = state.brdfs[Math.max(state.a, 0)];
+  if (!A || A.kind !== 'model') return;
+  const slices = A.info.slices;
+  $('slice').max = String(slices - 1);
+  const s = Math.min(Number($('slice').value), slices - 1);
+  const sl = A.arrays.slice(s, Number($('channel').value));
+  if (!sl) return;
+  const info = A.info.sliceList[s];
+  const span = P.drawCopula($('copula'), sl);
+  $('sliceOut').textContent = `${s} (theta_d bins ${info.thetaDBegin}-${info.thetaDEnd - 1}, ` +
+    `${info.channels[Number($('channel').value)][0].family}; copula ${(1 / span).toPrecision(3)} blue to ` +
+    `${span.toPrecision(3)} red)`;
+  P.drawMarginals($('marginals'), sl);
 }
 
 function kib(n) { return n >= 1 << 20 ? `${(n / (1 << 20)).toFixed(2)} MiB` : n >= 1024 ? `${(n / 1024).toFixed(1)} KiB` : `${n} B`; }
@@ -267,6 +284,8 @@ async function main() {
   bind('thetaI', 'thetaI', (v) => `${v}°`);
   bind('phiD', 'phiD', (v) => `${v}°`);
   for (const id of ['polar', 'logScale']) $(id).addEventListener('change', renderPlots);
+  $('slice').addEventListener('input', renderSlice);
+  $('channel').addEventListener('change', renderSlice);
   $('pickA').addEventListener('change', () => { state.a = Number($('pickA').value); renderAll(); });
   $('pickB').addEventListener('change', () => { state.b = Number($('pickB').value); renderSphere(); });
   $('sphere').addEventListener('pointerdown', lightFromPointer);

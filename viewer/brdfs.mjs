@@ -19,27 +19,37 @@ function cString(x, ptr) {
   return new TextDecoder().decode(b.subarray(ptr, end));
 }
 
-// The viewer's arrays of a .cbrdf: { tables, generic, residual, facts } (viewer_tables.cc).
+// The viewer's arrays of a .cbrdf: { tables, generic, residual, facts, slice(s, c) }
+// (viewer_tables.cc). The module's handle stays open for slice(), which returns the marginals and
+// copula image of slice s, channel c: { width, h, p, d, copula } (cbrdf_viewer_slice's layout).
 function viewerArrays(x, bytes) {
   const p = x.malloc(bytes.length);
   new Uint8Array(x.memory.buffer).set(bytes, p);
   const v = x.cbrdf_viewer_open(p, bytes.length);
   x.free(p);
   if (v === 0) throw new Error('cbrdf_viewer_open failed on a file the C API accepted');
-  try {
-    const countPtr = x.malloc(4);
-    const get = (which) => {
-      const ptr = x.cbrdf_viewer_array(v, which, countPtr);
-      const n = new Uint32Array(x.memory.buffer, countPtr, 1)[0];
-      return n ? new Float32Array(new Float32Array(x.memory.buffer, ptr, n)) : null;
-    };
-    const out = { tables: get(0), generic: get(1), residual: get(2),
-                  facts: JSON.parse(cString(x, x.cbrdf_viewer_facts(v))) };
-    x.free(countPtr);
-    return out;
-  } finally {
-    x.cbrdf_viewer_free(v);
-  }
+  const countPtr = x.malloc(4);
+  const get = (which) => {
+    const ptr = x.cbrdf_viewer_array(v, which, countPtr);
+    const n = new Uint32Array(x.memory.buffer, countPtr, 1)[0];
+    return n ? new Float32Array(new Float32Array(x.memory.buffer, ptr, n)) : null;
+  };
+  const out = { tables: get(0), generic: get(1), residual: get(2),
+                facts: JSON.parse(cString(x, x.cbrdf_viewer_facts(v))) };
+  x.free(countPtr);
+  out.slice = (s, c) => {
+    const buf = x.malloc(16560 * 4);
+    try {
+      const width = x.cbrdf_viewer_slice(v, s, c, buf);
+      if (width < 0) return null;
+      const a = new Float32Array(new Float32Array(x.memory.buffer, buf, 16560));
+      return { width, h: a.subarray(0, 90), p: a.subarray(90, 270), d: a.subarray(270, 270 + width),
+               copula: a.subarray(360) };
+    } finally {
+      x.free(buf);
+    }
+  };
+  return out;
 }
 
 // A .cbrdf: throws the C API's CbrdfError (code, status, message) for a bad file.

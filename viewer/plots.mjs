@@ -154,3 +154,52 @@ export function drawSlab(canvas, px, w, h) {
   }
   g.putImageData(img, 0, 0);
 }
+
+// The copula density of a slice (theta_h bins down, phi_d bins across; log scale, blue below 1,
+// red above, full colour at the image's largest |log c|, which it returns) and its marginals
+// (masses per bin of theta_h, theta_d, phi_d, each scaled to its peak).
+export function drawCopula(canvas, sl) {
+  const g = canvas.getContext('2d');
+  const img = g.createImageData(180, 90);
+  let range = 0;
+  for (const c of sl.copula) if (c > 0 && Number.isFinite(c)) range = Math.max(range, Math.abs(Math.log10(c)));
+  range = Math.max(range, 1e-6);
+  for (let i = 0; i < 90; ++i) {
+    for (let k = 0; k < 180; ++k) {
+      const c = sl.copula[180 * i + k], d = 4 * (i * 180 + k);
+      const l = c > 0 ? Math.max(-1, Math.min(1, Math.log10(c) / range)) : -1;
+      img.data[d] = Math.round(255 * Math.max(0, l));
+      img.data[d + 1] = Math.round(255 * (1 - Math.abs(l)) * 0.6);
+      img.data[d + 2] = Math.round(255 * Math.max(0, -l));
+      img.data[d + 3] = 255;
+    }
+  }
+  g.putImageData(img, 0, 0);
+  return Math.pow(10, range);
+}
+
+export function drawMarginals(canvas, sl) {
+  const g = canvas.getContext('2d');
+  const W = canvas.width, H = canvas.height;
+  g.fillStyle = '#1f1f1f';
+  g.fillRect(0, 0, W, H);
+  g.font = '10px sans-serif';
+  const parts = [['theta_h', sl.h], ['theta_d', sl.d], ['phi_d', sl.p]];
+  const w = W / 3;
+  parts.forEach(([name, m], n) => {
+    const peak = Math.max(...m);
+    g.strokeStyle = '#444';
+    g.strokeRect(n * w + 2, 12, w - 4, H - 14);
+    g.fillStyle = '#888';
+    g.fillText(name, n * w + 4, 10);
+    if (!(peak > 0)) return;
+    g.strokeStyle = palette[n];
+    g.beginPath();
+    for (let i = 0; i < m.length; ++i) {
+      const x = n * w + 2 + (w - 4) * (m.length > 1 ? i / (m.length - 1) : 0.5);
+      const y = H - 2 - (H - 16) * m[i] / peak;
+      i ? g.lineTo(x, y) : g.moveTo(x, y);
+    }
+    g.stroke();
+  });
+}

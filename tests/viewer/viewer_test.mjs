@@ -274,7 +274,7 @@ try {
   }
   check(nonBlack === 0 && psnrSelf === 100, `a file against itself: difference view black inside the sphere (${nonBlack} non-black pixels, ${sd.colours} colours), PSNR ${psnrSelf} dB`);
   await page.evaluate((a, b) => window.cbrdfViewer.select(a, b), iModel, iTable);
-  for (const id of ['#lobe', '#slab', '#albedo']) {
+  for (const id of ['#lobe', '#slab', '#albedo', '#copula', '#marginals']) {
     const s = await shot(id);
     const st = regionStats(s, 0, 0, s.w, s.h);
     check(st.colours > 20, `${id.slice(1)} plot has content: ${st.colours} colours`);

@@ -135,6 +135,7 @@ void append_json_string(std::string* out, const std::string& s) {
 struct cbrdf_viewer {
   std::vector<float> arrays[3];  // tables, generic, residual
   std::string facts;             // JSON
+  Model model;                   // for cbrdf_viewer_slice
 };
 
 #define CBRDF_WASM_EXPORT extern "C" __attribute__((visibility("default"), used))
@@ -243,7 +244,9 @@ CBRDF_WASM_EXPORT cbrdf_viewer* cbrdf_viewer_open(const void* data, std::size_t 
   }
 
   // Facts: chunks, settings, evaluator footprint.
-  const ModelEvaluator evaluator(std::move(decoded.value()));
+  v->model = std::move(decoded.value());
+  const ModelEvaluator evaluator(
+      std::shared_ptr<const Model>(std::shared_ptr<const Model>(), &v->model));
   std::string& j = v->facts;
   char buf[1024];
   std::snprintf(buf, sizeof buf,
@@ -283,6 +286,42 @@ CBRDF_WASM_EXPORT const float* cbrdf_viewer_array(const cbrdf_viewer* v, int whi
   const std::vector<float>& a = v->arrays[which];
   if (count) *count = a.size();
   return a.empty() ? nullptr : a.data();
+}
+
+// The marginals and copula of one slice and channel (its first component), for the page's slice
+// plot: out[0..89] the theta_h masses, out[90..269] the phi_d masses, out[270..359] the theta_d
+// masses (the slice's width of them, then 0), out[360 + 180 i + k] the copula density at theta_h
+// bin i, phi_d bin k and the slice's middle theta_d bin (the family's grid, as bin values use it).
+// 16,560 floats. Returns the slice's width, or -1 for a slice or channel out of range.
+CBRDF_WASM_EXPORT int cbrdf_viewer_slice(const cbrdf_viewer* v, int slice, int channel,
+                                         float* out) {
+  if (v == nullptr || out == nullptr || slice < 0 || slice >= int(v->model.slices.size()) ||
+      channel < 0 || channel >= kChannels) {
+    return -1;
+  }
+  const Slice& sl = v->model.slices[std::size_t(slice)];
+  const Component& c = sl.channel[std::size_t(channel)];
+  std::fill(out, out + 16560, 0.0f);
+  for (int i = 0; i < kThetaHBins; ++i) out[i] = float(c.pdf_h[std::size_t(i)]);
+  for (int k = 0; k < kPhiDBins; ++k) out[90 + k] = float(c.pdf_p[std::size_t(k)]);
+  for (int j = 0; j < sl.width(); ++j) out[270 + j] = float(c.pdf_d[std::size_t(j)]);
+  const double theta = std::clamp(c.theta, -kMaxEvaluatedParameter, kMaxEvaluatedParameter);
+  auto grid = c.family == CopulaFamily::kFrank && theta < fit::kFrankGridMinAlpha
+                  ? fit::make_archimedean_grid(c.family)
+                  : fit::make_grid_copula(c.family);
+  if (!grid) {  // independence: a density of 1
+    std::fill(out + 360, out + 16560, 1.0f);
+    return sl.width();
+  }
+  std::vector<double> u1, u2, u3;
+  fit::midpoint_cdf(c.pdf_h, &u1);
+  fit::midpoint_cdf(c.pdf_d, &u2);
+  fit::midpoint_cdf(c.pdf_p, &u3);
+  grid->prepare(theta, u1, u2, u3);
+  const int jm = sl.width() / 2;
+  for (int i = 0; i < kThetaHBins; ++i)
+    for (int k = 0; k < kPhiDBins; ++k) out[360 + 180 * i + k] = float(grid->density(i, jm, k));
+  return sl.width();
 }
 
 CBRDF_WASM_EXPORT const char* cbrdf_viewer_facts(const cbrdf_viewer* v) {
