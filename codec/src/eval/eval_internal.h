@@ -60,10 +60,14 @@ struct InterpTables::BatchViews {
   const std::vector<SliceView<float>>& of(float) const { return f32; }
 };
 
+namespace {
+
 template <class T>
 inline T saturate(T v) {
   constexpr T kMax = std::numeric_limits<T>::max();
   return v < kMax ? v : (v == v ? kMax : T(0));
 }
+
+}  // namespace
 
 }  // namespace cbrdf::eval

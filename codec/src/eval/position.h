@@ -12,6 +12,9 @@
 #include "eval/trig.h"
 
 namespace cbrdf::eval {
+// Internal linkage, as when these were one file's: each including file inlines them as it
+// judges best, without an out-of-line copy to share.
+namespace {
 
 // position() in three steps around its square roots, so that a batch can take the roots in loops
 // of their own (a square root that may set errno keeps a loop from vectorizing): the squared
@@ -76,4 +79,5 @@ inline Position<T> position(T ix, T iy, T iz, T ox, T oy, T oz) {
   return g;
 }
 
+}  // namespace
 }  // namespace cbrdf::eval

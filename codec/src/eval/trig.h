@@ -6,6 +6,9 @@
 #include <numbers>
 
 namespace cbrdf::eval {
+// Internal linkage, as when these were one file's: each including file inlines them as it
+// judges best, without an out-of-line copy to share.
+namespace {
 
 // atan(x) for |x| <= 7/16: fdlibm's s_atan.c polynomial (relative error below 3e-16).
 template <class T>
@@ -44,4 +47,5 @@ inline T atan2_first_quadrant(T a, T b) {
   return den > 0 ? r : T(0);
 }
 
+}  // namespace
 }  // namespace cbrdf::eval
