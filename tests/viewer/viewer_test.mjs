@@ -158,16 +158,19 @@ console.log(`cbrdf view serves ${url}`);
 }
 
 let browser;
+const profile = mkdtempSync(join(tmpdir(), 'cbrdf-chromium-'));
 try {
   browser = await puppeteer.launch({
     executablePath: args.chromium,
     headless: true,
     args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
            '--disable-background-networking', '--disable-component-update', '--disable-sync',
-           '--no-first-run', `--user-data-dir=${mkdtempSync(join(tmpdir(), 'cbrdf-chromium-'))}`],
+           '--no-first-run', `--user-data-dir=${profile}`],
   });
 } catch (err) {
   server.kill('SIGINT');
+  rmSync(profile, { recursive: true, force: true });
+  rmSync(work, { recursive: true, force: true });
   console.log(`SKIPPED: chromium cannot start here: ${err.message.split('\n')[0]}`);
   process.exit(0);
 }
@@ -334,6 +337,7 @@ try {
   await browser.close();
   server.kill('SIGINT');
   rmSync(work, { recursive: true, force: true });
+  rmSync(profile, { recursive: true, force: true });
 }
 console.log(`browser part: ${((Date.now() - t0) / 1000).toFixed(1)} s`);
 if (failures) {
