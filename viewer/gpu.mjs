@@ -56,12 +56,13 @@ export class Gpu {
 
   tableTexture(data) {
     const { gl } = this;
+    // RGBA texels, S.kTableWidth floats a row (shaders.mjs's V and T).
     const w = S.kTableWidth, h = Math.max(1, Math.ceil(data.length / w));
     const padded = new Float32Array(w * h);
     padded.set(data);
     const t = gl.createTexture();
     this.scratch(gl.TEXTURE_2D, t);
-    gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, w, h, 0, gl.RED, gl.FLOAT, padded);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w / 4, h, 0, gl.RGBA, gl.FLOAT, padded);
     this.nearest(gl.TEXTURE_2D);
     gl.bindTexture(gl.TEXTURE_2D, null);
     return t;

@@ -15,7 +15,7 @@ precision highp sampler3D;
 const float kPi = 3.14159265358979323846;
 const float kDeg = 57.2957795130823208768;
 const float kFltMax = 3.402823466e38;
-uniform sampler2D uTab;   // the tables (viewer_tables.cc), R32F
+uniform sampler2D uTab;   // the tables (viewer_tables.cc), RGBA32F
 uniform sampler3D uGen;   // generic terms per bin, RGB32F 180 x 90 x 90 (phi_d, theta_d, theta_h)
 uniform sampler3D uVol;   // residual (log1p) or exact/measured table (physical), same shape
 uniform int uMode;        // 0 model tables, 1 a table in uVol alone (a .binary)
@@ -23,7 +23,10 @@ uniform int uGeneric;     // 1: add uGen
 uniform int uResidual;    // 0 none, 1 log residual in uVol, 2 exact table in uVol
 uniform float uKnee;      // the residual's knee, stored units
 
-float T(int i) { return texelFetch(uTab, ivec2(i & ${kTableWidth - 1}, i >> ${Math.log2(kTableWidth)}), 0).r; }
+// The tables as RGBA texels, ${kTableWidth} floats a row: float i, and the 4 floats from i (a
+// multiple of 4: a group's g, w or y, or constant, of its 4 slots).
+vec4 V(int i) { return texelFetch(uTab, ivec2((i >> 2) & ${kTableWidth / 4 - 1}, i >> ${Math.log2(kTableWidth)}), 0); }
+float T(int i) { return V(i & ~3)[i & 3]; }
 
 // trig.h: atan for |x| <= 7/16 (fdlibm's polynomial) and atan2 in the first quadrant.
 float atanCore(float x) {
@@ -77,26 +80,27 @@ vec3 addSlice(int s, int i0, float fh, int jl0, float fd, int k0, float fp, floa
   int ko = int(T(base + 7));
   float gh = 1.0 - fh, gd = 1.0 - fd, gp = 1.0 - fp;
   vec3 rgb = vec3(0.0);
-  for (int c = 0; c < 3; ++c) {
-    float sum = 0.0;
-    for (int r = 0; r < R; ++r) {
-      int q = c * R + r;
-      int o = (q / 4) * 12 + (q % 4);
-      float g1 = T(h0 + o) * gh + T(h1 + o) * fh, w1 = T(h0 + o + 4) * gh + T(h1 + o + 4) * fh,
-            y1 = T(h0 + o + 8) * gh + T(h1 + o + 8) * fh;
-      float g2 = T(d0 + o) * gd + T(d1 + o) * fd, w2 = T(d0 + o + 4) * gd + T(d1 + o + 4) * fd,
-            y2 = T(d0 + o + 8) * gd + T(d1 + o + 8) * fd;
-      float g3 = T(p0 + o) * gp + T(p1 + o) * fp, w3 = T(p0 + o + 4) * gp + T(p1 + o + 4) * fp,
-            y3 = T(p0 + o + 8) * gp + T(p1 + o + 8) * fp;
-      int k = ko + (q / 4) * 28 + (q % 4);
-      float w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
-      float omh = T(k + 4) + T(k + 8) * Y + T(k + 12) * W;
-      float oph = T(k + 16) + T(k + 20) * Y + T(k + 24) * W;
-      sum += T(k) * (g1 * g2 * g3) * oph / (omh * omh * omh);
+  // A group of 4 slots at once (one RGBA texel per term), each lane's arithmetic that of one slot
+  // in scalar_eval.cc; slot q adds to channel q / R, in the order of q.
+  for (int grp = 0; grp < G; ++grp) {
+    int o = grp * 12;
+    vec4 g1 = V(h0 + o) * gh + V(h1 + o) * fh, w1 = V(h0 + o + 4) * gh + V(h1 + o + 4) * fh,
+         y1 = V(h0 + o + 8) * gh + V(h1 + o + 8) * fh;
+    vec4 g2 = V(d0 + o) * gd + V(d1 + o) * fd, w2 = V(d0 + o + 4) * gd + V(d1 + o + 4) * fd,
+         y2 = V(d0 + o + 8) * gd + V(d1 + o + 8) * fd;
+    vec4 g3 = V(p0 + o) * gp + V(p1 + o) * fp, w3 = V(p0 + o + 4) * gp + V(p1 + o + 4) * fp,
+         y3 = V(p0 + o + 8) * gp + V(p1 + o + 8) * fp;
+    int k = ko + grp * 28;
+    vec4 w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
+    vec4 omh = V(k + 4) + V(k + 8) * Y + V(k + 12) * W;
+    vec4 oph = V(k + 16) + V(k + 20) * Y + V(k + 24) * W;
+    vec4 term = V(k) * (g1 * g2 * g3) * oph / (omh * omh * omh);
+    for (int l = 0; l < 4; ++l) {
+      int q = grp * 4 + l;
+      if (q < 3 * R) rgb[q / R] += term[l];
     }
-    rgb[c] = weight * sum;
   }
-  return rgb;
+  return weight * rgb;
 }
 
 int sliceOf(int j) { return int(T(16 + j)); }

@@ -12,7 +12,7 @@
 //   [16 + j], j < 90: the slice of theta_d bin j
 //   [106 + 8 s ..]: slice s: theta_d begin, end, R (slots per channel), G (groups of 4 slots),
 //     and the offsets (into this array) of its theta_h rows (91), theta_d rows (width + 1),
-//     phi_d rows (181) and constants (G x 28).
+//     phi_d rows (181) and constants (G x 28), each a multiple of 4 (zeros pad the header).
 //   A row is G groups of 12: the g of 4 slots, their w, their y; slot q = channel R + component
 //   sits in group q / 4 at lane q % 4. Constants per group: k, a0, a1, a2, b0, b1, b2, 4 lanes
 //   each. Value of a slot at interpolated terms: k g1 g2 g3 (b0 + b1 Y + b2 W) / (a0 + a1 Y +
@@ -155,7 +155,9 @@ CBRDF_WASM_EXPORT cbrdf_viewer* cbrdf_viewer_open(const void* data, std::size_t 
   // The tables: header, slice of each theta_d bin, descriptors, then each slice's rows.
   const std::size_t ns = model.slices.size();
   std::vector<float>& t = v->arrays[0];
-  t.assign(std::size_t(kHeader + kThetaDBins) + kSliceDescriptor * ns, 0.0f);
+  // Every section starts at a multiple of 4 floats, so that the page reads a group's g, w or y
+  // of 4 slots as one RGBA texel (rows are 12 G floats, constants 28 G).
+  t.assign((std::size_t(kHeader + kThetaDBins) + kSliceDescriptor * ns + 3) / 4 * 4, 0.0f);
   bool any_generic = false;
   Model generic_only = model;  // the components without the product form (all others zeroed)
   generic_only.residual = Residual{};
