@@ -6,6 +6,7 @@
 import { Gpu } from './gpu.mjs';
 import { openFile } from './brdfs.mjs';
 import * as P from './plots.mjs';
+import { parseHdr, envLights } from './envmap.mjs';
 
 const $ = (id) => document.getElementById(id);
 const kPanel = 320;
@@ -23,6 +24,8 @@ const state = {
   phiD: 90,
   psnr: null,
   exposure: 1,
+  env: null,       // { name, gpu: { tex, count } } of a dropped .hdr
+  useEnv: false,
 };
 let gpu = null;
 let targets = null;
@@ -74,11 +77,11 @@ function renderSphere() {
   if (!gpu || state.a < 0) return;
   const A = state.brdfs[state.a], B = state.b >= 0 ? state.brdfs[state.b] : null;
   targets ??= { a: gpu.target(kPanel, kPanel), b: gpu.target(kPanel, kPanel) };
-  gpu.sphere(A.gpu, targets.a, state.light, state.intensity);
+  gpu.sphere(A.gpu, targets.a, state.light, state.intensity, envOn());
   const pa = gpu.read(targets.a);
   let pb = null;
   if (B) {
-    gpu.sphere(B.gpu, targets.b, state.light, state.intensity);
+    gpu.sphere(B.gpu, targets.b, state.light, state.intensity, envOn());
     pb = gpu.read(targets.b);
   }
   state.exposure = autoExposure(pb ?? pa) * Math.pow(2, state.exposureEv);
@@ -189,16 +192,36 @@ function renderAll() {
   renderFacts();
 }
 
+function envOn() {
+  return state.useEnv && state.env ? state.env.gpu : null;
+}
+
+// An environment map (.hdr): n theta x 2n phi cells, one light each (envmap.mjs).
+function setEnvironment(name, bytes, nTheta = 8) {
+  const lights = envLights(parseHdr(name, bytes), nTheta, 2 * nTheta);
+  state.env = { name, gpu: gpu.envTexture(lights) };
+  state.useEnv = true;
+  $('useEnv').disabled = false;
+  $('useEnv').checked = true;
+  $('envName').textContent = `${name} (${lights.length / 8} lights)`;
+}
+
 // Adds opened files; the first model is shown against the first table (or the second file).
 async function addFiles(list) {
   const errors = [];
   for (const { name, bytes } of list) {
     try {
+      if (/\.hdr$/i.test(name)) {
+        setEnvironment(name, bytes);
+        continue;
+      }
       const b = await openFile(name, bytes);
       b.gpu = b.kind === 'model' ? gpu.modelBrdf(b.arrays) : gpu.tableBrdf(b.rgb);
       state.brdfs.push(b);
     } catch (err) {
-      errors.push(err.status ? `${name}: ${err.message} (${err.status})` : `${name}: ${err.message}`);
+      // The C API's messages name no file; the page's own (.binary, .hdr) start with its name.
+      errors.push(err.status ? `${name}: ${err.message} (${err.status})` :
+                  err.message.startsWith(`${name}: `) ? err.message : `${name}: ${err.message}`);
     }
   }
   showError(errors.join('\n'));
@@ -226,7 +249,7 @@ function timeSpheres(indices, frames) {
   const gl = gpu.gl, px = new Float32Array(4);
   const once = (b) => {
     const t0 = performance.now();
-    gpu.sphere(b.gpu, t, state.light, state.intensity);
+    gpu.sphere(b.gpu, t, state.light, state.intensity, envOn());
     gl.bindFramebuffer(gl.FRAMEBUFFER, t.fb);
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.FLOAT, px);
     return performance.now() - t0;
@@ -268,6 +291,11 @@ async function main() {
     evalPairs: (i, wi, wo) => Array.from(gpu.evalPairs(state.brdfs[i].gpu, new Float32Array(wi), new Float32Array(wo))),
     select(a, b) { state.a = a; state.b = b; fillPickers(); renderAll(); },
     setLight(l) { state.light = l; renderSphere(); },
+    setEnvironment(name, bytes, nTheta, on) {
+      if (bytes) setEnvironment(name, new Uint8Array(bytes), nTheta);
+      state.useEnv = on;
+      renderSphere();
+    },
     timeSpheres,
     render: renderAll,
   });
@@ -285,6 +313,7 @@ async function main() {
   bind('phiD', 'phiD', (v) => `${v}°`);
   for (const id of ['polar', 'logScale']) $(id).addEventListener('change', renderPlots);
   $('slice').addEventListener('input', renderSlice);
+  $('useEnv').addEventListener('change', () => { state.useEnv = $('useEnv').checked; renderSphere(); });
   $('channel').addEventListener('change', renderSlice);
   $('pickA').addEventListener('change', () => { state.a = Number($('pickA').value); renderAll(); });
   $('pickB').addEventListener('change', () => { state.b = Number($('pickB').value); renderSphere(); });

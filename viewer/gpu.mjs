@@ -217,15 +217,32 @@ export class Gpu {
     return out;
   }
 
-  // The lit sphere of a BRDF into a float target (linear radiance, alpha = inside).
-  sphere(brdf, target, light, intensity) {
+  // Environment lights (envmap.mjs's envLights) as a texture: { tex, count }.
+  envTexture(lights) {
+    const { gl } = this;
+    const tex = gl.createTexture();
+    this.scratch(gl.TEXTURE_2D, tex);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, lights.length / 4, 1, 0, gl.RGBA, gl.FLOAT, lights);
+    this.nearest(gl.TEXTURE_2D);
+    gl.bindTexture(gl.TEXTURE_2D, null);
+    return { tex, count: lights.length / 8 };
+  }
+
+  // The lit sphere of a BRDF into a float target (linear radiance, alpha = inside): the
+  // directional light, or the environment's lights when env is given.
+  sphere(brdf, target, light, intensity, env = null) {
     const { gl } = this;
     const prog = this.program('sphere');
     gl.useProgram(prog.p);
-    this.bindBrdf(prog, brdf);
+    const unit = this.bindBrdf(prog, brdf);
     gl.uniform3fv(prog.u.uLight, light);
     gl.uniform1f(prog.u.uIntensity, intensity);
+    gl.activeTexture(gl.TEXTURE0 + unit);
+    gl.bindTexture(gl.TEXTURE_2D, env ? env.tex : this.emptyTab);
+    gl.uniform1i(prog.u.uEnv, unit);
+    gl.uniform1i(prog.u.uEnvCount, env ? env.count : 0);
     this.draw(prog, target);
+    this.unbindAll();
   }
 
   slab(brdf, target, phiD) {

@@ -205,7 +205,9 @@ export const sphereShader = `#version 300 es
 ${brdfCommon}
 in vec2 vUv;
 uniform vec3 uLight;      // unit, towards the light, world space (camera looks down -z)
-uniform float uIntensity; // irradiance at normal incidence
+uniform float uIntensity; // irradiance at normal incidence (a scale of the environment's)
+uniform sampler2D uEnv;   // environment lights (envmap.mjs): texel 2k direction, 2k + 1 irradiance
+uniform int uEnvCount;    // 0: the directional light
 out vec4 outColor;
 void main() {
   vec2 p = vUv * 2.0 - 1.0;
@@ -216,10 +218,18 @@ void main() {
   vec3 t = normalize(abs(n.z) < 0.999 ? cross(vec3(0.0, 0.0, 1.0), n) : vec3(1.0, 0.0, 0.0));
   vec3 b = cross(n, t);
   vec3 v = vec3(0.0, 0.0, 1.0);
-  vec3 wi = normalize(vec3(dot(uLight, t), dot(uLight, b), dot(uLight, n)));
   vec3 wo = normalize(vec3(dot(v, t), dot(v, b), dot(v, n)));
-  vec3 f = brdf(wi, wo);
-  outColor = vec4(f * max(wi.z, 0.0) * uIntensity, 1.0);
+  // The directional light, or the environment's lights: one call site of brdf (a smaller shader).
+  int count = uEnvCount > 0 ? uEnvCount : 1;
+  vec3 sum = vec3(0.0);
+  for (int k = 0; k < count; ++k) {
+    vec3 L = uEnvCount > 0 ? texelFetch(uEnv, ivec2(2 * k, 0), 0).xyz : uLight;
+    vec3 E = uEnvCount > 0 ? texelFetch(uEnv, ivec2(2 * k + 1, 0), 0).rgb : vec3(1.0);
+    vec3 wi = vec3(dot(L, t), dot(L, b), dot(L, n));
+    if (wi.z <= 0.0) continue;
+    sum += brdf(normalize(wi), wo) * wi.z * E;
+  }
+  outColor = vec4(sum * uIntensity, 1.0);
 }
 `;
 

@@ -318,6 +318,32 @@ try {
         `a dropped damaged file shows the C API's message: "${badDrop.shown}" (native: "${native.trim()}")`);
   await shot('#error');
 
+  // An environment map (a synthetic .hdr: a dim sky and one bright cell up, right and in front):
+  // the sphere shows the sun's highlight where its half vector with the camera puts it.
+  {
+    const w = 32, h = 16, sunRow = 4, sunCol = 20;
+    const header = Buffer.from(`#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y ${h} +X ${w}\n`, 'latin1');
+    const px = Buffer.alloc(4 * w * h);
+    for (let i = 0; i < w * h; ++i) px.set([204, 204, 204, 124], 4 * i);      // 0.05
+    px.set([200, 200, 200, 138], 4 * (sunRow * w + sunCol));                    // 800
+    const theta = Math.PI * (sunRow + 0.5) / h, phi = 2 * Math.PI * (sunCol + 0.5) / w;
+    const L = [-Math.sin(theta) * Math.sin(phi), Math.cos(theta), -Math.sin(theta) * Math.cos(phi)];
+    const hv = [L[0], L[1], L[2] + 1], hl = Math.hypot(...hv);
+    const ex = Math.round(160 * (1 + hv[0] / hl)), ey = Math.round(160 * (1 - hv[1] / hl));
+    await page.evaluate((b) => window.cbrdfViewer.setEnvironment('sky.hdr', b, 4, true), Array.from(Buffer.concat([header, px])));
+    const env = await shot('#sphere');
+    for (const [panel, label] of [[0, 'model'], [1, 'measurement']]) {
+      const st = regionStats(env, panel * 320, 0, 320, 320);
+      const d = Math.hypot(st.bx - ex, st.by - ey);
+      check(st.colours > 100 && d < 10, `environment-lit sphere (${label}): ${st.colours} colours, the sun's highlight at (${st.bx}, ${st.by}), expected (${ex}, ${ey}): ${d.toFixed(1)} px off`);
+    }
+    const envPsnr = await page.evaluate('window.cbrdfViewer.state.psnr');
+    console.log(`environment-lit view: PSNR ${envPsnr.toFixed(2)} dB`);
+    await page.evaluate(() => window.cbrdfViewer.setEnvironment(null, null, 0, false));
+    const badHdr = await drop('broken.hdr', Buffer.from('#?RADIANCE\n\n-Y 4 +X 4\n\x01\x02', 'latin1'));
+    check(badHdr.shown === 'broken.hdr: truncated pixel data', `a dropped broken .hdr is reported: "${badHdr.shown}"`);
+  }
+
   // 4. Speed: the same sphere from the model's tables and from the table's 3D texture, one run.
   const frames = 8;
   // Three rounds of interleaved frames; the ratio quoted is the rounds' median.
