@@ -262,6 +262,17 @@ function timeSpheres(indices, frames) {
   return total.map((ms) => ms / frames);
 }
 
+// Interactive changes render at most once per animation frame (a slow GPU would queue them).
+let spherePending = false;
+function requestSphere() {
+  if (spherePending) return;
+  spherePending = true;
+  requestAnimationFrame(() => {
+    spherePending = false;
+    renderSphere();
+  });
+}
+
 function lightFromPointer(ev) {
   const r = $('sphere').getBoundingClientRect();
   const x = (ev.clientX - r.left) * ($('sphere').width / r.width);
@@ -273,7 +284,7 @@ function lightFromPointer(ev) {
   // sits under the pointer.
   const n = [px, py, Math.sqrt(1 - r2)];
   state.light = [2 * n[2] * n[0], 2 * n[2] * n[1], 2 * n[2] * n[2] - 1];
-  renderSphere();
+  requestSphere();
 }
 
 async function main() {
@@ -303,7 +314,7 @@ async function main() {
     $(id).addEventListener('input', () => {
       state[key] = parse($(id).value);
       if ($(`${id}Out`)) $(`${id}Out`).textContent = fmt(state[key]);
-      if (key === 'thetaI' || key === 'phiD') renderPlots(); else renderSphere();
+      if (key === 'thetaI' || key === 'phiD') renderPlots(); else requestSphere();
     });
   };
   bind('exposure', 'exposureEv', (v) => `${v} EV`);
