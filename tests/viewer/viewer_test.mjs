@@ -261,6 +261,22 @@ try {
     const d = Math.hypot(s.bx - px, s.by - py);
     check(d < 8, `sphere (${label}): the highlight is at (${s.bx}, ${s.by}), where the light puts it (${px}, ${py}): ${d.toFixed(1)} px off`);
   }
+  // A click on the sphere moves the light so that the highlight comes under the pointer.
+  {
+    const box = await (await page.$('#sphere')).boundingBox();
+    const cx = 100, cy = 230;  // canvas pixels in the first panel
+    await page.mouse.click(box.x + cx * box.width / 960, box.y + cy * box.height / 320);
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+    const light = await page.evaluate('window.cbrdfViewer.state.light');
+    const nx = cx / 160 - 1, ny = 1 - cy / 160, nz = Math.sqrt(1 - nx * nx - ny * ny);
+    const want = [2 * nz * nx, 2 * nz * ny, 2 * nz * nz - 1];
+    const err = Math.hypot(...light.map((v, i) => v - want[i]));
+    const clicked = await shot('#sphere');
+    const st = regionStats(clicked, 0, 0, 320, 320);
+    check(err < 0.02 && Math.hypot(st.bx - cx, st.by - cy) < 8,
+          `a click at (${cx}, ${cy}) moves the light (off by ${err.toFixed(3)}) and the highlight to (${st.bx}, ${st.by})`);
+    await page.evaluate((n) => window.cbrdfViewer.setLight([2 * n[2] * n[0], 2 * n[2] * n[1], 2 * n[2] * n[2] - 1]), n0);
+  }
   const psnrPair = await page.evaluate('window.cbrdfViewer.state.psnr');
   check(Number.isFinite(psnrPair) && psnrPair > 20 && psnrPair < 100, `nickel.cbrdf against nickel.binary: PSNR of the view ${psnrPair?.toFixed(2)} dB`);
   const diff = regionStats(sphere, 640, 0, 320, 320);
