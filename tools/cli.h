@@ -36,5 +36,6 @@ void add_decode_command(CLI::App& app, const Context& ctx, Action* action);
 void add_report_command(CLI::App& app, const Context& ctx, Action* action);
 void add_render_command(CLI::App& app, const Context& ctx, Action* action);
 void add_imgdiff_command(CLI::App& app, const Context& ctx, Action* action);
+void add_view_command(CLI::App& app, const Context& ctx, Action* action);
 
 }  // namespace cbrdf::cli

@@ -27,8 +27,25 @@ for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 
+# The viewer's browser tests (tests/viewer) drive chromium with puppeteer-core, pinned in
+# tests/viewer/package-lock.json: installed there with npm (Debian's npm where none is present).
+viewer_npm() {
+  local dir
+  dir="$(cd "$(dirname "$0")/../tests/viewer" && pwd)"
+  if ! command -v npm >/dev/null; then
+    ${sudo:-} apt-get install -y -qq --no-install-recommends npm >/dev/null
+  fi
+  if ! (cd "$dir" && npm ls puppeteer-core >/dev/null 2>&1); then
+    echo "install-deps: npm ci in tests/viewer"
+    (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+}
+
 if ((${#missing[@]} == 0)); then
   echo "install-deps: all ${#packages[@]} packages present"
+  sudo=""
+  if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+  viewer_npm
   exit 0
 fi
 
@@ -38,4 +55,5 @@ if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $sudo apt-get update -qq
 $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+viewer_npm
 echo "install-deps: done"

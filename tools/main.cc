@@ -6,9 +6,9 @@
 #include <new>
 #include <string>
 
-#include "files/file_io.h"
 #include "cbrdf/version.h"
 #include "cli.h"
+#include "files/file_io.h"
 
 namespace cbrdf::cli {
 
@@ -28,8 +28,8 @@ namespace {
 
 using namespace cbrdf::cli;
 
-constexpr const char* kSubcommands[] = {"sample", "info",   "encode", "decode",
-                                        "report", "render", "imgdiff"};
+constexpr const char* kSubcommands[] = {"sample", "info",   "encode",  "decode",
+                                        "report", "render", "imgdiff", "view"};
 
 // CLI11 says "A subcommand is required" for a mistyped one; name it instead. Global options are
 // flags only, so the first argument that is not an option is the subcommand.
@@ -64,6 +64,7 @@ int run(int argc, char** argv) {
   add_report_command(app, ctx, &action);
   add_render_command(app, ctx, &action);
   add_imgdiff_command(app, ctx, &action);
+  add_view_command(app, ctx, &action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -336,6 +336,7 @@ export async function load(source) {
     : null;
   return {
     version: rt.string(rt.x.cbrdf_version_string()),
+    exports: rt.x,  // the module's raw exports (the viewer's cbrdf_viewer_*: viewer_tables.cc)
     // Decodes a .cbrdf file (Uint8Array, ArrayBuffer or other typed array) with the C API's full
     // validation (cbrdf_model_open_memory); throws a CbrdfError for a bad file.
     open(fileBytes) {
