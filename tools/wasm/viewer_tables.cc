@@ -33,7 +33,6 @@
 #include <cstdio>
 #include <memory>
 #include <new>
-#include <numbers>
 #include <span>
 #include <string>
 #include <vector>
@@ -43,6 +42,7 @@
 #include "cbrdf/model.h"
 #include "density/frank_grid.h"
 #include "density/grid_copula.h"
+#include "eval/product_form.h"
 
 namespace {
 
@@ -50,65 +50,22 @@ using namespace cbrdf;
 
 constexpr int kHeader = 16;
 constexpr int kSliceDescriptor = 8;
-constexpr int kGroup = 4, kGroupTerms = 12, kGroupConstants = 28;
-constexpr double kMaxEvaluatedParameter = 1e300;  // as model.cc clamps parameters
+using eval::kGroup, eval::kGroupConstants, eval::kGroupTerms;
+using eval::ProductForm;
 
-struct Form {
-  bool ok = false;
-  double t = 0, b = 0;
-  double k[7] = {};  // k, a0, a1, a2, b0, b1, b2
-};
-
-// eval/interp_tables.cc's product_form.
-Form product_form(const Component& c) {
-  Form f;
-  const double theta = std::clamp(c.theta, -kMaxEvaluatedParameter, kMaxEvaluatedParameter);
-  if (c.family == CopulaFamily::kIndependence ||
-      (c.family == CopulaFamily::kFrank && theta == 0.0)) {
-    f.ok = true;
-    const double k[7] = {c.scale, 1, 0, 0, 1, 0, 0};
-    std::copy(k, k + 7, f.k);
-    return f;
-  }
-  if (c.family != CopulaFamily::kFrank || theta < fit::kFrankGridMinAlpha) return f;
-  f.ok = true;
-  f.t = -theta;
-  f.b = -std::expm1(-f.t);
-  const double et = std::exp(-f.t);
-  constexpr double kLn2Lo = 2.319046813846299558e-17;
-  const double one_plus_b = -2.0 * std::expm1((theta - std::numbers::ln2) - kLn2Lo);
-  const double r = f.t / f.b;
-  const double k = c.scale * (r * r);
-  if (f.t > 0) {
-    const double v[7] = {k, et, f.b, 0, 1, 0, f.b};
-    std::copy(v, v + 7, f.k);
-  } else {
-    const double v[7] = {k, 1, 0, -f.b, one_plus_b, -f.b, 0};
-    std::copy(v, v + 7, f.k);
-  }
-  return f;
-}
-
-// eval/interp_tables.cc's axis_terms and set_rows: slot q's (g, w, y) per bin into rows of
-// `row` floats at `base`, bins 0 .. bins (the last repeated).
-void put_axis(const Form& f, const std::vector<double>& pdf, int bins, std::size_t row, int q,
-              float* base) {
-  std::vector<double> u;
-  fit::midpoint_cdf(pdf, &u);
+// Slot q's (g, w, y) per bin into rows of `row` floats at `base`, bins 0 .. bins (the last
+// repeated), as eval/interp_tables.cc's set_rows lays out its float64 rows.
+void put_axis(const ProductForm& f, const std::vector<double>& pdf, int bins, std::size_t row,
+              int q, float* base) {
+  std::vector<eval::AxisTerms<double>> terms;
+  eval::axis_terms(f, pdf, &terms);
   const std::size_t lane = std::size_t(q / kGroup) * kGroupTerms + std::size_t(q % kGroup);
   for (int i = 0; i <= bins; ++i) {
-    const std::size_t b = std::size_t(std::min(i, bins - 1));
-    double g = pdf[b], w = 0, y = 0;
-    if (f.t != 0.0) {
-      const double x = u[b], e = std::exp(-f.t * x);
-      g = pdf[b] * e;
-      w = -std::expm1(-f.t * x) / f.b;
-      y = -e * std::expm1(-f.t * (1.0 - x)) / f.b;
-    }
+    const eval::AxisTerms<double>& a = terms[std::size_t(std::min(i, bins - 1))];
     float* t = base + std::size_t(i) * row + lane;
-    t[0] = float(g);
-    t[kGroup] = float(w);
-    t[2 * kGroup] = float(y);
+    t[0] = float(a.g);
+    t[kGroup] = float(a.w);
+    t[2 * kGroup] = float(a.y);
   }
 }
 
@@ -192,7 +149,7 @@ CBRDF_WASM_EXPORT cbrdf_viewer* cbrdf_viewer_open(const void* data, std::size_t 
       for (int r = 0; r < cs.components(); ++r) {
         const Component& comp = cs.component(r);
         const int q = c * R + r;
-        const Form f = product_form(comp);
+        const ProductForm f = eval::product_form(comp);
         if (!f.ok) {
           any_generic = true;
           continue;
@@ -200,7 +157,8 @@ CBRDF_WASM_EXPORT cbrdf_viewer* cbrdf_viewer_open(const void* data, std::size_t 
         generic_only.slices[s].channel[std::size_t(c)].component(r).scale = 0.0;
         if (comp.scale == 0.0) continue;
         float* k = t.data() + off_k + std::size_t(q / kGroup) * kGroupConstants + (q % kGroup);
-        for (int e = 0; e < 7; ++e) k[e * kGroup] = float(f.k[e]);
+        const double kv[7] = {f.k.k, f.k.a0, f.k.a1, f.k.a2, f.k.b0, f.k.b1, f.k.b2};
+        for (int e = 0; e < 7; ++e) k[e * kGroup] = float(kv[e]);
         put_axis(f, comp.pdf_h, kThetaHBins, row, q, t.data() + off_h);
         put_axis(f, comp.pdf_d, slice.width(), row, q, t.data() + off_d);
         put_axis(f, comp.pdf_p, kPhiDBins, row, q, t.data() + off_p);
@@ -307,7 +265,8 @@ CBRDF_WASM_EXPORT int cbrdf_viewer_slice(const cbrdf_viewer* v, int slice, int c
   for (int i = 0; i < kThetaHBins; ++i) out[i] = float(c.pdf_h[std::size_t(i)]);
   for (int k = 0; k < kPhiDBins; ++k) out[90 + k] = float(c.pdf_p[std::size_t(k)]);
   for (int j = 0; j < sl.width(); ++j) out[270 + j] = float(c.pdf_d[std::size_t(j)]);
-  const double theta = std::clamp(c.theta, -kMaxEvaluatedParameter, kMaxEvaluatedParameter);
+  const double theta =
+      std::clamp(c.theta, -eval::kMaxEvaluatedParameter, eval::kMaxEvaluatedParameter);
   auto grid = c.family == CopulaFamily::kFrank && theta < fit::kFrankGridMinAlpha
                   ? fit::make_archimedean_grid(c.family)
                   : fit::make_grid_copula(c.family);
