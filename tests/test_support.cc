@@ -35,9 +35,14 @@ fs::path real_materials_dir() {
     const fs::path shared(CBRDF_SHARED_DIR);
     const fs::path script = shared / "tools" / "make-merl.sh";
     if (!fs::exists(shared / "data" / "nbrdf-merl") || !fs::exists(script)) return;
-    const fs::path out = fs::path(CBRDF_BUILD_DIR) / "real-materials";
-    const std::string cmd =
-        "bash '" + script.string() + "' '" + out.string() + "' > '" + out.string() + ".log' 2>&1";
+    // CBRDF_REAL_MATERIALS_DIR lets a second build tree (the sanitizer suite) reuse the tables
+    // the first one made instead of making 700 MB again.
+    const char* env = std::getenv("CBRDF_REAL_MATERIALS_DIR");
+    const fs::path out = env && *env ? fs::path(env) : fs::path(CBRDF_BUILD_DIR) / "real-materials";
+    // Tests run as parallel processes: the lock keeps a second one from reading a table the
+    // first is still writing (make-merl.sh skips the tables that exist).
+    const std::string cmd = "flock '" + out.string() + ".lock' bash '" + script.string() + "' '" +
+                            out.string() + "' > '" + out.string() + ".log' 2>&1";
     fs::create_directories(out);
     if (std::system(cmd.c_str()) != 0) {
       std::fprintf(stderr, "make-merl.sh failed, see %s.log\n", out.string().c_str());

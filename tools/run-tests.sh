@@ -22,7 +22,10 @@ if [ "${CBRDF_QUICK:-0}" = 1 ]; then exit 0; fi
 CC=clang CXX=clang++ CBRDF_WASM_BUILD_DIR="$build/wasm-build" \
   "$root/tools/check-decoder-only.sh" "$build-decoder"
 echo "run-tests: decoder-only build passed at $(( $(date +%s) - start )) s"
-"$root/tools/run-sanitizers.sh" "$build-sanitize"
+# The sanitizer suite reuses the release build's real-material tables and cbrdf.wasm (for the
+# viewer's test, whose HTTP server it checks under ASan).
+CBRDF_REAL_MATERIALS_DIR="$build/real-materials" CBRDF_WASM_BUILD_DIR="$build/wasm-build" \
+  "$root/tools/run-sanitizers.sh" "$build-sanitize"
 echo "run-tests: sanitizer suite passed at $(( $(date +%s) - start )) s"
 "$root/tools/run-fuzz.sh" "${CBRDF_FUZZ_SECONDS:-60}"
 echo "run-tests: everything passed in $(( $(date +%s) - start )) s"
