@@ -78,15 +78,23 @@ TEST(ReportArgs, OtherUsageErrors) {
 class ReportRun : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new TempDir();
-    input_ = *dir_ / "plastic.binary";
-    ASSERT_EQ(run_cli("sample plastic -o '" + input_.string() + "'").exit_code, 0);
-    out_ = *dir_ / "report";
-    run_ = new testing::CommandResult(
-        report_input("",
-                     "--jobs 1 --progress always --sweep slices=3 bits=6,16 components=1,2 "
-                     "--baselines float16,separable",
-                     out_));
+    // One run for all of the suite's test processes (testing::shared_run).
+    fs::path dir;
+    run_ = new testing::CommandResult(testing::shared_run(
+        "report-run",
+        [](const fs::path& d) {
+          input_ = d / "plastic.binary";
+          out_ = d / "report";
+          const auto s = run_cli("sample plastic -o '" + input_.string() + "'");
+          if (s.exit_code != 0) return s;
+          return report_input("",
+                              "--jobs 1 --progress always --sweep slices=3 bits=6,16 "
+                              "components=1,2 --baselines float16,separable",
+                              out_);
+        },
+        &dir));
+    input_ = dir / "plastic.binary";
+    out_ = dir / "report";
   }
   // `cbrdf GLOBAL report INPUT OPTIONS -o OUT` on the fixture's material.
   static testing::CommandResult report_input(const std::string& global, const std::string& options,
@@ -94,10 +102,7 @@ class ReportRun : public ::testing::Test {
     return run_cli(global + " report '" + input_.string() + "' " + options + " -o '" +
                    out.string() + "'");
   }
-  static void TearDownTestSuite() {
-    delete run_;
-    delete dir_;
-  }
+  static void TearDownTestSuite() { delete run_; }
   static nlohmann::json row(const nlohmann::json& rows, const std::string& label) {
     for (const auto& r : rows) {
       if (r["label"] == label) return r;
@@ -106,11 +111,9 @@ class ReportRun : public ::testing::Test {
     return {};
   }
 
-  static TempDir* dir_;
   static fs::path input_, out_;
   static testing::CommandResult* run_;
 };
-TempDir* ReportRun::dir_ = nullptr;
 fs::path ReportRun::input_, ReportRun::out_;
 testing::CommandResult* ReportRun::run_ = nullptr;
 
@@ -197,7 +200,8 @@ TEST_F(ReportRun, ContainerSizeIsWhatEncodeWritesAndPsnrIsWhatTheLibraryMeasures
   EXPECT_EQ(row(rows, "frank s3 b6 k2")["components"], "2");
   EXPECT_EQ(row(rows, "frank s3 b6")["components"], "1");
 
-  const fs::path cbrdf = *dir_ / "p.cbrdf", decoded = *dir_ / "p.binary";
+  const TempDir tmp;
+  const fs::path cbrdf = tmp / "p.cbrdf", decoded = tmp / "p.binary";
   ASSERT_EQ(run_cli("-q encode '" + input_.string() + "' -o '" + cbrdf.string() +
                     "' --slices 3 --bits 16 --no-metrics")
                 .exit_code,
@@ -292,7 +296,8 @@ TEST_F(ReportRun, MixturesFrontierAndGainOverThePapersSetting) {
         << b;
   }
   // The K = 2 row is what `cbrdf encode --components 2` writes.
-  const fs::path k2file = *dir_ / "k2.cbrdf";
+  const TempDir tmp;
+  const fs::path k2file = tmp / "k2.cbrdf";
   ASSERT_EQ(run_cli("-q encode '" + input_.string() + "' -o '" + k2file.string() +
                     "' --slices 3 --bits 16 --components 2 --no-metrics")
                 .exit_code,

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "test_support.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -62,6 +64,42 @@ std::vector<std::string> real_material_names() {
   }
   std::sort(names.begin(), names.end());
   return names;
+}
+
+CommandResult shared_run(const std::string& key,
+                         const std::function<CommandResult(const fs::path& dir)>& make,
+                         fs::path* dir) {
+  const fs::path root = fs::path(CBRDF_BUILD_DIR) / "shared-runs";
+  fs::create_directories(root);
+  *dir = root / key;
+  const int lock = ::open((root / (key + ".lock")).c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (lock < 0 || ::flock(lock, LOCK_EX) != 0) {
+    std::fprintf(stderr, "shared_run: cannot lock %s\n", (root / (key + ".lock")).c_str());
+    std::abort();
+  }
+  // The executable's size and time name the build that made the run.
+  const fs::path cli(CBRDF_CLI_PATH);
+  const std::string stamp = std::to_string(fs::file_size(cli)) + " " +
+                            std::to_string(fs::last_write_time(cli).time_since_epoch().count()) +
+                            "\n";
+  CommandResult r;
+  if (fs::exists(*dir / ".stamp") && read_text(*dir / ".stamp") == stamp) {
+    r.exit_code = 0;
+    r.out = read_text(*dir / ".stdout");
+    r.err = read_text(*dir / ".stderr");
+  } else {
+    fs::remove_all(*dir);
+    fs::create_directories(*dir);
+    r = make(*dir);
+    if (r.exit_code == 0) {  // a failed run is made again by the next process
+      std::ofstream(*dir / ".stdout", std::ios::binary) << r.out;
+      std::ofstream(*dir / ".stderr", std::ios::binary) << r.err;
+      std::ofstream(*dir / ".stamp", std::ios::binary) << stamp;
+    }
+  }
+  ::flock(lock, LOCK_UN);
+  ::close(lock);
+  return r;
 }
 
 std::string read_text(const fs::path& p) {

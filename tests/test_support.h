@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,15 @@ struct CommandResult {
 };
 // Runs the built `cbrdf` executable with the given argument string (shell-quoted by the caller).
 CommandResult run_cli(const std::string& args);
+
+// Runs make(dir) once for every test process of a build and returns its result: the directory
+// and the result are kept under the build tree by `key`, and made again when the cbrdf
+// executable changes or the last run failed. For test suites that share one expensive run (a
+// `cbrdf report` sweep): gtest_discover_tests runs each test in a process of its own, so
+// SetUpTestSuite alone would repeat the run for every test. `dir` is empty when make is called.
+CommandResult shared_run(const std::string& key,
+                         const std::function<CommandResult(const std::filesystem::path& dir)>& make,
+                         std::filesystem::path* dir);
 
 std::string read_text(const std::filesystem::path& p);
 
