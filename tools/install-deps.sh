@@ -15,6 +15,7 @@ packages=(
   pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest python3-matplotlib
   chromium  # headless check of the report page (tests/report_html_test.cc)
   abigail-tools  # the ABI check of the shared libraries (tools/check-abi.sh)
+  doxygen  # the API reference and its check (docs/Doxyfile.in, tools/check-api-docs.sh)
   emscripten nodejs node-acorn dpkg-dev  # cbrdf.wasm and its node tests (tools/wasm, tests/wasm)
 )
 

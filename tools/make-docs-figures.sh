@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Regenerates the README's figures in docs/ with the project's own tools: the quickstart's report
-# on the built-in measured materials (the same sweep), then its mean frontier and the reference /
-# decoded / difference sphere renders of the paper's three materials.
+# Regenerates the figures of the README and docs/benchmarks.md in docs/ with the project's own
+# tools: the quickstart's report on the built-in measured materials (the same sweep), then its mean
+# frontier and the reference / decoded / difference sphere renders of the paper's three materials.
 #   Usage: tools/make-docs-figures.sh [BUILD_DIR]   (BUILD_DIR must hold a built `cbrdf`)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)

@@ -219,7 +219,7 @@ ResidualSettings target_residual_settings(double max_error) {
   // Measured over a 1-component 10-bit base on gold-metallic-paint, chrome-steel and
   // beige-fabric, levels 2-4 and multipliers 1-8 at E 0.02-0.005: more levels than 2 helped
   // two of three, and each doubling of the multiplier saved bytes at the same tone-mapped PSNR
-  // (8: 2-10% fewer than 4); README has the bytes at 60 dB against mode 2.
+  // (8: 2-10% fewer than 4); docs/benchmarks.md has the bytes at 60 dB against mode 2.
   rs.levels = 3;
   rs.fine_multiplier = 8;
   return rs;

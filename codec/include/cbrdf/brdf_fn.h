@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// A BRDF as a function: what samplers, metrics and renderers take, whatever the representation
-// (the copula model, a measured table, an analytic model).
+/// @file
+/// A BRDF as a function: what samplers, metrics and renderers take, whatever the representation
+/// (the copula model, a measured table, an analytic model).
 #pragma once
 
 #include <functional>
@@ -9,8 +10,8 @@
 
 namespace cbrdf {
 
-// A BRDF as a function of local directions (z = normal): physical RGB (1/sr) into rgb.
-// Renders call it from several threads at once: it must not mutate shared state.
+/// A BRDF as a function of local directions (z = normal): physical RGB (1/sr) into rgb.
+/// Renders call it from several threads at once: it must not mutate shared state.
 using BrdfFn = std::function<void(const Vec3& wi, const Vec3& wo, double rgb[3])>;
 
 }  // namespace cbrdf

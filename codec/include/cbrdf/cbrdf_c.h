@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* The whole cbrdf C API: the decoder part (cbrdf/cbrdf_decode.h: open, describe, evaluate and
+/** @file
+ * The whole cbrdf C API: the decoder part (cbrdf/cbrdf_decode.h: open, describe, evaluate and
  * sample .cbrdf files; libcbrdf_decoder) and the encoder part (cbrdf/cbrdf_encode.h: fit and write
  * them; libcbrdf_encoder only). A program that links only the decoder library should include
  * cbrdf/cbrdf_decode.h instead. Defining CBRDF_EXPERIMENTAL_API before this include also declares

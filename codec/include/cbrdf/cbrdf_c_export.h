@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* The one export macro of the cbrdf C API (cbrdf/cbrdf_decode.h, cbrdf/cbrdf_encode.h).
+/** @file
+ * The one export macro of the cbrdf C API (cbrdf/cbrdf_decode.h, cbrdf/cbrdf_encode.h).
  *
  * CBRDF_C_API marks every function of the stable C interface, the only symbols the shared
  * libraries export:

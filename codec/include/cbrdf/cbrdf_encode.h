@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* The cbrdf C API, encoder part: fit MERL tables and write .cbrdf files. These functions live in
+/** @file
+ * The cbrdf C API, encoder part: fit MERL tables and write .cbrdf files. These functions live in
  * libcbrdf_encoder (pkg-config cbrdf, CMake cbrdf::encoder), not in the decoder library: a program
  * linked against libcbrdf_decoder alone cannot call them. The encoder library links the decoder
  * library, so everything of cbrdf/cbrdf_decode.h (included here) is available beside them.
@@ -17,40 +18,40 @@
 extern "C" {
 #endif
 
-/* cbrdf_encode_settings.bits: chosen from the data. */
+/** cbrdf_encode_settings.bits: chosen from the data. */
 #define CBRDF_BITS_AUTO 0
 
-/* Encoder settings. Fields are only ever appended: fill the struct with
+/** Encoder settings. Fields are only ever appended: fill the struct with
  * cbrdf_encode_settings_init, then change the fields you need. */
 typedef struct cbrdf_encode_settings {
-  uint32_t struct_size; /* sizeof(cbrdf_encode_settings), set by cbrdf_encode_settings_init */
-  int bits;             /* bits per quantized marginal value, 6 to 16 (the quality knob), or
+  uint32_t struct_size; /**< sizeof(cbrdf_encode_settings), set by cbrdf_encode_settings_init */
+  int bits;             /**< bits per quantized marginal value, 6 to 16 (the quality knob), or
                            CBRDF_BITS_AUTO (the default): the fewest bits costing at most 0.05 dB
                            tone-mapped and 0.5 dB linear sphere PSNR against the unquantized
                            model */
-  int zstd_level;       /* 1 to 22: the effort knob (19) */
-  int slices;           /* uniform theta_d slices, 1 to 90 (6, the paper's) */
-  int components;       /* copula components per slice and channel, 1 to 8 (1, the paper's) */
-  int family;           /* a cbrdf_family, CBRDF_FAMILY_AUTO included (CBRDF_FAMILY_FRANK) */
-  int threads;          /* fitting threads, 0 (one per core) to 256 (1); results are identical */
+  int zstd_level;       /**< 1 to 22: the effort knob (19) */
+  int slices;           /**< uniform theta_d slices, 1 to 90 (6, the paper's) */
+  int components;       /**< copula components per slice and channel, 1 to 8 (1, the paper's) */
+  int family;           /**< a cbrdf_family, CBRDF_FAMILY_AUTO included (CBRDF_FAMILY_FRANK) */
+  int threads;          /**< fitting threads, 0 (one per core) to 256 (1); results are identical */
   /* Since 1.4: the residual layer (container 1.2; spec/container.md 4.6). */
-  double max_error; /* > 0: every measured bin decodes within this bound of the source,
+  double max_error; /**< > 0: every measured bin decodes within this bound of the source,
                        |log1p(decoded / k) - log1p(source / k)| <= max_error on stored values
                        with k = 1e-4 (a relative bound), 1e-6 to 16; 0 (the default): none */
-  int lossless;     /* 1: the decoded table equals the source bit for bit (excludes
+  int lossless;     /**< 1: the decoded table equals the source bit for bit (excludes
                        max_error); 0 (the default): not */
   /* Since 1.6. */
-  int mixture_copulas; /* with components > 1: 1 (the default) fits each component's copula, 0
+  int mixture_copulas; /**< with components > 1: 1 (the default) fits each component's copula, 0
                           leaves them at independence (about half the fit's time and 6% fewer
                           bytes at the same bits, for about the same tone-mapped PSNR per byte) */
 } cbrdf_encode_settings;
 
-/* Sets every field to its default (as `cbrdf encode` without options, except threads = 1) and
+/** Sets every field to its default (as `cbrdf encode` without options, except threads = 1) and
  * struct_size to sizeof(cbrdf_encode_settings). Returns CBRDF_OK, or
  * CBRDF_ERROR_INVALID_ARGUMENT (settings NULL). */
 CBRDF_C_API cbrdf_status cbrdf_encode_settings_init(cbrdf_encode_settings* settings);
 
-/* Fits the model to a full MERL table (layout of cbrdf_model_table; count must be
+/** Fits the model to a full MERL table (layout of cbrdf_model_table; count must be
  * cbrdf_merl_table_size(); negative and NaN values mean not measured and are kept bit for bit)
  * and writes it as a .cbrdf file in a new buffer: *out_bytes (free it with cbrdf_free) of
  * *out_size bytes. settings may be NULL for the defaults. Takes seconds (mixtures: tens of
@@ -63,7 +64,7 @@ CBRDF_C_API cbrdf_status cbrdf_encode_settings_init(cbrdf_encode_settings* setti
 CBRDF_C_API cbrdf_status cbrdf_encode_table(const double* stored_values, size_t count,
                                             const cbrdf_encode_settings* settings, void** out_bytes,
                                             size_t* out_size);
-/* Reads a MERL .binary (cbrdf::read_merl: 90x90x180, or 90x90x360 folded), encodes it as
+/** Reads a MERL .binary (cbrdf::read_merl: 90x90x180, or 90x90x360 folded), encodes it as
  * cbrdf_encode_table does (the metadata records the input's file name) and writes the .cbrdf file
  * atomically. in_path and out_path may name the same file. Returns CBRDF_OK, or the codes of
  * cbrdf_encode_table, and CBRDF_ERROR_NOT_FOUND, CBRDF_ERROR_IO, CBRDF_ERROR_TRUNCATED,

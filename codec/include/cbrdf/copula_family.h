@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The Archimedean copula families cbrdf knows. Values are stable: they are written to .cbrdf files.
+/// @file
+/// The Archimedean copula families cbrdf knows. Values are stable: they are written to .cbrdf
+/// files.
 #pragma once
 
 #include <cstdint>
@@ -8,16 +10,20 @@
 
 namespace cbrdf {
 
+/// A copula family; the value is its id in .cbrdf files.
 enum class CopulaFamily : std::uint8_t {
-  kIndependence = 0,  // c = 1: the separable model; no parameter
-  kFrank = 1,         // paper's convention: g_t = e^{theta t} - 1; theta < 0 positive dependence
+  kIndependence = 0,  ///< c = 1: the separable model; no parameter
+  kFrank = 1,         ///< paper's convention: g_t = e^{theta t} - 1; theta < 0 positive dependence
   kClayton = 2,
-  kGumbel = 3,  // Gumbel-Hougaard
+  kGumbel = 3,  ///< Gumbel-Hougaard
   kJoe = 4,
 };
 
+/// The name the command and files use ("frank", "joe", ...).
 std::string_view family_name(CopulaFamily f);
+/// The family of a name family_name() gives; nullopt for any other.
 std::optional<CopulaFamily> family_from_name(std::string_view name);
+/// Whether raw is a known family id.
 bool family_valid(std::uint8_t raw);
 
 }  // namespace cbrdf

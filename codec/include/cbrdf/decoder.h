@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The decoder's API in one include: what a renderer needs to open a .cbrdf file, evaluate and
-// sample it, and rebuild the MERL table. Links cbrdf::decoder (zstd and xxhash only).
+/// @file
+/// The decoder's API in one include: what a renderer needs to open a .cbrdf file, evaluate and
+/// sample it, and rebuild the MERL table. Links cbrdf::decoder (zstd and xxhash only).
 #pragma once
 
 #include "cbrdf/brdf_table.h"  // BrdfTable: the MERL-resolution table

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-// The .cbrdf chunk layer (container version 1.0): signature, version, chunks with checksums and
-// optional zstd compression, and the one validating parser used by decode, `cbrdf info`, the
-// fuzzers and the tests. What the payloads mean is the codec's business (cbrdf/codec.h); this
-// layer knows only which tags version 1 defines and how large each may be. spec/container.md is
-// the normative description.
+/// @file
+/// The .cbrdf chunk layer (container version 1.0): signature, version, chunks with checksums and
+/// optional zstd compression, and the one validating parser used by decode, `cbrdf info`, the
+/// fuzzers and the tests. What the payloads mean is the codec's business (cbrdf/codec.h); this
+/// layer knows only which tags version 1 defines and how large each may be. spec/container.md is
+/// the normative description.
 #pragma once
 
 #include <array>
@@ -17,97 +18,108 @@
 
 namespace cbrdf {
 
-// 0x8B: high bit set catches 7-bit transfers and marks the file binary; "CBR" names it; CR LF and
-// LF catch line-ending conversion either way; 0x1A stops `type` on DOS-like systems.
+/// 0x8B: high bit set catches 7-bit transfers and marks the file binary; "CBR" names it; CR LF and
+/// LF catch line-ending conversion either way; 0x1A stops `type` on DOS-like systems.
 inline constexpr std::array<std::uint8_t, 8> kContainerSignature = {0x8B, 'C',  'B',  'R',
                                                                     '\r', '\n', 0x1A, '\n'};
+/// The major version this library reads and writes; a reader refuses any other.
 inline constexpr std::uint16_t kContainerMajorVersion = 1;
-// 1.1 added mixtures (several components per slice and channel), 1.2 the residual layer (the
-// critical chunk 'RESD'); the writer writes the lowest version that holds the model, so that
-// files without them stay readable by older readers.
+/// 1.1 added mixtures (several components per slice and channel), 1.2 the residual layer (the
+/// critical chunk 'RESD'); the writer writes the lowest version that holds the model, so that
+/// files without them stay readable by older readers.
 inline constexpr std::uint16_t kContainerMinorVersion = 2;
 
-inline constexpr std::size_t kContainerHeaderBytes = 12;  // signature, u16 major, u16 minor
-inline constexpr std::size_t kChunkHeaderBytes = 16;   // tag, stored length, flags, payload length
-inline constexpr std::size_t kChunkChecksumBytes = 8;  // XXH64 of header + stored bytes
-inline constexpr std::uint64_t kMaxContainerBytes = std::uint64_t{64} << 20;  // 64 MiB
-// Bounds the parser's bookkeeping: a file of tiny unknown chunks cannot make it allocate more
-// than a few hundred kilobytes of chunk descriptions.
+inline constexpr std::size_t kContainerHeaderBytes = 12;  ///< signature, u16 major, u16 minor
+inline constexpr std::size_t kChunkHeaderBytes = 16;  ///< tag, stored length, flags, payload length
+inline constexpr std::size_t kChunkChecksumBytes = 8;  ///< XXH64 of header + stored bytes
+inline constexpr std::uint64_t kMaxContainerBytes = std::uint64_t{64} << 20;  ///< 64 MiB
+/// Bounds the parser's bookkeeping: a file of tiny unknown chunks cannot make it allocate more
+/// than a few hundred kilobytes of chunk descriptions.
 inline constexpr std::size_t kMaxChunks = 1024;
 
-// Chunk flag bits; every other bit is reserved and must be zero.
-inline constexpr std::uint32_t kChunkFlagZstd = 1u;  // the stored bytes are one zstd frame
+/// Chunk flag bits; every other bit is reserved and must be zero.
+inline constexpr std::uint32_t kChunkFlagZstd = 1u;  ///< the stored bytes are one zstd frame
 
-// The tags of version 1. A tag whose first letter is upper case is critical (PNG's convention):
-// a reader that does not know it must refuse the file; a lower-case first letter marks an
-// ancillary chunk that unknowing readers skip.
+/** The tags of version 1. A tag whose first letter is upper case is critical (PNG's convention):
+    a reader that does not know it must refuse the file; a lower-case first letter marks an
+    ancillary chunk that unknowing readers skip. */
+///@{
 inline constexpr std::string_view kTagHeader = "HEAD";
 inline constexpr std::string_view kTagModel = "MODL";
 inline constexpr std::string_view kTagMarginals = "MARG";
 inline constexpr std::string_view kTagMask = "MASK";
-inline constexpr std::string_view kTagResidual = "RESD";  // optional; version 1.2
+inline constexpr std::string_view kTagResidual = "RESD";  ///< optional; version 1.2
 inline constexpr std::string_view kTagMetadata = "mETA";
 inline constexpr std::string_view kTagEnd = "CEND";
+///@}
 
-bool chunk_tag_valid(std::string_view tag);  // four ASCII letters or digits, first a letter
+bool chunk_tag_valid(std::string_view tag);  ///< four ASCII letters or digits, first a letter
+/// Whether a reader must know the tag (first letter upper case).
 bool chunk_tag_critical(std::string_view tag);
-bool chunk_tag_known(std::string_view tag);
-// Largest payload (after decompression) a version-1 reader accepts for a known tag; 0 otherwise.
+bool chunk_tag_known(std::string_view tag);  ///< Whether the tag is one of version 1's.
+/// Largest payload (after decompression) a version-1 reader accepts for a known tag; 0 otherwise.
 std::uint32_t max_chunk_payload_bytes(std::string_view tag);
 
+/// One chunk as found in a file (parse_container).
 struct ChunkInfo {
-  std::string tag;
-  std::uint64_t offset = 0;  // of the chunk's tag in the file
-  std::uint32_t flags = 0;
-  std::uint32_t stored_bytes = 0;   // as written in the file
-  std::uint32_t payload_bytes = 0;  // after decompression
-  std::uint64_t checksum = 0;
-  bool critical = false;
-  bool compressed = false;
-  bool known = false;  // false: an ancillary chunk this reader skipped
+  std::string tag;                  ///< four characters
+  std::uint64_t offset = 0;         ///< of the chunk's tag in the file
+  std::uint32_t flags = 0;          ///< kChunkFlag* bits
+  std::uint32_t stored_bytes = 0;   ///< as written in the file
+  std::uint32_t payload_bytes = 0;  ///< after decompression
+  std::uint64_t checksum = 0;       ///< XXH64 as stored (verified by the parser)
+  bool critical = false;            ///< chunk_tag_critical(tag)
+  bool compressed = false;          ///< kChunkFlagZstd set
+  bool known = false;               ///< false: an ancillary chunk this reader skipped
 };
 
+/// A container's version and chunks, as read.
 struct ContainerLayout {
+  /** The container version (major.minor). */
+  ///@{
   std::uint16_t major = 0;
   std::uint16_t minor = 0;
-  std::uint64_t file_bytes = 0;
-  std::vector<ChunkInfo> chunks;  // file order, the end chunk included
+  ///@}
+  std::uint64_t file_bytes = 0;   ///< the whole file
+  std::vector<ChunkInfo> chunks;  ///< file order, the end chunk included
 };
 
+/// A validated container: its layout and the decompressed payloads of known chunks.
 struct ParsedContainer {
-  ContainerLayout layout;
-  // Decompressed payloads parallel to layout.chunks (empty for skipped unknown chunks).
+  ContainerLayout layout;  ///< version and chunks
+  /// Decompressed payloads parallel to layout.chunks (empty for skipped unknown chunks).
   std::vector<std::vector<std::uint8_t>> payloads;
-  // Index of the chunk with this tag in layout.chunks, or -1 when absent.
+  /// Index of the chunk with this tag in layout.chunks, or -1 when absent.
   int find(std::string_view tag) const;
 };
 
-// Validates the whole container: signature (with a diagnosis of text-mode damage), version,
-// every chunk's bounds, flags, checksum and size limits, the set and order of critical chunks,
-// and nothing after the end chunk. Decompresses the known chunks.
+/// Validates the whole container: signature (with a diagnosis of text-mode damage), version,
+/// every chunk's bounds, flags, checksum and size limits, the set and order of critical chunks,
+/// and nothing after the end chunk. Decompresses the known chunks.
 Expected<ParsedContainer> parse_container(std::span<const std::uint8_t> bytes);
 
-// XXH64 (seed 0) of a chunk's 16 header bytes followed by its stored bytes.
+/// XXH64 (seed 0) of a chunk's 16 header bytes followed by its stored bytes.
 std::uint64_t chunk_checksum(std::span<const std::uint8_t> header_and_stored);
 
-// Appends one chunk exactly as given (no compression, no checks): the low-level writer, also
-// used by tests and fuzz seeds to build files that a normal writer would never produce.
+/// Appends one chunk exactly as given (no compression, no checks): the low-level writer, also
+/// used by tests and fuzz seeds to build files that a normal writer would never produce.
 void append_raw_chunk(std::vector<std::uint8_t>* out, std::string_view tag, std::uint32_t flags,
                       std::span<const std::uint8_t> stored, std::uint32_t payload_bytes);
-// The 12-byte file header: signature and version.
+/// The 12-byte file header: signature and version.
 std::vector<std::uint8_t> container_file_header(std::uint16_t major = kContainerMajorVersion,
                                                 std::uint16_t minor = 0);
 
+/// One chunk for write_container().
 struct ChunkToWrite {
-  std::string tag;
-  std::vector<std::uint8_t> payload;
-  bool compress = true;     // zstd, kept only when it is smaller than the payload
-  int max_zstd_level = 22;  // caps write_container's level for this chunk (large payloads)
+  std::string tag;                    ///< four characters (chunk_tag_valid)
+  std::vector<std::uint8_t> payload;  ///< the uncompressed payload
+  bool compress = true;               ///< zstd, kept only when it is smaller than the payload
+  int max_zstd_level = 22;  ///< caps write_container's level for this chunk (large payloads)
 };
 
-// Writes header (version 1.minor), chunks in the given order and the end chunk. Refuses invalid
-// tags and payloads above their limits (kInvalidArgument / kLimit), so that whatever it writes
-// parses.
+/// Writes header (version 1.minor), chunks in the given order and the end chunk. Refuses invalid
+/// tags and payloads above their limits (kInvalidArgument / kLimit), so that whatever it writes
+/// parses.
 Expected<std::vector<std::uint8_t>> write_container(std::span<const ChunkToWrite> chunks,
                                                     int zstd_level, std::uint16_t minor = 0);
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Errors as values: a stable code and a message a user can act on (naming file, chunk, offset).
-// Nothing in cbrdf throws across its API.
+/// @file
+/// Errors as values: a stable code and a message a user can act on (naming file, chunk, offset).
+/// Nothing in cbrdf throws across its API.
 #pragma once
 
 #include <cassert>
@@ -10,34 +11,38 @@
 
 namespace cbrdf {
 
-// Stable numeric codes: never renumber, only append.
+/// Stable numeric codes: never renumber, only append.
 enum class ErrorCode : int {
   kOk = 0,
-  kIo = 1,               // the operating system refused a read or write
-  kNotFound = 2,         // a named file does not exist
-  kTruncated = 3,        // the data ends before its declared content
-  kBadSignature = 4,     // not a file of the expected kind
-  kUnsupported = 5,      // a newer version or an unknown critical feature
-  kCorrupt = 6,          // structurally invalid data
-  kChecksum = 7,         // a checksum does not match
-  kLimit = 8,            // a declared size exceeds a documented maximum
-  kInvalidArgument = 9,  // a caller passed a value outside its domain
-  kNumeric = 10,         // NaN, Inf or a value outside a parameter's domain in the data
-  kInternal = 11,        // a bug in cbrdf
+  kIo = 1,               ///< the operating system refused a read or write
+  kNotFound = 2,         ///< a named file does not exist
+  kTruncated = 3,        ///< the data ends before its declared content
+  kBadSignature = 4,     ///< not a file of the expected kind
+  kUnsupported = 5,      ///< a newer version or an unknown critical feature
+  kCorrupt = 6,          ///< structurally invalid data
+  kChecksum = 7,         ///< a checksum does not match
+  kLimit = 8,            ///< a declared size exceeds a documented maximum
+  kInvalidArgument = 9,  ///< a caller passed a value outside its domain
+  kNumeric = 10,         ///< NaN, Inf or a value outside a parameter's domain in the data
+  kInternal = 11,        ///< a bug in cbrdf
 };
 
+/// The code's stable name ("kCorrupt" -> "corrupt"), for messages and JSON.
 const char* error_code_name(ErrorCode code);
 
+/// The result of an operation: ok, or an ErrorCode and a message naming what was wrong
+/// (file, chunk, byte offset, argument) and what is allowed.
 class [[nodiscard]] Status {
  public:
-  Status() = default;
+  Status() = default;  ///< An ok status.
+  /// An error (code must not be kOk).
   Status(ErrorCode code, std::string message) : code_(code), message_(std::move(message)) {}
-  static Status ok_status() { return {}; }
+  static Status ok_status() { return {}; }  ///< An ok status.
 
-  bool ok() const { return code_ == ErrorCode::kOk; }
-  ErrorCode code() const { return code_; }
-  const std::string& message() const { return message_; }
-  // Prefixes context, e.g. the file name: "foo.binary: too short".
+  bool ok() const { return code_ == ErrorCode::kOk; }      ///< Whether the operation succeeded.
+  ErrorCode code() const { return code_; }                 ///< The stable code (kOk when ok).
+  const std::string& message() const { return message_; }  ///< Empty when ok.
+  /// Prefixes context, e.g. the file name: "foo.binary: too short".
   Status with_context(const std::string& context) const {
     if (ok()) return *this;
     return Status(code_, context + ": " + message_);
@@ -48,28 +53,35 @@ class [[nodiscard]] Status {
   std::string message_;
 };
 
+/// An ok status.
 inline Status ok_status() {
   return Status();
 }
+/// An error status with the given code and message.
 inline Status error(ErrorCode code, std::string message) {
   return Status(code, std::move(message));
 }
 
-// A value or the Status that explains why there is none.
+/// A value or the Status that explains why there is none.
 template <typename T>
 class [[nodiscard]] Expected {
  public:
-  Expected(T value) : v_(std::move(value)) {}        // NOLINT(google-explicit-constructor)
+  /// A value.
+  Expected(T value) : v_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+  /// The error explaining why there is no value (status must not be ok).
   Expected(Status status) : v_(std::move(status)) {  // NOLINT(google-explicit-constructor)
     assert(!std::get<Status>(v_).ok() && "Expected built from an ok Status");
   }
 
-  bool ok() const { return std::holds_alternative<T>(v_); }
-  explicit operator bool() const { return ok(); }
+  bool ok() const { return std::holds_alternative<T>(v_); }  ///< Whether a value is held.
+  explicit operator bool() const { return ok(); }            ///< Same as ok().
+  /// The error; an ok Status when a value is held.
   const Status& status() const {
     static const Status kOkStatus;
     return ok() ? kOkStatus : std::get<Status>(v_);
   }
+  /** The value (only when ok()). */
+  ///@{
   T& value() & { return std::get<T>(v_); }
   const T& value() const& { return std::get<T>(v_); }
   T&& value() && { return std::get<T>(std::move(v_)); }
@@ -77,6 +89,7 @@ class [[nodiscard]] Expected {
   const T* operator->() const { return &value(); }
   T& operator*() & { return value(); }
   const T& operator*() const& { return value(); }
+  ///@}
 
  private:
   std::variant<T, Status> v_;
@@ -84,7 +97,7 @@ class [[nodiscard]] Expected {
 
 }  // namespace cbrdf
 
-// Propagates a non-ok Status from an expression returning Status.
+/// Propagates a non-ok Status from an expression returning Status.
 #define CBRDF_RETURN_IF_ERROR(expr)                \
   do {                                             \
     ::cbrdf::Status cbrdf_status_ = (expr);        \

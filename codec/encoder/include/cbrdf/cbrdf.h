@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// cbrdf's C++ API in one include: the decoder (cbrdf/decoder.h) and the encoder (fitting, rate
-// control, built-in samples). Links cbrdf::encoder; a program that only reads files includes
-// cbrdf/decoder.h and links cbrdf::decoder. The C API is cbrdf/cbrdf_c.h.
+/// @file
+/// cbrdf's C++ API in one include: the decoder (cbrdf/decoder.h) and the encoder (fitting, rate
+/// control, built-in samples). Links cbrdf::encoder; a program that only reads files includes
+/// cbrdf/decoder.h and links cbrdf::decoder. The C API is cbrdf/cbrdf_c.h.
 #pragma once
 
 #include "cbrdf/decoder.h"
