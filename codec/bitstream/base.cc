@@ -280,19 +280,20 @@ Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
     const std::size_t sizes[3] = {std::size_t(kThetaHBins), std::size_t((*slices)[s].width()),
                                   std::size_t(kPhiDBins)};
     for (std::size_t a = 0; a < 3 && st.ok(); ++a) {
-      const std::string where = name(s, c, k) + " " + kAxisNames[a] + " table";
+      // Built only for a message: the decoder's loop does not pay for it.
+      auto where = [&] { return name(s, c, k) + " " + kAxisNames[a] + " table"; };
       std::int32_t dh = 0, dspan = 0, mode_hi = 0;
       st = rc::get_sint(dec, ctx.hi[a], &dh);
       if (st.ok()) st = rc::get_sint(dec, ctx.span[a], &dspan);
       if (!st.ok()) {
-        st = st.with_context(where);
+        st = st.with_context(where());
         return;
       }
       const std::int64_t h = std::int64_t(last_range[a].hi_units) + dh;
       const std::int64_t d = std::int64_t(last_range[a].span_units) + dspan;
       if (h < 0 || d < 0 || h + d > std::int64_t(kMaxGridUnits)) {
         st = error(ErrorCode::kCorrupt,
-                   where + ": log-mass range units H " + std::to_string(h) + " and D " +
+                   where() + ": log-mass range units H " + std::to_string(h) + " and D " +
                        std::to_string(d) +
                        " must be >= 0 with H + D <= " + std::to_string(kMaxGridUnits));
         return;
@@ -305,7 +306,7 @@ Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
         ref = {&last_codes[a], last_range[a].span_units};
       }
       if (mode >= kPredictRefStep && ref.codes == nullptr) {
-        st = error(ErrorCode::kCorrupt, where + ": predictor " + std::to_string(mode) +
+        st = error(ErrorCode::kCorrupt, where() + ": predictor " + std::to_string(mode) +
                                             " needs a previous " + kAxisNames[a] +
                                             " table of the same size, and there is none");
         return;
@@ -318,13 +319,13 @@ Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
         std::int32_t e = 0;
         st = rc::get_sint(dec, ctx.residual[a][std::size_t(cls)], &e);
         if (!st.ok()) {
-          st = st.with_context(where);
+          st = st.with_context(where());
           return;
         }
         const std::int64_t q =
             clamp_code(predict(mode, t.codes, i, ref, range.span_units, first), top) + e;
         if (q < 0 || q > top) {
-          st = error(ErrorCode::kCorrupt, where + ": code " + std::to_string(i) + " is " +
+          st = error(ErrorCode::kCorrupt, where() + ": code " + std::to_string(i) + " is " +
                                               std::to_string(q) + ", outside 0.." +
                                               std::to_string(top));
           return;
@@ -334,7 +335,7 @@ Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
       }
       Expected<std::vector<double>> m = dequantize_masses(t, bits);
       if (!m.ok()) {
-        st = m.status().with_context(where);
+        st = m.status().with_context(where());
         return;
       }
       *axes[a] = std::move(m.value());

@@ -61,30 +61,6 @@ Decoder::Decoder(std::span<const std::uint8_t> data) : data_(data) {
   for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | next();
 }
 
-std::uint8_t Decoder::next() {
-  if (pos_ < data_.size()) return data_[pos_++];
-  ++past_end_;
-  return 0;
-}
-
-int Decoder::bit(Prob& prob) {
-  const std::uint32_t bound = (range_ >> kProbBits) * prob.p;
-  int b = 0;
-  if (code_ < bound) {
-    range_ = bound;
-  } else {
-    code_ -= bound;
-    range_ -= bound;
-    b = 1;
-  }
-  prob.update(b);
-  while (range_ < kTop) {
-    range_ <<= 8;
-    code_ = (code_ << 8) | next();
-  }
-  return b;
-}
-
 Status Decoder::finish() const {
   // The writer's flush emits 4 bytes the reader reads; trimmed zeros among them read past the end.
   if (past_end_ > 4) {

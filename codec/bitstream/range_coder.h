@@ -68,11 +68,32 @@ class CostMeter {
 class Decoder {
  public:
   explicit Decoder(std::span<const std::uint8_t> data);
-  int bit(Prob& prob);
+  // Inline: the decoder's inner loop (about ten calls per table value).
+  int bit(Prob& prob) {
+    const std::uint32_t bound = (range_ >> kProbBits) * prob.p;
+    int b = 0;
+    if (code_ < bound) {
+      range_ = bound;
+    } else {
+      code_ -= bound;
+      range_ -= bound;
+      b = 1;
+    }
+    prob.update(b);
+    while (range_ < (1u << 24)) {
+      range_ <<= 8;
+      code_ = (code_ << 8) | next();
+    }
+    return b;
+  }
   Status finish() const;
 
  private:
-  std::uint8_t next();
+  std::uint8_t next() {
+    if (pos_ < data_.size()) return data_[pos_++];
+    ++past_end_;
+    return 0;
+  }
   std::span<const std::uint8_t> data_;
   std::size_t pos_ = 0;
   std::size_t past_end_ = 0;

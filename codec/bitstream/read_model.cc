@@ -96,9 +96,7 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
     }
     d.info.slices.push_back(p);
   }
-  for (std::uint64_t w : d.model.not_measured.bits) {
-    d.info.not_measured_bins += std::size_t(std::popcount(w));
-  }
+  d.info.not_measured_bins = count_set_bits(d.model.not_measured.bits);
   d.info.mask_relative_to_horizon = mask_fields.reference == MaskReference::kBelowHorizon;
   d.info.per_bin_values = mask_fields.values == MaskValues::kPerBin;
   return d;
