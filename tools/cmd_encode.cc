@@ -286,7 +286,6 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
   cmd->add_option("--level", o->encoder.level, "zstd level (1 to 22): effort")
       ->capture_default_str()
       ->check(CLI::Range(1, 22));
-  o->encoder.metadata = "short";
   cmd->add_option("--format-version", o->encoder.format_version,
                   "Container coding: auto (1.3, the compact coding, where smaller than 1.2), 1.2 "
                   "(readable by cbrdf 1.x readers of 1.0-1.2) or 1.3")

@@ -93,7 +93,7 @@ struct EncoderOptions {
   bool lossless = false;  // the residual layer makes the decoded table exact
   // auto (1.3 where smaller), 1.2 (the 1.0-1.2 chunks only) or 1.3 (ContainerSettings::Format).
   std::string format_version = "auto";
-  std::string metadata = "full";  // none, short (source, encoder) or full (and bits, zstd level)
+  std::string metadata = "short";  // none, short (source, encoder) or full (and bits, zstd level)
 };
 
 // The settings the options stand for. kInvalidArgument names the option and its valid values in
