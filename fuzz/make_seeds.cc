@@ -50,8 +50,10 @@ Bytes read_file(const fs::path& p) {
   return Bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-Bytes encode(const Model& m, int bits, bool metadata = true, int zstd_level = 19) {
+Bytes encode(const Model& m, int bits, bool metadata = true, int zstd_level = 19,
+             cbrdf::ContainerSettings::Format format = cbrdf::ContainerSettings::Format::kV12) {
   cbrdf::ContainerSettings s;
+  s.format = format;
   s.bits = bits;
   s.zstd_level = zstd_level;
   s.source_name = "seed.binary";
@@ -173,6 +175,13 @@ void container_and_decode_seeds(Writer& w) {
   valid["enc-perbin-values.cbrdf"] = encode(sparse_per_bin_mask_model(), 8);
   valid["enc-bitmap-mask.cbrdf"] = encode(bitmap_mask_model(), 8);
   valid["enc-ancillary-chunk.cbrdf"] = with_ancillary(valid["enc-tiny1-b6.cbrdf"]);
+  // Version 1.3 (BASE, the range-coded tables).
+  constexpr auto kV13 = cbrdf::ContainerSettings::Format::kV13;
+  valid["enc13-six-peaked-b10.cbrdf"] =
+      encode(make_model(cbrdf::testing::six_slices(), true, 2), 10, true, 19, kV13);
+  valid["enc13-mixture-b8.cbrdf"] =
+      encode(cbrdf::testing::make_mixture_model({0, 40, 90}, 4, 6), 8, true, 19, kV13);
+  valid["enc13-tiny1-b16.cbrdf"] = encode(make_model({0, 90}, false, 1), 16, false, 19, kV13);
 
   for (const auto& [name, bytes] : valid) {
     w.add("fuzz_container", name, bytes, "accepted");
@@ -190,6 +199,22 @@ void container_and_decode_seeds(Writer& w) {
   // A newer minor version may append fields: trailing payload bytes are then ignored.
   w.add("fuzz_decode", "raw-minor2-enc-mixture-b8.cbrdf",
         uncompressed(valid["enc-mixture-b8.cbrdf"], cbrdf::kContainerMinorVersion + 1), "accepted");
+
+  // 1.3: BASE in a file labelled 1.2 (the chunk layer refuses it), and BASE with bytes after its
+  // coded stream (the payload reader does).
+  const Bytes& v13 = valid["enc13-six-peaked-b10.cbrdf"];
+  w.add("fuzz_container", "bad13-base-in-minor2.cbrdf", uncompressed(v13, 2), "rejected corrupt");
+  {
+    cbrdf::Expected<cbrdf::ParsedContainer> pc = cbrdf::parse_container(v13);
+    if (!pc.ok()) std::exit(1);
+    Bytes out = cbrdf::container_file_header(cbrdf::kContainerMajorVersion, 3);
+    for (std::size_t i = 0; i < pc->layout.chunks.size(); ++i) {
+      Bytes p = pc->payloads[i];
+      if (pc->layout.chunks[i].tag == cbrdf::kTagBase) p.insert(p.end(), 5, 0x55);
+      cbrdf::append_raw_chunk(&out, pc->layout.chunks[i].tag, 0, p, std::uint32_t(p.size()));
+    }
+    w.add("fuzz_decode", "bad13-base-trailing.cbrdf", out, "rejected corrupt");
+  }
 
   const Bytes& tiny = valid["enc-tiny1-b6.cbrdf"];
   w.add("fuzz_container", "bad-truncated.cbrdf", Bytes(tiny.begin(), tiny.begin() + 40),

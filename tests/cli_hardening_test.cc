@@ -190,7 +190,7 @@ TEST_F(CliHardening, NonUtf8NamesAndMetadataInJson) {
   auto model = decode_model(*bytes);
   ASSERT_TRUE(model.ok()) << model.status().message();
   const std::vector<ChunkToWrite> chunks = {
-      {std::string(kTagHeader), encode_header_chunk(*model), false},
+      {std::string(kTagHeader), encode_header_chunk(*model, false), false},
       {std::string(kTagModel), encode_model_chunk(*model), true},
       {std::string(kTagMarginals), encode_marginals_chunk(*model, 12), true},
       {std::string(kTagMask), encode_mask_chunk(model->not_measured), true},

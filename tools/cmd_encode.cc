@@ -9,12 +9,12 @@
 
 #include "cbrdf/container.h"
 #include "cbrdf/encoder.h"
-#include "files/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/rate_control.h"
 #include "cli.h"
 #include "cli_io.h"
+#include "files/file_io.h"
 
 namespace cbrdf::cli {
 namespace {
@@ -286,6 +286,14 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
   cmd->add_option("--level", o->encoder.level, "zstd level (1 to 22): effort")
       ->capture_default_str()
       ->check(CLI::Range(1, 22));
+  cmd->add_option("--format-version", o->encoder.format_version,
+                  "Container coding: auto (1.3, the compact coding, where smaller than 1.2), 1.2 "
+                  "(readable by cbrdf 1.x readers of 1.0-1.2) or 1.3")
+      ->capture_default_str();
+  cmd->add_option("--metadata", o->encoder.metadata,
+                  "The metadata chunk: none, short (source file name and encoder) or full (also "
+                  "bits and zstd level)")
+      ->capture_default_str();
   cmd->add_option("--threads", o->encoder.threads, "Fitting threads (0: one per core)")
       ->check(CLI::Range(0, 256));
   cmd->add_option("--loss", o->encoder.loss,

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -22,6 +23,11 @@
 namespace cbrdf {
 
 inline constexpr std::uint8_t kThetaHMappingMerlSqrt = 0;
+// Version 1.3's HEAD names the grid by number: 0 is MERL's (90x90x180, square-root theta_h
+// mapping, RGB with MERL's scales), the only one version 1 holds.
+inline constexpr std::uint8_t kGridMerl = 0;
+// BASE's flags: bit 0, the further-component counts follow the slice ends.
+inline constexpr std::uint8_t kBaseFlagComponents = 1;
 inline constexpr const char* kChannelNames[kChannels] = {"R", "G", "B"};
 inline constexpr std::size_t kMaskBits = std::size_t{kChannels} * kBinsPerChannel;
 inline constexpr std::size_t kMaskBytes = kMaskBits / 8;  // 4,374,000 bits: no padding
@@ -96,6 +102,21 @@ inline bool mask_bit(const std::vector<std::uint64_t>& bits, std::size_t b) {
   return (bits[b >> 6] >> (b & 63)) & 1u;
 }
 
+// Set bits of a mask. The bit trick, not std::popcount: without a popcount instruction in the
+// target (the default x86-64 build, Emscripten) std::popcount is a library call per word, which
+// made counting the mask's 68,344 words about a fifth of decode_model's time (measured); this
+// loop vectorizes.
+inline std::size_t count_set_bits(std::span<const std::uint64_t> words) {
+  std::uint64_t n = 0;
+  for (std::uint64_t x : words) {
+    x = x - ((x >> 1) & 0x5555555555555555ull);
+    x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+    x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+    n += (x * 0x0101010101010101ull) >> 56;
+  }
+  return std::size_t(n);
+}
+
 // Payload offsets are named as such in messages.
 inline ByteReader payload_reader(std::span<const std::uint8_t> payload) {
   return ByteReader(payload, 0, "payload offset");
@@ -111,14 +132,18 @@ std::string number_text(double v);
 // The parameter rules shared by encoder and decoder; the message names the problem.
 Status check_channel_params(std::uint8_t family, double theta, double scale);
 
+// compact: the 2-byte form of a file that holds BASE (version 1.3), else the 34-byte one.
 Status decode_header_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
-                           HeaderFields* out);
+                           bool compact, HeaderFields* out);
 // Fills slices' bounds, families, parameters and scales.
 Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
                           int slice_count, std::vector<Slice>* slices);
 // Fills the marginal tables of slices whose bounds are already known.
 Status decode_marginals_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
                               std::vector<Slice>* slices, int* bits);
+// Version 1.3: the BASE chunk, MODL's and MARG's content (slices' bounds, parameters, tables).
+Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
+                         std::vector<Slice>* slices, int* bits);
 Status decode_mask_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
                          NotMeasured* out, MaskFields* fields);
 // Needs the mask (decoded before): codes are stored for measured bins only.
@@ -127,7 +152,10 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
 Status decode_metadata_chunk(std::span<const std::uint8_t> payload,
                              std::vector<std::pair<std::string, std::string>>* out);
 
-std::vector<std::uint8_t> encode_header_chunk(const Model& model);
+std::vector<std::uint8_t> encode_header_chunk(const Model& model, bool compact);
+// Version 1.3: MODL and MARG in one chunk; nullopt when a parameter has no binary32 inside its
+// family's range (the writer then uses the 1.2 chunks).
+std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, int bits);
 std::vector<std::uint8_t> encode_model_chunk(const Model& model);
 std::vector<std::uint8_t> encode_marginals_chunk(const Model& model, int bits);
 std::vector<std::uint8_t> encode_mask_chunk(const NotMeasured& mask);

@@ -8,8 +8,28 @@
 
 namespace cbrdf {
 Status decode_header_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
-                           HeaderFields* out) {
+                           bool compact, HeaderFields* out) {
   ByteReader r = payload_reader(payload);
+  if (compact) {
+    // Version 1.3, a file with BASE: the one grid this version defines, by number, and the slice
+    // count.
+    std::uint8_t grid = 0, count = 0;
+    CBRDF_RETURN_IF_ERROR(r.u8(&grid, "grid"));
+    CBRDF_RETURN_IF_ERROR(r.u8(&count, "slice count"));
+    CBRDF_RETURN_IF_ERROR(check_trailing(r.remaining(), file_minor));
+    if (grid != kGridMerl) {
+      return error(ErrorCode::kUnsupported,
+                   "grid " + std::to_string(grid) +
+                       " is unknown (0 = MERL's 90x90x180 RGB grid, the one this reader supports)");
+    }
+    if (count < 1 || count > kThetaDBins) {
+      return error(ErrorCode::kCorrupt,
+                   "slice count " + std::to_string(count) + " is outside 1..90");
+    }
+    out->colour_scale = kMerlScale;
+    out->slice_count = count;
+    return ok_status();
+  }
   std::uint16_t nh = 0, nd = 0, np = 0, slices = 0;
   std::uint8_t mapping = 0, channels = 0;
   CBRDF_RETURN_IF_ERROR(r.u16(&nh, "theta_h bin count"));
@@ -51,8 +71,13 @@ Status decode_header_chunk(std::span<const std::uint8_t> payload, std::uint16_t 
   return ok_status();
 }
 
-std::vector<std::uint8_t> encode_header_chunk(const Model& model) {
+std::vector<std::uint8_t> encode_header_chunk(const Model& model, bool compact) {
   ByteWriter w;
+  if (compact) {
+    w.u8(kGridMerl);
+    w.u8(std::uint8_t(model.slices.size()));
+    return w.take();
+  }
   w.u16(kThetaHBins);
   w.u16(kThetaDBins);
   w.u16(kPhiDBins);

@@ -186,8 +186,7 @@ Status read_mask_runs(ByteReader& r, std::vector<std::uint64_t>* bits) {
 // The rebuilt mask against its declared count and hash; returns the count.
 Expected<std::size_t> check_mask(const std::vector<std::uint64_t>& bits, std::uint32_t set_count,
                                  std::uint64_t stored_hash, MaskReference reference) {
-  std::size_t count = 0;
-  for (std::uint64_t w : bits) count += std::size_t(std::popcount(w));
+  const std::size_t count = count_set_bits(bits);
   if (count != set_count) {
     return error(ErrorCode::kCorrupt, "the mask has " + std::to_string(count) +
                                           " not-measured bins but declares " +

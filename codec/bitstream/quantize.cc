@@ -27,7 +27,12 @@ double step_of(const QuantizedTable& t, int bits) {
 
 }  // namespace
 
-QuantizedTable quantize_masses(std::span<const double> masses, int bits) {
+namespace {
+
+// The shared quantizer; `round_range` turns the exact log range into the stored one (which must
+// contain it, up to the -746 clamp).
+template <class RoundRange>
+QuantizedTable quantize_with(std::span<const double> masses, int bits, RoundRange round_range) {
   QuantizedTable t;
   t.codes.assign(masses.size(), 0);
   // The decoder renormalizes, so only ratios matter: quantize the table scaled to sum 1, which
@@ -48,9 +53,7 @@ QuantizedTable quantize_masses(std::span<const double> masses, int bits) {
   // Ratios beyond e^746 cannot be represented after renormalization anyway.
   lo = std::max(lo, kMinLogMass);
   hi = std::max(hi, kMinLogMass);
-  t.lo = round_down_to_float(lo);
-  t.hi = std::min(round_up_to_float(hi), 0.0f);  // a rounding excess above 1 maps to the top
-  if (double(t.lo) > double(t.hi)) t.lo = t.hi;
+  round_range(lo, hi, &t);
   const std::uint32_t top = max_code(bits);
   const double span = double(t.hi) - double(t.lo);
   for (std::size_t i = 0; i < masses.size(); ++i) {
@@ -63,6 +66,39 @@ QuantizedTable quantize_masses(std::span<const double> masses, int bits) {
     const double q = 1.0 + std::nearbyint(std::clamp(pos, 0.0, double(top - 1)));
     t.codes[i] = std::uint32_t(q);
   }
+  return t;
+}
+
+}  // namespace
+
+QuantizedTable quantize_masses(std::span<const double> masses, int bits) {
+  return quantize_with(masses, bits, [](double lo, double hi, QuantizedTable* t) {
+    t->lo = round_down_to_float(lo);
+    t->hi = std::min(round_up_to_float(hi), 0.0f);  // a rounding excess above 1 maps to the top
+    if (double(t->lo) > double(t->hi)) t->lo = t->hi;
+  });
+}
+
+QuantizedTable quantize_masses_on_grid(std::span<const double> masses, int bits, GridRange* range) {
+  *range = GridRange{};
+  QuantizedTable t = quantize_with(masses, bits, [&](double lo, double hi, QuantizedTable* q) {
+    // hi rounded up and lo down to the grid: every log mass stays inside.
+    const double top = double(kMaxGridUnits);
+    const double h = std::clamp(std::floor(-hi * kRangeGridUnits), 0.0, top);
+    const double l = std::clamp(std::ceil(-lo * kRangeGridUnits), h, top);
+    range->hi_units = std::uint32_t(h);
+    range->span_units = std::uint32_t(l - h);
+    const QuantizedTable g = grid_table(*range);
+    q->lo = g.lo;
+    q->hi = g.hi;
+  });
+  return t;
+}
+
+QuantizedTable grid_table(const GridRange& range) {
+  QuantizedTable t;
+  t.hi = float(-double(range.hi_units) / kRangeGridUnits);
+  t.lo = float(-double(range.hi_units + range.span_units) / kRangeGridUnits);
   return t;
 }
 

@@ -33,6 +33,21 @@ inline std::uint32_t max_code(int bits) {
 // the decoder's renormalization reproduces; an all-zero table gives all codes 0.
 QuantizedTable quantize_masses(std::span<const double> masses, int bits);
 
+// Version 1.3 (BASE): the range is stored on a grid of 1/32 in log mass, hi = -H/32 and
+// lo = -(H + D)/32 with integers H, D >= 0 (exact in binary32), H + D <= 746 x 32. Coarser than
+// binary32 but smaller to code; the step grows by at most 2/32 over the span (0.3% at a span of
+// 20).
+inline constexpr double kRangeGridUnits = 32.0;
+inline constexpr std::uint32_t kMaxGridUnits = 746 * 32;
+struct GridRange {
+  std::uint32_t hi_units = 0;    // H
+  std::uint32_t span_units = 0;  // D
+};
+// The table's lo and hi for a grid range (codes empty).
+QuantizedTable grid_table(const GridRange& range);
+// quantize_masses with the range on the grid; *range receives H and D.
+QuantizedTable quantize_masses_on_grid(std::span<const double> masses, int bits, GridRange* range);
+
 // The normative reconstruction. Fails (kCorrupt / kNumeric, message without location) on a code
 // above 2^bits-1, a range outside [kMinLogMass, 0] or lo > hi, or weights that underflow to 0.
 Expected<std::vector<double>> dequantize_masses(const QuantizedTable& table, int bits);

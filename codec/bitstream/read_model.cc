@@ -30,22 +30,28 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
   Decoded d;
   d.info.layout = pc.layout;
 
-  // parse_container guarantees each critical chunk exactly once.
+  // parse_container guarantees each critical chunk exactly once (MODL and MARG, or BASE).
   const int head = pc.find(kTagHeader), modl = pc.find(kTagModel);
   const int marg = pc.find(kTagMarginals), mask = pc.find(kTagMask), meta = pc.find(kTagMetadata);
-  const int resd = pc.find(kTagResidual);
+  const int resd = pc.find(kTagResidual), base = pc.find(kTagBase);
   auto payload = [&](int i) { return std::span<const std::uint8_t>(pc.payloads[std::size_t(i)]); };
 
   HeaderFields header;
-  Status st = decode_header_chunk(payload(head), minor, &header);
+  Status st = decode_header_chunk(payload(head), minor, base >= 0, &header);
   if (!st.ok()) return st.with_context(where(pc, head));
   d.info.colour_scale = header.colour_scale;
 
-  st = decode_model_chunk(payload(modl), minor, header.slice_count, &d.model.slices);
-  if (!st.ok()) return st.with_context(where(pc, modl));
+  if (base >= 0) {
+    // Version 1.3 (parse_container has checked the version and that MODL and MARG are absent).
+    st = decode_base_chunk(payload(base), header.slice_count, &d.model.slices, &d.info.bits);
+    if (!st.ok()) return st.with_context(where(pc, base));
+  } else {
+    st = decode_model_chunk(payload(modl), minor, header.slice_count, &d.model.slices);
+    if (!st.ok()) return st.with_context(where(pc, modl));
 
-  st = decode_marginals_chunk(payload(marg), minor, &d.model.slices, &d.info.bits);
-  if (!st.ok()) return st.with_context(where(pc, marg));
+    st = decode_marginals_chunk(payload(marg), minor, &d.model.slices, &d.info.bits);
+    if (!st.ok()) return st.with_context(where(pc, marg));
+  }
 
   MaskFields mask_fields;
   st = decode_mask_chunk(payload(mask), minor, &d.model.not_measured, &mask_fields);
@@ -90,9 +96,7 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
     }
     d.info.slices.push_back(p);
   }
-  for (std::uint64_t w : d.model.not_measured.bits) {
-    d.info.not_measured_bins += std::size_t(std::popcount(w));
-  }
+  d.info.not_measured_bins = count_set_bits(d.model.not_measured.bits);
   d.info.mask_relative_to_horizon = mask_fields.reference == MaskReference::kBelowHorizon;
   d.info.per_bin_values = mask_fields.values == MaskValues::kPerBin;
   return d;

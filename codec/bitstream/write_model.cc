@@ -190,6 +190,16 @@ std::string sanitized(const std::string& s) {
   return out;
 }
 
+// HEAD, MODL and MARG as versions 1.0-1.2 write them. MODL is small and mostly doubles: zstd
+// rarely pays, and the writer keeps it only when it does.
+std::vector<ChunkToWrite> old_model_chunks(const Model& model, int bits) {
+  std::vector<ChunkToWrite> chunks;
+  chunks.push_back({std::string(kTagHeader), encode_header_chunk(model, false), false});
+  chunks.push_back({std::string(kTagModel), encode_model_chunk(model), true});
+  chunks.push_back({std::string(kTagMarginals), encode_marginals_chunk(model, bits), true});
+  return chunks;
+}
+
 }  // namespace
 
 Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
@@ -203,13 +213,35 @@ Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
   }
   CBRDF_RETURN_IF_ERROR(check_model(model));
 
-  std::vector<ChunkToWrite> chunks;
-  // HEAD and MODL are small and mostly doubles: zstd rarely pays, and the writer keeps it only
-  // when it does.
-  chunks.push_back({std::string(kTagHeader), encode_header_chunk(model), false});
-  chunks.push_back({std::string(kTagModel), encode_model_chunk(model), true});
-  chunks.push_back(
-      {std::string(kTagMarginals), encode_marginals_chunk(model, settings.bits), true});
+  // The model's own chunks in both codings; 1.3 where smaller (by the model chunks alone, so
+  // that a residual file's base decodes as the file without the residual did).
+  const std::uint16_t old_minor = container_minor(model);
+  std::vector<ChunkToWrite> model_chunks;
+  std::uint16_t minor = old_minor;
+  if (settings.format != ContainerSettings::Format::kV12) {
+    std::optional<std::vector<std::uint8_t>> base = encode_base_chunk(model, settings.bits);
+    if (base) {
+      std::vector<ChunkToWrite> v13;
+      v13.push_back({std::string(kTagHeader), encode_header_chunk(model, true), false});
+      v13.push_back({std::string(kTagBase), std::move(*base), false});
+      if (settings.format == ContainerSettings::Format::kV13) {
+        model_chunks = std::move(v13);
+        minor = 3;
+      } else {
+        Expected<std::vector<std::uint8_t>> a = write_container(v13, settings.zstd_level, 3);
+        Expected<std::vector<std::uint8_t>> b =
+            write_container(old_model_chunks(model, settings.bits), settings.zstd_level, old_minor);
+        if (!a.ok()) return a.status();
+        if (!b.ok()) return b.status();
+        if (a->size() < b->size()) {
+          model_chunks = std::move(v13);
+          minor = 3;
+        }
+      }
+    }
+  }
+  if (model_chunks.empty()) model_chunks = old_model_chunks(model, settings.bits);
+  std::vector<ChunkToWrite> chunks = std::move(model_chunks);
   // One stored value per not-measured bin makes MASK up to 35 MB; zstd's top levels take minutes
   // on that for a few percent, so the level is capped for this chunk (a uniform value is tiny).
   chunks.push_back({std::string(kTagMask), encode_mask_chunk(model.not_measured), true, 9});
@@ -222,12 +254,14 @@ Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
     std::vector<std::pair<std::string, std::string>> meta;
     if (!settings.source_name.empty()) meta.emplace_back("source", sanitized(settings.source_name));
     meta.emplace_back("encoder", std::string("cbrdf ") + CBRDF_VERSION_STRING);
-    meta.emplace_back("bits", std::to_string(settings.bits));
-    meta.emplace_back("zstd_level", std::to_string(settings.zstd_level));
+    if (settings.metadata == ContainerSettings::Metadata::kFull) {
+      meta.emplace_back("bits", std::to_string(settings.bits));
+      meta.emplace_back("zstd_level", std::to_string(settings.zstd_level));
+    }
     chunks.push_back({std::string(kTagMetadata), encode_metadata_chunk(meta), true});
   }
   // The lowest version that holds the model: files without mixtures stay readable by 1.0 readers.
-  return write_container(chunks, settings.zstd_level, container_minor(model));
+  return write_container(chunks, settings.zstd_level, minor);
 }
 
 }  // namespace cbrdf

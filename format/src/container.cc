@@ -24,8 +24,9 @@ bool is_digit(char c) {
   return c >= '0' && c <= '9';
 }
 
-constexpr std::string_view kCriticalTags[] = {kTagHeader, kTagModel, kTagMarginals, kTagMask,
-                                              kTagEnd};
+constexpr std::string_view kCriticalTags[] = {kTagHeader, kTagMask, kTagEnd};
+// Required unless 'BASE' (version 1.3) stands in their place.
+constexpr std::string_view kModelTags[] = {kTagModel, kTagMarginals};
 
 std::string hex64(std::uint64_t v) {
   char buf[19];
@@ -233,11 +234,33 @@ Status check_complete(const ParsedContainer& pc, const ByteReader& r) {
                                           " bytes follow the end chunk at offset " +
                                           std::to_string(pc.layout.chunks.back().offset));
   }
+  const std::string end_at =
+      " (the end chunk is at offset " + std::to_string(pc.layout.chunks.back().offset) + ")";
   for (std::string_view tag : kCriticalTags) {
     if (pc.find(tag) < 0) {
-      return error(ErrorCode::kCorrupt, "missing critical chunk '" + std::string(tag) +
-                                            "' (the end chunk is at offset " +
-                                            std::to_string(pc.layout.chunks.back().offset) + ")");
+      return error(ErrorCode::kCorrupt,
+                   "missing critical chunk '" + std::string(tag) + "'" + end_at);
+    }
+  }
+  const int base = pc.find(kTagBase);
+  if (base >= 0 && pc.layout.minor < 3) {
+    return error(ErrorCode::kCorrupt,
+                 "chunk 'BASE' at offset " +
+                     std::to_string(pc.layout.chunks[std::size_t(base)].offset) +
+                     " needs container version 1.3 or later, the file is 1." +
+                     std::to_string(pc.layout.minor));
+  }
+  for (std::string_view tag : kModelTags) {
+    const int i = pc.find(tag);
+    if (base < 0 && i < 0) {
+      return error(ErrorCode::kCorrupt,
+                   "missing critical chunk '" + std::string(tag) + "'" + end_at);
+    }
+    if (base >= 0 && i >= 0) {
+      return error(ErrorCode::kCorrupt,
+                   "chunk '" + std::string(tag) + "' at offset " +
+                       std::to_string(pc.layout.chunks[std::size_t(i)].offset) +
+                       " in a file with 'BASE', which holds the model and marginals in its place");
     }
   }
   return ok_status();
@@ -266,6 +289,7 @@ std::uint32_t max_chunk_payload_bytes(std::string_view tag) {
   if (tag == kTagHeader) return 256;
   if (tag == kTagModel) return 64u << 10;
   if (tag == kTagMarginals) return 2u << 20;  // 1 MiB in version 1.0; mixtures need more
+  if (tag == kTagBase) return 4u << 20;       // MODL's and MARG's limits together, rounded up
   if (tag == kTagMask) return 36u << 20;
   if (tag == kTagResidual) return 40u << 20;  // mode 1 holds a whole exact table
   if (tag == kTagMetadata) return 64u << 10;

@@ -48,8 +48,16 @@ inline void check_layout(const ParsedContainer& pc, Bytes bytes, Result* r) {
     }
   }
   r->check(expected_offset == bytes.size(), "bytes after the end chunk were accepted");
-  for (std::string_view tag : {kTagHeader, kTagModel, kTagMarginals, kTagMask, kTagEnd}) {
+  for (std::string_view tag : {kTagHeader, kTagMask, kTagEnd}) {
     r->check(pc.find(tag) >= 0, "missing critical chunk " + std::string(tag) + " accepted");
+  }
+  // MODL and MARG, or (version 1.3) BASE in their place, never both.
+  const bool base = pc.find(kTagBase) >= 0;
+  r->check(!base || pc.layout.minor >= 3, "BASE accepted in a file of minor below 3");
+  for (std::string_view tag : {kTagModel, kTagMarginals}) {
+    r->check((pc.find(tag) >= 0) != base,
+             std::string(base ? "BASE beside " : "missing critical chunk ") + std::string(tag) +
+                 " accepted");
   }
 }
 

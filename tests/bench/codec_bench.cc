@@ -98,6 +98,36 @@ void BM_DecodeTable(benchmark::State& state) {
 }
 BENCHMARK(BM_DecodeTable)->Unit(benchmark::kMillisecond);
 
+// The same model in the 1.2 coding (arg 12) and the 1.3 one (arg 13): decode time side by side.
+const std::vector<std::uint8_t>& encoded_as(std::int64_t version) {
+  static const std::vector<std::uint8_t> bytes[2] = {
+      [] {
+        cbrdf::EncoderSettings st;
+        st.container.format = cbrdf::ContainerSettings::Format::kV12;
+        return cbrdf::encode_table(table(), st)->bytes;
+      }(),
+      [] {
+        cbrdf::EncoderSettings st;
+        st.container.format = cbrdf::ContainerSettings::Format::kV13;
+        return cbrdf::encode_table(table(), st)->bytes;
+      }()};
+  return bytes[version == 13 ? 1 : 0];
+}
+
+// Parse and dequantize only (what the coding changes), then the whole table.
+void BM_DecodeModelFormat(benchmark::State& state) {
+  const std::vector<std::uint8_t>& b = encoded_as(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(cbrdf::decode_model(b));
+  state.counters["bytes"] = double(b.size());
+}
+BENCHMARK(BM_DecodeModelFormat)->Arg(12)->Arg(13)->Unit(benchmark::kMicrosecond);
+
+void BM_DecodeTableFormat(benchmark::State& state) {
+  const std::vector<std::uint8_t>& b = encoded_as(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(cbrdf::decode_table(b));
+}
+BENCHMARK(BM_DecodeTableFormat)->Arg(12)->Arg(13)->Unit(benchmark::kMillisecond);
+
 constexpr int kPairs = 1 << 16;
 
 // The bench material fitted with a 4-component mixture (fit_model, one core): what a mixture

@@ -310,7 +310,7 @@ def test_item12_directions_must_be_real_numbers(work):
 
 
 def test_item12_container_version_is_the_written_one(work):
-    assert cbrdf.CONTAINER_VERSION == (1, 2)
+    assert cbrdf.CONTAINER_VERSION == (1, 3)  # 1.3: the compact coding (issue 28)
     lossy = cbrdf.decode(work / "plastic.cbrdf").version
     assert lossy <= cbrdf.CONTAINER_VERSION
 

@@ -104,6 +104,23 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
   if (!st.auto_bits.enabled) st.container.bits = o.bits;
   st.container.zstd_level = o.level;
   st.container.source_name = o.source_name;
+  if (o.format_version == "auto") {
+    st.container.format = ContainerSettings::Format::kAuto;
+  } else if (o.format_version == "1.2") {
+    st.container.format = ContainerSettings::Format::kV12;
+  } else if (o.format_version == "1.3") {
+    st.container.format = ContainerSettings::Format::kV13;
+  } else {
+    return invalid("--format-version must be auto, 1.2 or 1.3, not '" + o.format_version + "'");
+  }
+  if (o.metadata == "none") {
+    st.container.write_metadata = false;
+  } else if (o.metadata == "short" || o.metadata == "full") {
+    st.container.metadata = o.metadata == "short" ? ContainerSettings::Metadata::kShort
+                                                  : ContainerSettings::Metadata::kFull;
+  } else {
+    return invalid("--metadata must be none, short or full, not '" + o.metadata + "'");
+  }
   return st;
 }
 

@@ -27,7 +27,9 @@ inline constexpr std::uint16_t kContainerMajorVersion = 1;
 /// 1.1 added mixtures (several components per slice and channel), 1.2 the residual layer (the
 /// critical chunk 'RESD'); the writer writes the lowest version that holds the model, so that
 /// files without them stay readable by older readers.
-inline constexpr std::uint16_t kContainerMinorVersion = 2;
+/// 1.3 the compact coding ('BASE' in place of 'MODL' and 'MARG', a 2-byte 'HEAD'), written only
+/// where it is smaller.
+inline constexpr std::uint16_t kContainerMinorVersion = 3;
 
 inline constexpr std::size_t kContainerHeaderBytes = 12;  ///< signature, u16 major, u16 minor
 inline constexpr std::size_t kChunkHeaderBytes = 16;  ///< tag, stored length, flags, payload length
@@ -49,6 +51,8 @@ inline constexpr std::string_view kTagModel = "MODL";
 inline constexpr std::string_view kTagMarginals = "MARG";
 inline constexpr std::string_view kTagMask = "MASK";
 inline constexpr std::string_view kTagResidual = "RESD";  ///< optional; version 1.2
+/// Version 1.3: the model and its coded marginal tables, in place of MODL and MARG.
+inline constexpr std::string_view kTagBase = "BASE";
 inline constexpr std::string_view kTagMetadata = "mETA";
 inline constexpr std::string_view kTagEnd = "CEND";
 ///@}
