@@ -7,6 +7,7 @@
 #include <random>
 
 #include "cbrdf/metrics.h"
+#include "residual_encode.h"
 
 namespace cbrdf {
 namespace {
@@ -162,6 +163,18 @@ BrdfTable smooth_residual_target(const BrdfTable& table, const BrdfTable& base, 
     }
   }
   return out;
+}
+
+}  // namespace cbrdf
+
+namespace cbrdf {
+
+BrdfTable noise_floor_source(const BrdfTable& table, const BrdfTable& base) {
+  return smooth_residual_target(table, base, internal::residual_knee(table), kDenoiseRadius);
+}
+
+double noise_floor_error(const NoiseEstimate& estimate) {
+  return kFloorPerSigma * estimate.max_sigma();
 }
 
 }  // namespace cbrdf

@@ -63,4 +63,13 @@ NoiseEstimate estimate_noise(const BrdfTable& table, const NoiseOptions& options
 BrdfTable smooth_residual_target(const BrdfTable& table, const BrdfTable& base, double knee,
                                  double radius);
 
+// The rate control's residual on a noisy table (--target-psnr, --target-bytes, the report's
+// noise-floor point): smooth_residual_target with this radius and the residual's knee, bounds E
+// no smaller than kFloorPerSigma times the largest channel sigma (the noise floor). Measured on
+// the 20 materials of ../shared at 3% (tools/bench-noisy.py).
+inline constexpr double kDenoiseRadius = 2.0;
+inline constexpr double kFloorPerSigma = 0.5;
+BrdfTable noise_floor_source(const BrdfTable& table, const BrdfTable& base);
+double noise_floor_error(const NoiseEstimate& estimate);
+
 }  // namespace cbrdf
