@@ -1534,6 +1534,47 @@ static void test_residual(const double* table) {
   free(decoded);
 }
 
+/* The noise estimate: near 0 on a decoded model's table (smooth), the injected size on the same
+ * table with 3% multiplicative noise; bad arguments refused naming what is wrong. */
+static void test_noise(const double* table) {
+  const size_t count = cbrdf_merl_table_size();
+  double* noisy = (double*)malloc(count * sizeof(double));
+  cbrdf_noise_estimate e;
+  size_t i;
+  int c, b;
+  CHECK(noisy != NULL);
+  if (noisy == NULL) return;
+  memset(&e, 0, sizeof e);
+  e.struct_size = sizeof e;
+  CHECK_STATUS(cbrdf_estimate_noise(table, count, &e), CBRDF_OK);
+  CHECK(e.noisy == 0);
+  for (c = 0; c < 3; ++c) CHECK(e.sigma[c] < 0.002);
+  CHECK(e.psnr_ceiling_tonemapped == 100.0);
+
+  for (i = 0; i < count; ++i) {
+    /* Box-Muller: a normal deviate from two uniforms. */
+    const double u1 = uniform01() * (1 - 1e-12) + 1e-12, u2 = uniform01();
+    const double z = sqrt(-2 * log(u1)) * cos(2 * PI * u2);
+    noisy[i] = table[i] >= 0 ? table[i] * exp(0.03 * z) : table[i];
+  }
+  CHECK_STATUS(cbrdf_estimate_noise(noisy, count, &e), CBRDF_OK);
+  CHECK(e.struct_size == sizeof e);
+  CHECK(e.noisy == 1);
+  for (c = 0; c < 3; ++c) CHECK(close_rel(e.sigma[c], 0.03, 0.1));
+  for (b = 0; b < CBRDF_NOISE_BANDS; ++b) CHECK(close_rel(e.band_sigma[b][1], 0.03, 0.2));
+  CHECK(close_rel(e.grazing_growth, 1.0, 0.2));
+  CHECK(e.psnr_ceiling_tonemapped > 20 && e.psnr_ceiling_tonemapped < 100);
+
+  CHECK_STATUS(cbrdf_estimate_noise(NULL, count, &e), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("stored_values");
+  CHECK_STATUS(cbrdf_estimate_noise(noisy, count - 1, &e), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("count");
+  e.struct_size = 8;
+  CHECK_STATUS(cbrdf_estimate_noise(noisy, count, &e), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("struct_size");
+  free(noisy);
+}
+
 #endif /* CBRDF_C_TEST_DECODER_ONLY */
 
 int main(void) {
@@ -1553,6 +1594,7 @@ int main(void) {
     test_encode_settings(frank6_table);
     test_encode(frank6_table);
     test_residual(frank6_table);
+    test_noise(frank6_table);
   }
 #endif
   free(frank6_table);

@@ -102,6 +102,25 @@ CommandResult shared_run(const std::string& key,
   return r;
 }
 
+fs::path noisy_materials_dir(const std::string& sigma, const std::vector<std::string>& names) {
+  const fs::path shared(CBRDF_SHARED_DIR);
+  const fs::path script = shared / "tools" / "make-merl.sh";
+  if (!fs::exists(shared / "data" / "nbrdf-merl") || !fs::exists(script)) return {};
+  const fs::path out = fs::path(CBRDF_BUILD_DIR) / ("noisy-materials-" + sigma);
+  fs::create_directories(out);
+  // The script skips tables already made, so a second call costs nothing; the lock keeps tests
+  // run in parallel from reading a table another one is still writing.
+  std::string cmd = "flock '" + out.string() + ".lock' bash '" + script.string() + "' --noise " +
+                    sigma + " '" + out.string() + "'";
+  for (const std::string& n : names) cmd += " '" + n + "'";
+  cmd += " > '" + out.string() + ".log' 2>&1";
+  if (std::system(cmd.c_str()) != 0) {
+    std::fprintf(stderr, "make-merl.sh --noise failed, see %s.log\n", out.string().c_str());
+    return {};
+  }
+  return out;
+}
+
 std::string read_text(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::stringstream ss;

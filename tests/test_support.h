@@ -31,6 +31,12 @@ std::filesystem::path real_materials_dir();
 // Names of the real materials available (empty without ../shared).
 std::vector<std::string> real_material_names();
 
+// A folder made by ../shared/tools/make-merl.sh --noise `sigma` (text as the script takes it,
+// "0.03" for 3%) for the named materials: NAME.binary (the truth) and NAME-noisy.binary beside it,
+// built once per sigma into the build tree. Empty without ../shared or when the script fails.
+std::filesystem::path noisy_materials_dir(const std::string& sigma,
+                                          const std::vector<std::string>& names);
+
 struct CommandResult {
   int exit_code = -1;
   std::string out;  // stdout

@@ -111,6 +111,7 @@ Expected<EncodeResult> encode(const BrdfTable& table, const EncoderSettings& st,
                  rc->tried.size(), rc->chosen.slices, rc->chosen.components, copulas,
                  rc->chosen.bits, residual_text, rc->chosen.bytes, rc->chosen.psnr_tonemapped,
                  rc->met ? "" : " (the target could not be met: this is the closest)");
+    if (!rc->note.empty()) std::fprintf(info, "note: %s\n", rc->note.c_str());
     // With -v, each setting measured, in search order: what the search weighed.
     if (ctx.verbose) {
       for (const RateCandidate& c : rc->tried) {

@@ -6,10 +6,11 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
-#include "files/file_io.h"
 #include "cbrdf/merl_io.h"
+#include "cbrdf/noise.h"
 #include "cli.h"
 #include "cli_io.h"
+#include "files/file_io.h"
 #include "info_json.h"
 
 namespace cbrdf::cli {
@@ -98,6 +99,32 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
   return kExitOk;
 }
 
+// The noise estimate in three lines: size per channel, growth with theta_d, the PSNR ceiling.
+void print_noise(const NoiseEstimate& e) {
+  if (!e.noisy()) {
+    std::printf(
+        "noise: none measurable (relative deviation %.2g%% / %.2g%% / %.2g%% R/G/B, below "
+        "%.2g%%): a smooth table\n",
+        100 * e.sigma[0], 100 * e.sigma[1], 100 * e.sigma[2], 100 * kNoiseFreeSigma);
+    return;
+  }
+  std::printf(
+      "noise: %.2f%% / %.2f%% / %.2f%% R/G/B (relative deviation, estimated from the "
+      "table)\n",
+      100 * e.sigma[0], 100 * e.sigma[1], 100 * e.sigma[2]);
+  std::printf("  by theta_d:");
+  for (int b = 0; b < kNoiseBands; ++b) {
+    const auto& s = e.band_sigma[std::size_t(b)];
+    std::printf(" %d-%d: %.2f%%", b * kNoiseBandDegrees, (b + 1) * kNoiseBandDegrees - 1,
+                100 * (s[0] + s[1] + s[2]) / 3);
+  }
+  std::printf(" (x%.2f towards grazing)\n", e.grazing_growth);
+  std::printf(
+      "  noise floor: sphere PSNR %.1f dB tone-mapped, %.1f dB linear; coding closer than this "
+      "reproduces noise\n",
+      e.psnr_ceiling_tonemapped, e.psnr_ceiling_linear);
+}
+
 int info_merl(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
   MerlInfo mi;
   auto table = parse_merl(bytes, shown(o.input, false), {}, &mi);
@@ -121,6 +148,7 @@ int info_merl(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {
     std::printf("%-2s %10zu %10zu %8zu %12.5g %12.5g %12.5g\n", kNames[c], s.measured,
                 s.not_measured, s.zeros, s.min, s.max, s.mean);
   }
+  print_noise(estimate_noise(*table));
   return kExitOk;
 }
 

@@ -36,7 +36,8 @@ struct ReportOptions {
   int analytic_bins = 20000;
   bool quiet = false;  // also accepted after the subcommand, where users type it
   std::string progress = "auto";
-  bool ladder = false;  // issue 18's ladder: base, residual, lossless and baselines
+  bool ladder = false;    // issue 18's ladder: base, residual, lossless and baselines
+  std::string truth_dir;  // noise-free tables of noisy inputs (issue 30)
 };
 
 // Whether a built-in sample belongs to `--builtin kind`.
@@ -97,6 +98,10 @@ int run_report(ReportOptions o, const Context& global) {
   }
   st.analytic_bins = o.analytic_bins;
   st.ladder.enabled = o.ladder;
+  if (!o.truth_dir.empty() && !o.ladder) {
+    return usage_error("report: --truth measures the ladder against the truth: add --ladder");
+  }
+  st.truth_dir = o.truth_dir;
   st.jobs = o.jobs > 0 ? o.jobs : thread_limit();
   // The bar redraws one line with carriage returns: by default only for a terminal, so that logs
   // stay readable.
@@ -194,6 +199,10 @@ void add_report_command(CLI::App& app, const Context& ctx, Action* action) {
                 "Also measure the ladder per material: bytes against PSNR from the base model to "
                 "lossless for cbrdf (base, base + residual, lossless), ZFP on log1p values, "
                 "float16+zstd, zstd -19 and xz -9 (several minutes per material)");
+  cmd->add_option("--truth", o->truth_dir,
+                  "With --ladder: a folder of noise-free tables (NAME.binary for an input "
+                  "NAME.binary or NAME-noisy.binary); the ladder is measured against them too")
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--analytic-loss", o->analytic_loss,
                   "Loss of the analytic fits: cos (cosine-weighted L2, after Ngan et al.) or log")
       ->capture_default_str();

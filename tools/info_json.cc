@@ -71,6 +71,24 @@ nlohmann::json merl_info_json(const BrdfTable& table, const MerlInfo& mi) {
                                 {"zeros", s.zeros},       {"min", s.min},
                                 {"max", s.max},           {"mean", s.mean}};
   }
+  j["noise"] = noise_json(estimate_noise(table));
+  return j;
+}
+
+nlohmann::json noise_json(const NoiseEstimate& e) {
+  static const char* kNames[] = {"R", "G", "B"};
+  nlohmann::json j;
+  for (int c = 0; c < kChannels; ++c) j["sigma"][kNames[c]] = e.sigma[std::size_t(c)];
+  for (int b = 0; b < kNoiseBands; ++b) {
+    const auto& s = e.band_sigma[std::size_t(b)];
+    j["bands"].push_back({{"theta_d_begin", b * kNoiseBandDegrees},
+                          {"theta_d_end", (b + 1) * kNoiseBandDegrees},
+                          {"sigma", {{"R", s[0]}, {"G", s[1]}, {"B", s[2]}}}});
+  }
+  j["grazing_growth"] = e.grazing_growth;
+  j["noisy"] = e.noisy();
+  j["psnr_ceiling_tonemapped"] = e.psnr_ceiling_tonemapped;
+  j["psnr_ceiling_linear"] = e.psnr_ceiling_linear;
   return j;
 }
 

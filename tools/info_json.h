@@ -10,6 +10,7 @@
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/merl_io.h"
+#include "cbrdf/noise.h"
 
 namespace cbrdf::cli {
 
@@ -17,8 +18,13 @@ namespace cbrdf::cli {
 // holds in memory. The caller sets "file".
 nlohmann::json container_info_json(const ContainerInfo& info, std::size_t evaluator_bytes);
 
-// The table's dimensions and per-channel statistics. The caller sets "file".
+// The table's dimensions, per-channel statistics and noise estimate ("noise": noise_json). The
+// caller sets "file".
 nlohmann::json merl_info_json(const BrdfTable& table, const MerlInfo& mi);
+
+// The noise estimate (noise.h): "sigma" per channel, "bands" of theta_d, "grazing_growth",
+// "noisy", "psnr_ceiling_tonemapped", "psnr_ceiling_linear".
+nlohmann::json noise_json(const NoiseEstimate& estimate);
 
 // Stored bytes of the residual chunk 'RESD' (0 when absent).
 std::uint32_t residual_chunk_bytes(const ContainerInfo& info);

@@ -33,6 +33,7 @@
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/model.h"
+#include "cbrdf/noise.h"
 #include "cbrdf/parallel.h"
 #include "cbrdf/parallel_for.h"
 #include "cbrdf/rate_control.h"
@@ -1235,6 +1236,18 @@ PYBIND11_MODULE(_cbrdf, m) {
   m.def("_sphere_metrics", &sphere_metrics, py::arg("reference"), py::arg("test"), py::arg("size"),
         py::arg("light_angles"));
   m.def("_brdf_metrics", &brdf_metrics_dict, py::arg("reference"), py::arg("test"));
+  m.def(
+      "_estimate_noise",
+      [](const PyTable& t) {
+        t.ok();
+        NoiseEstimate e;
+        {
+          py::gil_scoped_release release;
+          e = estimate_noise(t.table);
+        }
+        return info_dict(cli::noise_json(e), py::none());
+      },
+      py::arg("table"));
   m.def("_render_table", &render_table, py::arg("table"), py::arg("light_angle_deg"),
         py::arg("size"));
 

@@ -2,6 +2,7 @@
 #include "report/ladder.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
+#include "cbrdf/noise.h"
 #include "cbrdf/parallel.h"
 #include "report/float16_baseline.h"
 #include "report/lossless.h"
@@ -37,8 +39,9 @@ bool bit_identical(const BrdfTable& a, const BrdfTable& b) {
 
 class LadderRun {
  public:
-  LadderRun(const std::string& name, const BrdfTable& table, const LadderSettings& st)
-      : table_(table), st_(st) {
+  LadderRun(const std::string& name, const BrdfTable& table, const LadderSettings& st,
+            const BrdfTable* truth)
+      : table_(table), st_(st), truth_(truth) {
     out_.name = name;
     sphere_.size = st.sphere_size;
     sphere_.threads = st.threads;
@@ -47,6 +50,7 @@ class LadderRun {
   Expected<LadderMaterial> run() {
     CBRDF_RETURN_IF_ERROR(base_points());
     CBRDF_RETURN_IF_ERROR(residual_points());
+    CBRDF_RETURN_IF_ERROR(noise_floor_point());
     if (st_.lossless) CBRDF_RETURN_IF_ERROR(cbrdf_lossless_point());
     CBRDF_RETURN_IF_ERROR(zfp_points());
     if (st_.float16) CBRDF_RETURN_IF_ERROR(float16_point());
@@ -64,6 +68,7 @@ class LadderRun {
     const ImageMetrics im = sphere_psnr(table_, decoded, sphere_);
     p.psnr_tonemapped = im.psnr_tonemapped;
     p.psnr_linear = im.psnr_linear;
+    if (truth_) p.psnr_truth_tonemapped = sphere_psnr(*truth_, decoded, sphere_).psnr_tonemapped;
     out_.points.push_back(std::move(p));
   }
   // A baseline's bytes and times on its point.
@@ -76,6 +81,13 @@ class LadderRun {
   void add_exact(LadderPoint p) {
     p.exact = true;
     p.psnr_tonemapped = p.psnr_linear = kPsnrCapDb;
+    if (truth_) {
+      // The input itself, measured once.
+      if (std::isnan(input_truth_)) {
+        input_truth_ = sphere_psnr(*truth_, table_, sphere_).psnr_tonemapped;
+      }
+      p.psnr_truth_tonemapped = input_truth_;
+    }
     out_.points.push_back(std::move(p));
   }
 
@@ -151,14 +163,17 @@ class LadderRun {
 
   // The base file plus a residual layer; the encode time counts the fit, as `cbrdf encode` pays
   // it. Lossless points must decode bit for bit.
-  Status residual_point(LadderPoint p, const ResidualSettings& rs) {
+  Status residual_point(LadderPoint p, const ResidualSettings& rs,
+                        const BrdfTable* source = nullptr) {
     if (Status s = residual_base(); !s.ok()) return context(s, p);
     auto es = encoder_settings(options(st_.residual_base_components, st_.residual_base_bits));
     if (!es.ok()) return context(es.status(), p);
     es->residual = rs;
     EncodeResult r = base_file_;
     auto t0 = Clock::now();
-    if (Status s = add_residual_layer(table_, *es, &r); !s.ok()) return context(s, p);
+    if (Status s = add_residual_layer(source ? *source : table_, *es, &r); !s.ok()) {
+      return context(s, p);
+    }
     p.encode_s = residual_fit_s_ + since(t0);
     p.bytes = double(r.bytes.size());
     t0 = Clock::now();
@@ -185,6 +200,24 @@ class LadderRun {
       CBRDF_RETURN_IF_ERROR(residual_point({kLadderResidual, format_g("E %g", e)}, rs));
     }
     return ok_status();
+  }
+
+  // The noise estimate, and on a noisy table the residual the rate control stops at: the base
+  // times the smoothed ratio, at the floor's bound. Its PSNR against the input is the ladder's
+  // noise floor: points above it reproduce noise.
+  Status noise_floor_point() {
+    NoiseOptions o;
+    o.threads = st_.threads;
+    const NoiseEstimate e = estimate_noise(table_, o);
+    out_.noise_sigma = e.max_sigma();
+    out_.noise_ceiling_tonemapped = e.psnr_ceiling_tonemapped;
+    if (!e.noisy()) return ok_status();
+    LadderPoint p{kLadderNoiseFloor, format_g("E %.3g", noise_floor_error(e))};
+    if (Status s = residual_base(); !s.ok()) return context(s, p);
+    auto base = decode_table(base_file_.bytes);
+    if (!base.ok()) return context(base.status(), p);
+    const BrdfTable source = noise_floor_source(table_, *base);
+    return residual_point(std::move(p), target_residual_settings(noise_floor_error(e)), &source);
   }
 
   Status cbrdf_lossless_point() {
@@ -228,6 +261,8 @@ class LadderRun {
 
   const BrdfTable& table_;
   const LadderSettings& st_;
+  const BrdfTable* truth_;
+  double input_truth_ = NAN;            // the input's PSNR against the truth, once measured
   std::optional<Model> residual_base_;  // the fit under the residual points
   double residual_fit_s_ = 0;           // its fit and write time
   EncodeResult base_file_;
@@ -239,8 +274,8 @@ class LadderRun {
 }  // namespace
 
 Expected<LadderMaterial> measure_ladder(const std::string& name, const BrdfTable& table,
-                                        const LadderSettings& st) {
-  return LadderRun(name, table, st).run();
+                                        const LadderSettings& st, const BrdfTable* truth) {
+  return LadderRun(name, table, st, truth).run();
 }
 
 }  // namespace cbrdf::report

@@ -5,6 +5,7 @@
 // with its encode and decode time.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -22,6 +23,9 @@ inline constexpr const char* kLadderZfp = "zfp log1p";
 inline constexpr const char* kLadderFloat16 = "float16+zstd";
 inline constexpr const char* kLadderZstd = "zstd";
 inline constexpr const char* kLadderXz = "xz";
+// On a noisy table (noise.h): base + the residual --target-psnr writes at the noise floor (the
+// smoothed residual at the floor's bound).
+inline constexpr const char* kLadderNoiseFloor = "cbrdf noise floor";
 
 struct LadderSettings {
   bool enabled = false;
@@ -58,17 +62,26 @@ struct LadderPoint {
   double psnr_tonemapped = 0, psnr_linear = 0;  // kPsnrCapDb when exact
   double encode_s = 0, decode_s = 0;
   bool exact = false;  // decoded bit for bit (verified)
+  // Against the noise-free truth (`cbrdf report --truth DIR`); NaN without one. Exact points: the
+  // input's own PSNR against the truth.
+  double psnr_truth_tonemapped = NAN;
 };
 
 struct LadderMaterial {
   std::string name;
   std::vector<LadderPoint> points;  // in the order of the methods above, settings as given
+  // The input's noise estimate (noise.h): largest channel sigma and the PSNR ceiling it implies
+  // (kPsnrCapDb for a smooth table).
+  double noise_sigma = 0;
+  double noise_ceiling_tonemapped = 0;
 };
 
 // Measures every point on `table` (as read from a MERL file; its serialize_merl bytes are what
 // zstd and xz compress). Each point's decode is checked: lossless points must be bit-exact
 // (kInternal otherwise).
+// With `truth` (the noise-free table the input was measured from), every point is also measured
+// against it.
 Expected<LadderMaterial> measure_ladder(const std::string& name, const BrdfTable& table,
-                                        const LadderSettings& st);
+                                        const LadderSettings& st, const BrdfTable* truth = nullptr);
 
 }  // namespace cbrdf::report

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cbrdf/metrics.h"
 #include "report/ladder_check.h"
 #include "report/svg.h"
 
@@ -21,8 +22,31 @@ std::string kb(double bytes) {
   return fmt(bytes < 1e4 ? "%.2f" : "%.1f", bytes / 1000);
 }
 
-const char* const kMethods[] = {kLadderBase,    kLadderResidual, kLadderLossless, kLadderZfp,
-                                kLadderFloat16, kLadderZstd,     kLadderXz};
+const char* const kMethods[] = {kLadderBase, kLadderResidual, kLadderNoiseFloor, kLadderLossless,
+                                kLadderZfp,  kLadderFloat16,  kLadderZstd,       kLadderXz};
+
+// Any point measured against a truth (`cbrdf report --truth`).
+bool have_truth(const std::vector<LadderMaterial>& ladders) {
+  for (const LadderMaterial& m : ladders) {
+    for (const LadderPoint& p : m.points) {
+      if (!std::isnan(p.psnr_truth_tonemapped)) return true;
+    }
+  }
+  return false;
+}
+
+// The mean PSNR ceiling of the noisy materials (NaN when none is noisy).
+double mean_noise_ceiling(const std::vector<LadderMaterial>& ladders) {
+  double s = 0;
+  int n = 0;
+  for (const LadderMaterial& m : ladders) {
+    if (m.noise_ceiling_tonemapped > 0 && m.noise_ceiling_tonemapped < kPsnrCapDb) {
+      s += m.noise_ceiling_tonemapped;
+      ++n;
+    }
+  }
+  return n > 0 ? s / n : NAN;
+}
 
 // Every (method, setting) in the first material's order, with its points over the materials.
 struct Setting {
@@ -64,6 +88,21 @@ TextTable mean_table(const std::vector<LadderMaterial>& ladders) {
            "as the cap). Times: encode (fit included) and decode to a full table, seconds.";
   t.header = {"method",       "setting",       "materials", "KB",
               "PSNR tm (dB)", "PSNR lin (dB)", "encode s",  "decode s"};
+  const bool truth = have_truth(ladders);
+  const double ceiling = mean_noise_ceiling(ladders);
+  if (truth) {
+    t.header.push_back("PSNR tm truth (dB)");
+    t.note +=
+        " PSNR tm truth: against the noise-free truth (--truth); the input's own is the "
+        "lossless rows'.";
+  }
+  if (!std::isnan(ceiling)) {
+    t.note +=
+        " Noisy input: its noise floor (the PSNR against the input beyond which a file "
+        "reproduces noise, cbrdf info) is " +
+        fmt("%.1f", ceiling) +
+        " dB on average; cbrdf noise floor is the residual --target-psnr stops at.";
+  }
   for (const Setting& s : settings_of(ladders)) {
     t.rows.push_back({s.method, s.setting, std::to_string(s.points.size()),
                       kb(mean(s.points, &LadderPoint::bytes)),
@@ -71,6 +110,9 @@ TextTable mean_table(const std::vector<LadderMaterial>& ladders) {
                       fmt("%.2f", mean(s.points, &LadderPoint::psnr_linear)),
                       fmt("%.3f", mean(s.points, &LadderPoint::encode_s)),
                       fmt("%.3f", mean(s.points, &LadderPoint::decode_s))});
+    if (truth) {
+      t.rows.back().push_back(fmt("%.2f", mean(s.points, &LadderPoint::psnr_truth_tonemapped)));
+    }
   }
   return t;
 }
@@ -143,6 +185,46 @@ Chart ladder_chart(const std::vector<LadderMaterial>& ladders, const std::string
     }
     c.series.push_back(std::move(series));
   }
+  // Against the truth (--truth): cbrdf's curves again, dashed.
+  if (have_truth(ladders)) {
+    for (const char* method : {kLadderBase, kLadderResidual, kLadderNoiseFloor, kLadderLossless}) {
+      std::vector<std::pair<double, double>> pts;
+      for (const Setting& s : settings) {
+        if (s.method == method) {
+          pts.emplace_back(mean(s.points, &LadderPoint::bytes),
+                           mean(s.points, &LadderPoint::psnr_truth_tonemapped));
+        }
+      }
+      if (pts.empty()) continue;
+      std::sort(pts.begin(), pts.end());
+      Series series{std::string(method) + " vs truth",
+                    {},
+                    {},
+                    palette(colour++),
+                    pts.size() > 1 && std::string(method) != kLadderBase,
+                    true};
+      series.dashed = true;
+      series.marker = Marker::kDiamond;
+      for (const auto& [x, y] : pts) {
+        series.x.push_back(x);
+        series.y.push_back(y);
+      }
+      c.series.push_back(std::move(series));
+    }
+  }
+  // The noise floor: a level line across the chart.
+  const double ceiling = mean_noise_ceiling(ladders);
+  if (!std::isnan(ceiling)) {
+    double lo = INFINITY, hi = 0;
+    for (const Series& s : c.series) {
+      for (double x : s.x) lo = std::min(lo, x), hi = std::max(hi, x);
+    }
+    if (hi > 0) {
+      Series floor{"noise floor (input)", {lo, hi}, {ceiling, ceiling}, "#888888", true, false};
+      floor.dashed = true;
+      c.series.push_back(std::move(floor));
+    }
+  }
   return c;
 }
 
@@ -172,13 +254,16 @@ std::vector<Figure> ladder_figures(const std::vector<LadderMaterial>& ladders) {
 
 std::string ladder_csv(const std::vector<LadderMaterial>& ladders) {
   std::ostringstream out;
-  out << "material,method,setting,bytes,psnr_tonemapped,psnr_linear,encode_s,decode_s,exact\n";
+  out << "material,method,setting,bytes,psnr_tonemapped,psnr_linear,encode_s,decode_s,exact,"
+         "psnr_truth_tonemapped\n";
   for (const LadderMaterial& m : ladders) {
     for (const LadderPoint& p : m.points) {
       out << m.name << "," << p.method << "," << p.setting << "," << fmt("%.0f", p.bytes) << ","
           << fmt("%.4f", p.psnr_tonemapped) << "," << fmt("%.4f", p.psnr_linear) << ","
           << fmt("%.4f", p.encode_s) << "," << fmt("%.4f", p.decode_s) << ","
-          << (p.exact ? "true" : "false") << "\n";
+          << (p.exact ? "true" : "false") << ","
+          << (std::isnan(p.psnr_truth_tonemapped) ? "" : fmt("%.4f", p.psnr_truth_tonemapped))
+          << "\n";
     }
   }
   return out.str();
@@ -197,9 +282,15 @@ std::string ladder_json(const std::vector<LadderMaterial>& ladders) {
                      {"psnr_linear", p.psnr_linear},
                      {"encode_s", p.encode_s},
                      {"decode_s", p.decode_s},
-                     {"exact", p.exact}});
+                     {"exact", p.exact},
+                     {"psnr_truth_tonemapped", std::isnan(p.psnr_truth_tonemapped)
+                                                   ? nlohmann::json()
+                                                   : nlohmann::json(p.psnr_truth_tonemapped)}});
     }
-    j["materials"].push_back({{"name", m.name}, {"points", pts}});
+    j["materials"].push_back({{"name", m.name},
+                              {"points", pts},
+                              {"noise_sigma", m.noise_sigma},
+                              {"noise_ceiling_tonemapped", m.noise_ceiling_tonemapped}});
   }
   nlohmann::json targets = nlohmann::json::array();
   for (const LadderTarget& t : ladder_targets(ladders)) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <random>
 
 #include "cbrdf/encoder.h"
@@ -350,11 +351,27 @@ class MaterialRun {
     return ok_status();
   }
 
+  // The truth of this material in --truth DIR: NAME.binary for NAME.binary or NAME-noisy.binary.
+  std::filesystem::path truth_path() const {
+    std::string stem = m_.builtin ? m_.name : std::filesystem::path(m_.path).stem().string();
+    const std::string suffix = "-noisy";
+    if (stem.size() > suffix.size() && stem.ends_with(suffix)) {
+      stem.resize(stem.size() - suffix.size());
+    }
+    return std::filesystem::path(st_.truth_dir) / (stem + ".binary");
+  }
+
   Status ladder() {
     LadderSettings ls = st_.ladder;
     ls.threads = threads_;
     ls.sphere_size = st_.sphere_size;
-    auto l = measure_ladder(m_.name, table_, ls);
+    std::optional<BrdfTable> truth;
+    if (!st_.truth_dir.empty()) {
+      auto t = read_merl(truth_path());
+      if (!t.ok()) return t.status().with_context("--truth");
+      truth = std::move(t).value();
+    }
+    auto l = measure_ladder(m_.name, table_, ls, truth ? &*truth : nullptr);
     if (!l.ok()) return l.status();
     result_.ladder = std::move(l).value();
     progress_->step(m_.name + ": ladder");

@@ -33,6 +33,9 @@ struct Settings {
   int jobs = 1;
   bool progress = true;   // a progress bar on stderr
   LadderSettings ladder;  // `--ladder`: measured when ladder.enabled
+  // `--truth DIR`: the noise-free tables of noisy inputs, DIR/NAME.binary for an input
+  // NAME.binary or NAME-noisy.binary; the ladder is also measured against them.
+  std::string truth_dir;
   // Time renders of the figure-4 layout (render_times.h) from the primary and paper settings'
   // models and from the measured table, at sphere_size / 256 times its 1320x240 pixels.
   bool render_times = true;

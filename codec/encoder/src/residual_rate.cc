@@ -4,10 +4,13 @@
 // on log E.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
+#include <string>
 
 #include "cbrdf/encoder.h"
 #include "cbrdf/metrics.h"
+#include "cbrdf/noise.h"
 #include "cbrdf/rate_control.h"
 #include "rate/model_search.h"
 #include "rate/secant.h"
@@ -37,24 +40,50 @@ constexpr double kDbPerLogError = 7.0;
 // larger and their searches 1.1x to 3x faster.
 constexpr double kPsnrTolerance = 0.3;
 constexpr double kBudgetTolerance = 0.02;
+// On a noisy table a residual is kept only when it brings its file this much closer to the
+// smoothed table than the model alone (ResidualSearch::adds_signal).
+constexpr double kSignalGainDb = 1.0;
+
+// The residual on a noisy table (noise.h): what it codes and how close. Inactive on a smooth table,
+// where the ladder is what it was before noise was measured.
+struct NoiseFloor {
+  bool active = false;
+  double smallest_error = 0;  // no bound below this: it would code what is left of the noise
+  double ceiling = 0;         // the estimate's tone-mapped PSNR ceiling (dB)
+};
+
+NoiseFloor noise_floor(const BrdfTable& table, const EncoderSettings& settings) {
+  NoiseOptions o;
+  o.threads = settings.fit.threads;
+  const NoiseEstimate e = estimate_noise(table, o);
+  NoiseFloor f;
+  if (!e.noisy()) return f;
+  f.active = true;
+  f.smallest_error = noise_floor_error(e);
+  f.ceiling = e.psnr_ceiling_tonemapped;
+  return f;
+}
 
 // The base file with a residual at bound e, measured: the writer's own check decodes it, and that
 // table is scored.
-Expected<RateCandidate> try_error(const BrdfTable& table, const SphereScorer& scorer,
+Expected<RateCandidate> try_error(const BrdfTable& source, const SphereScorer& scorer,
                                   const BrdfTable& base_table, const EncoderSettings& base_settings,
-                                  const RateResult& base, double e, EncodeResult* out) {
+                                  const RateResult& base, double e, EncodeResult* out,
+                                  const SphereScorer* signal = nullptr,
+                                  double* signal_psnr = nullptr) {
   EncoderSettings st = base_settings;
   st.residual = target_residual_settings(e);
   st.container.bits = base.chosen.bits;
   *out = base.encoded;
   BrdfTable decoded;
-  CBRDF_RETURN_IF_ERROR(internal::add_residual(table, st, out, &base_table, &decoded));
+  CBRDF_RETURN_IF_ERROR(internal::add_residual(source, st, out, &base_table, &decoded));
   RateCandidate c = base.chosen;
   c.bytes = double(out->bytes.size());
   c.max_error = e;
   const ImageMetrics im = scorer.score(decoded);
   c.psnr_tonemapped = im.psnr_tonemapped;
   c.psnr_linear = im.psnr_linear;
+  if (signal) *signal_psnr = signal->score(decoded).psnr_tonemapped;
   return c;
 }
 
@@ -62,8 +91,13 @@ Expected<RateCandidate> try_error(const BrdfTable& table, const SphereScorer& sc
 class ResidualSearch {
  public:
   ResidualSearch(const BrdfTable& table, const EncoderSettings& settings, const RateTarget& target,
-                 RateResult* model)
-      : table_(table), scorer_(table), settings_(settings), target_(target), model_(*model) {}
+                 RateResult* model, const NoiseFloor& floor)
+      : table_(table),
+        scorer_(table),
+        settings_(settings),
+        target_(target),
+        model_(*model),
+        floor_(floor) {}
 
   // A try at E: kept when it meets the target and beats the best so far. At a budget a try is
   // listed in `tried` only once chosen (encode_to_target_ladder).
@@ -75,15 +109,26 @@ class ResidualSearch {
       Expected<Model> base = decode_model(model_.encoded.bytes);
       if (!base.ok()) return base.status();
       base_table_ = base->table();
+      // A noisy table: the residual codes the model times the smoothed ratio of the table to it,
+      // the signal the model misses without the noise (the scorer still measures the input).
+      if (floor_.active) {
+        source_ = noise_floor_source(table_, *base_table_);
+        signal_.emplace(*source_);
+        base_signal_psnr_ = signal_->score(*base_table_).psnr_tonemapped;
+      }
     }
-    auto c = try_error(table_, scorer_, *base_table_, settings_, model_, e, &encoded);
+    double signal_psnr = 0;
+    auto c = try_error(source_ ? *source_ : table_, scorer_, *base_table_, settings_, model_,
+                       std::max(e, floor_.active ? floor_.smallest_error : 0.0), &encoded,
+                       signal_ ? &*signal_ : nullptr, &signal_psnr);
     if (!c.ok()) return c;
+    signal_psnr_.emplace_back(c->max_error, signal_psnr);
     if (!by_bytes) model_.tried.push_back(*c);
     if (meets(*c) && (!best_ || better(*c, best_->chosen))) {
-      best_ = RateResult{std::move(encoded), *c, {}, true, model_.fits, model_.hals_sweeps};
+      best_ = RateResult{std::move(encoded), *c, {}, true, model_.fits, model_.hals_sweeps, {}};
     } else if (!by_bytes && !best_ &&
                (!closest_ || c->psnr_tonemapped > closest_->chosen.psnr_tonemapped)) {
-      closest_ = RateResult{std::move(encoded), *c, {}, false, model_.fits, model_.hals_sweeps};
+      closest_ = RateResult{std::move(encoded), *c, {}, false, model_.fits, model_.hals_sweeps, {}};
     }
     return c;
   }
@@ -99,23 +144,39 @@ class ResidualSearch {
   }
   const std::optional<RateResult>& best() const { return best_; }
   RateResult& model() { return model_; }
+  // On a noisy table: whether the file with residual bound e is closer than its base model alone
+  // to the smoothed table, the best estimate of the noise-free signal there is. Where the model
+  // alone already matches the signal, the residual only adds its quantization error (a 3% noisy
+  // ward sample: 0.0 to 0.4 dB against the truth, for 30 KB). Always true on a smooth table.
+  bool adds_signal(double e) const {
+    if (!floor_.active) return true;
+    for (const auto& [error, psnr] : signal_psnr_) {
+      if (error == e) return psnr > base_signal_psnr_ + kSignalGainDb;
+    }
+    return false;
+  }
 
  private:
   const BrdfTable& table_;
   const SphereScorer scorer_;            // the table's renders, made once for every try
   std::optional<BrdfTable> base_table_;  // the base file's decoded table, after the first try
+  std::optional<BrdfTable> source_;      // the residual's smoothed source when the table is noisy
+  std::optional<SphereScorer> signal_;   // source_'s renders
+  double base_signal_psnr_ = 0;          // the base model's PSNR against source_
+  std::vector<std::pair<double, double>> signal_psnr_;  // (E, PSNR against source_) per try
   const EncoderSettings& settings_;
   const RateTarget& target_;
   RateResult& model_;
+  const NoiseFloor& floor_;
   std::optional<RateResult> best_, closest_;
 };
 
 // The largest E reaching the PSNR: PSNR falls as log E grows.
-Status search_psnr(ResidualSearch* search, const RateTarget& target) {
-  rate::Secant secant(std::log(kSmallestError), std::log(kLargestError), -kDbPerLogError);
+Status search_psnr(ResidualSearch* search, const RateTarget& target, double smallest_error) {
+  rate::Secant secant(std::log(smallest_error), std::log(kLargestError), -kDbPerLogError);
   // Aim a little above the target, so that a try on the curve's estimate meets it.
   const double aim = target.min_psnr + 0.5 * kPsnrTolerance;
-  double x = std::log(kFirstError);
+  double x = std::log(std::max(kFirstError, smallest_error));
   for (int k = 0; k < kMaxTries; ++k) {
     auto c = search->attempt(std::exp(x));
     if (!c.ok()) return c.status();
@@ -131,13 +192,13 @@ Status search_psnr(ResidualSearch* search, const RateTarget& target) {
 
 // The smallest E within the budget: the residual's bytes fall as log E grows, about as a power
 // of E, so the secant works on log(residual bytes).
-Status search_bytes(ResidualSearch* search, const RateTarget& target,
-                    const RateCandidate& cheapest) {
+Status search_bytes(ResidualSearch* search, const RateTarget& target, const RateCandidate& cheapest,
+                    double smallest_error) {
   const double base_bytes = search->model().chosen.bytes;
   const auto value = [&](double bytes) { return std::log(std::max(bytes - base_bytes, 1.0)); };
   const double aim = value(target.max_bytes * (1 - 0.5 * kBudgetTolerance));
   // The residual's bytes against E on the real materials: about E^-0.7.
-  rate::Secant secant(std::log(kSmallestError), std::log(kLargestError), -0.7);
+  rate::Secant secant(std::log(smallest_error), std::log(kLargestError), -0.7);
   secant.add(std::log(kLargestError), value(cheapest.bytes), true);
   for (int k = 0; k < kMaxTries; ++k) {
     const std::optional<double> next = secant.next(aim);
@@ -175,22 +236,38 @@ Expected<RateResult> cheap_base(const BrdfTable& table, const EncoderSettings& b
 // At a budget: a residual on the cheap base, within the budget, when it beats `model_only` (the
 // best model alone); else model_only.
 Expected<RateResult> residual_within_budget(const BrdfTable& table, const EncoderSettings& base,
-                                            const RateTarget& target, RateResult model_only) {
+                                            const RateTarget& target, RateResult model_only,
+                                            const NoiseFloor& floor) {
   Expected<RateResult> cheap = cheap_base(table, base);
   if (!cheap.ok()) return cheap.status();
   model_only.fits += cheap->fits;
   if (cheap->chosen.bytes >= target.max_bytes) return model_only;
-  ResidualSearch search(table, base, target, &*cheap);
+  ResidualSearch search(table, base, target, &*cheap, floor);
   // The cheapest residual must fit, or no residual will; the smallest bound within the budget
   // (the best PSNR) is then found and weighed against the model alone.
   auto c = search.attempt(kLargestError);
   if (!c.ok()) return c.status();
   if (!search.best()) return model_only;
   model_only.tried.push_back(search.best()->chosen);
-  CBRDF_RETURN_IF_ERROR(search_bytes(&search, target, *c));
+  bool at_floor = false;
+  if (floor.active) {
+    // A budget that holds the noise floor's file ends the search there.
+    auto f = search.attempt(floor.smallest_error);
+    if (!f.ok()) return f.status();
+    at_floor = search.meets(*f);
+  }
+  if (!at_floor) {
+    CBRDF_RETURN_IF_ERROR(
+        search_bytes(&search, target, *c, floor.active ? floor.smallest_error : kSmallestError));
+  }
   RateResult best = *search.best();
   if (best.chosen.max_error != kLargestError) model_only.tried.push_back(best.chosen);
-  if (best.chosen.psnr_tonemapped <= model_only.chosen.psnr_tonemapped) return model_only;
+  // On a noisy table the PSNR against the input does not tell signal from noise: the smoothed
+  // residual is kept (closer to the truth than the model alone, tests/noise_ladder_test.cc).
+  if (floor.active ? !search.adds_signal(best.chosen.max_error)
+                   : best.chosen.psnr_tonemapped <= model_only.chosen.psnr_tonemapped) {
+    return model_only;
+  }
   best.tried = std::move(model_only.tried);
   best.fits = model_only.fits;
   best.hals_sweeps = model_only.hals_sweeps;
@@ -206,23 +283,59 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
   const bool by_bytes = target.max_bytes > 0;
   // The model alone reaches the PSNR, or leaves no room in the budget for a better file.
   if (!by_bytes && rc->met) return rc;
+  const NoiseFloor floor = noise_floor(table, base);
+  const auto with_note = [&](Expected<RateResult> r) -> Expected<RateResult> {
+    if (!r.ok() || !floor.active) return r;
+    char text[320];
+    const double sigma = 100 * floor.smallest_error / kFloorPerSigma;
+    if (r->chosen.max_error > 0 && r->chosen.max_error <= floor.smallest_error) {
+      std::snprintf(
+          text, sizeof text,
+          "the input is noisy (about %.2g%% per bin, see cbrdf info): stopped at its "
+          "noise floor (residual bound %.3g); PSNR against the input beyond about %.1f dB "
+          "would be bought by coding noise",
+          sigma, floor.smallest_error, floor.ceiling);
+      r->note = text;
+    } else if (r->chosen.max_error == 0 && !by_bytes) {
+      std::snprintf(text, sizeof text,
+                    "the input is noisy (about %.2g%% per bin, see cbrdf info): the model alone is "
+                    "as close to its signal as a residual layer gets; more bytes would code noise",
+                    sigma);
+      r->note = text;
+    }
+    return r;
+  };
   RateResult result = std::move(rc).value();
-  if (by_bytes) return residual_within_budget(table, base, target, std::move(result));
-  ResidualSearch search(table, base, target, &result);
-  CBRDF_RETURN_IF_ERROR(search_psnr(&search, target));
+  if (by_bytes) {
+    return with_note(residual_within_budget(table, base, target, std::move(result), floor));
+  }
+  ResidualSearch search(table, base, target, &result, floor);
+  if (floor.active && target.min_psnr >= floor.ceiling) {
+    // Beyond the ceiling only noise is left to code: the noise floor's file, without a search.
+    auto c = search.attempt(floor.smallest_error);
+    if (!c.ok()) return c.status();
+  } else {
+    CBRDF_RETURN_IF_ERROR(
+        search_psnr(&search, target, floor.active ? floor.smallest_error : kSmallestError));
+  }
   if (!search.best()) {
     // Nothing met the PSNR: the closest file, with the residual or without.
     const auto& closest = search.closest();
-    if (!closest || closest->chosen.psnr_tonemapped <= result.chosen.psnr_tonemapped) {
-      return result;
+    // (On a noisy table the residual's file is kept: its PSNR against the input misses the
+    // target because it does not reproduce the noise.)
+    if (!closest ||
+        (floor.active ? !search.adds_signal(closest->chosen.max_error)
+                      : closest->chosen.psnr_tonemapped <= result.chosen.psnr_tonemapped)) {
+      return with_note(std::move(result));
     }
     RateResult best = *closest;
     best.tried = std::move(result.tried);
-    return best;
+    return with_note(std::move(best));
   }
+  if (!search.adds_signal(search.best()->chosen.max_error)) return with_note(std::move(result));
   RateResult best = *search.best();
   best.tried = std::move(result.tried);
-  return best;
+  return with_note(std::move(best));
 }
 
 }  // namespace cbrdf

@@ -49,6 +49,7 @@ __all__ = [
     "sphere_psnr",
     "sphere_metrics",
     "brdf_metrics",
+    "estimate_noise",
     "render_sphere",
     "nearest_bin",
     "bin_directions",
@@ -598,6 +599,24 @@ def brdf_metrics(reference: _Any, test: _Any) -> dict:
         ``"cos_rmse_rgb"`` and ``"bins"`` (measured bins per channel).
     """
     return _cbrdf._brdf_metrics(_metric_table(reference), _metric_table(test))
+
+
+def estimate_noise(table: _Any) -> dict:
+    """The table's measurement noise, estimated from the table alone (``cbrdf::estimate_noise``).
+
+    ``table`` is an array or a path to a .binary file.  The same as the ``"noise"``
+    entry of :func:`info` on a .binary file and of ``cbrdf info --json``.
+
+    Returns:
+        ``{"sigma": {"R", "G", "B"}`` (relative deviation: 0.03 is 3%; near 0 for a
+        smooth table), ``"bands"`` (``[{"theta_d_begin", "theta_d_end", "sigma"}]``,
+        six bands of 15 degrees), ``"grazing_growth"`` (the last band's sigma over the
+        first's), ``"noisy"``, ``"psnr_ceiling_tonemapped"``, ``"psnr_ceiling_linear"``
+        (dB: coding closer to the table than this reproduces its noise)``}``.
+    """
+    d = _cbrdf._estimate_noise(_to_table(table))
+    del d["file"]
+    return d
 
 
 def render_sphere(brdf: _Any, light_angle_deg: float = 45.0, *, size: int = 256) -> _np.ndarray:

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "cbrdf/encoder.h"
@@ -49,6 +50,9 @@ struct RateResult {
   int fits = 0;
   long long hals_sweeps = 0;
   ///@}
+  /// encode_to_target_ladder on a noisy table that stopped at its noise floor: one line saying so
+  /// (printed by `cbrdf encode`); empty otherwise.
+  std::string note;
 };
 
 /// Searches slices in target.slice_counts, components 1..max_components (each a fixed count per

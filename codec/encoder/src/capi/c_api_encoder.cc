@@ -22,11 +22,14 @@
 #include "cbrdf/file_io.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
+#include "cbrdf/noise.h"
 #include "cbrdf/parallel.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf::capi {
 namespace {
+
+static_assert(CBRDF_NOISE_BANDS == kNoiseBands, "the C API's bands are the library's");
 
 // The first version of the struct ends with `threads`.
 constexpr std::size_t kFirstSettingsSize = offsetof(cbrdf_encode_settings, threads) + sizeof(int);
@@ -188,6 +191,45 @@ cbrdf_status cbrdf_encode_merl_file(const char* in_path, const char* out_path,
     auto encoded = cbrdf::encode_table(*table, *st);
     if (!encoded.ok()) return encoded.status().with_context(in_path);
     return cbrdf::write_file_atomic(out_path, encoded->bytes);
+  });
+}
+
+cbrdf_status cbrdf_estimate_noise(const double* stored_values, size_t count,
+                                  cbrdf_noise_estimate* out) {
+  return cbrdf::capi::guarded([&]() -> cbrdf::Status {
+    using cbrdf::capi::invalid_argument;
+    if (stored_values == nullptr || out == nullptr) {
+      return invalid_argument("cbrdf_estimate_noise: stored_values or out is NULL");
+    }
+    // The first version of the struct ends with `noisy`.
+    constexpr std::size_t kFirstSize = offsetof(cbrdf_noise_estimate, noisy) + sizeof(int);
+    if (out->struct_size < kFirstSize) {
+      return invalid_argument("cbrdf_estimate_noise: out->struct_size is " +
+                              std::to_string(out->struct_size) + ", less than " +
+                              std::to_string(kFirstSize) + " (set it to sizeof(*out))");
+    }
+    if (count != cbrdf_merl_table_size()) {
+      return invalid_argument(
+          "cbrdf_estimate_noise: count is " + std::to_string(count) +
+          ", not cbrdf_merl_table_size() = " + std::to_string(cbrdf_merl_table_size()));
+    }
+    cbrdf::BrdfTable table;
+    std::memcpy(table.stored_values().data(), stored_values, count * sizeof(double));
+    const cbrdf::NoiseEstimate e = cbrdf::estimate_noise(table);
+    cbrdf_noise_estimate r{};
+    r.struct_size = std::uint32_t(std::min<std::size_t>(out->struct_size, sizeof r));
+    for (int c = 0; c < 3; ++c) {
+      r.sigma[c] = e.sigma[std::size_t(c)];
+      for (int b = 0; b < CBRDF_NOISE_BANDS; ++b) {
+        r.band_sigma[b][c] = e.band_sigma[std::size_t(b)][std::size_t(c)];
+      }
+    }
+    r.grazing_growth = e.grazing_growth;
+    r.psnr_ceiling_tonemapped = e.psnr_ceiling_tonemapped;
+    r.psnr_ceiling_linear = e.psnr_ceiling_linear;
+    r.noisy = e.noisy() ? 1 : 0;
+    std::memcpy(out, &r, r.struct_size);
+    return cbrdf::ok_status();
   });
 }
 
