@@ -82,13 +82,15 @@ std::optional<std::string> parse_rate_target(const EncodeOptions& o, RateTarget*
 }
 
 // Encodes at the settings, or searches for the target when there is one.
+// *smoothed: the residual layer codes the input with its noise smoothed out (RateResult).
 Expected<EncodeResult> encode(const BrdfTable& table, const EncoderSettings& st, RateTarget target,
-                              const Context& ctx, std::FILE* info) {
+                              const Context& ctx, std::FILE* info, bool* smoothed) {
   if (target.max_bytes <= 0 && target.min_psnr <= 0) return encode_table(table, st);
   // An explicit --components K > 1 caps the search; otherwise it searches up to 4.
   if (!st.fit.auto_components && st.fit.components > 1) target.max_components = st.fit.components;
   auto rc = encode_to_target_ladder(table, st, target);
   if (!rc.ok()) return rc.status();
+  *smoothed = rc->residual_of_smoothed_input;
   if (!ctx.quiet) {
     char residual_text[96] = "";
     const Residual& r = rc->encoded.model.residual;
@@ -161,7 +163,8 @@ void print_summary(const EncodeOptions& o, const Context& ctx, const EncodeResul
 }
 
 // The residual layer's bound and size, when the file has one.
-void print_residual(const EncodeResult& result, std::FILE* info) {
+// `smoothed`: the bound holds against the smoothed input the residual coded, not the input.
+void print_residual(const EncodeResult& result, bool smoothed, std::FILE* info) {
   const Residual& r = result.model.residual;
   if (!r.present()) return;
   auto parsed = parse_container(result.bytes);
@@ -176,9 +179,15 @@ void print_residual(const EncodeResult& result, std::FILE* info) {
   // (times the finest level's multiplier in mode 3), the number `cbrdf info` shows.
   const int top = r.max_row_shift();
   std::fprintf(info,
-               "residual layer: |log1p(decoded / k) - log1p(source / k)| <= %g on every measured "
+               "residual layer: |log1p(decoded / k) - log1p(%s / k)| <= %g on every measured "
                "bin (k = %g; checked), %u bytes, %zu bins stored exactly\n",
-               r.bound(), r.knee, bytes, r.escapes.size());
+               smoothed ? "smoothed" : "source", r.bound(), r.knee, bytes, r.escapes.size());
+  if (smoothed) {
+    std::fprintf(
+        info,
+        "  smoothed: the input with its measurement noise (see cbrdf info) smoothed out over "
+        "theta_d and phi_d; the input itself is not within this bound\n");
+  }
   if (top > 0 || r.interpolated()) {
     if (r.interpolated()) {
       std::fprintf(info,
@@ -231,14 +240,15 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
                        "phi_d and phi_d + 180); --lossless cannot keep it exactly: give a "
                        "90x90x180 .binary, or drop --lossless");
   }
-  auto result = encode(*table, *st, target, ctx, info);
+  bool smoothed = false;
+  auto result = encode(*table, *st, target, ctx, info, &smoothed);
   if (!result.ok()) return fail(result.status().with_context(shown(o.input, false)));
   if (Status s = write_file_atomic(output_path(o.output), result->bytes); !s.ok()) return fail(s);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (ctx.quiet) return kExitOk;
   print_summary(o, ctx, *result, seconds, info);
-  print_residual(*result, info);
+  print_residual(*result, smoothed, info);
   if (!o.no_metrics) {
     auto decoded = decode_table(result->bytes);
     if (!decoded.ok()) return fail(decoded.status());

@@ -286,6 +286,7 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
   const NoiseFloor floor = noise_floor(table, base);
   const auto with_note = [&](Expected<RateResult> r) -> Expected<RateResult> {
     if (!r.ok() || !floor.active) return r;
+    r->residual_of_smoothed_input = r->encoded.model.residual.present();
     char text[320];
     const double sigma = 100 * floor.smallest_error / kFloorPerSigma;
     if (r->chosen.max_error > 0 && r->chosen.max_error <= floor.smallest_error) {

@@ -73,25 +73,27 @@ CBRDF_C_API cbrdf_status cbrdf_encode_table(const double* stored_values, size_t 
 CBRDF_C_API cbrdf_status cbrdf_encode_merl_file(const char* in_path, const char* out_path,
                                                 const cbrdf_encode_settings* settings);
 
-/* Since 2.1: the measurement noise of a table, estimated from the table alone (cbrdf/noise.h). */
-#define CBRDF_NOISE_BANDS 6 /* bands of 15 theta_d bins, 0-14 deg to 75-89 deg */
+/** Since 2.1: the measurement noise of a table, estimated from the table alone (cbrdf/noise.h).
+ * The number of theta_d bands: 15 bins each, 0-14 deg to 75-89 deg. */
+#define CBRDF_NOISE_BANDS 6
 
-/* The estimate. Fields are only ever appended: set struct_size to sizeof(cbrdf_noise_estimate)
- * before the call, and a newer library fills only what the caller's version of the struct has. */
+/** The noise estimate. Fields are only ever appended: set struct_size to
+ * sizeof(cbrdf_noise_estimate) before the call, and a newer library fills only what the caller's
+ * version of the struct has. */
 typedef struct cbrdf_noise_estimate {
-  uint32_t struct_size; /* in: sizeof(cbrdf_noise_estimate); out: the bytes filled */
-  double sigma[3];      /* relative noise per channel R, G, B: the deviation of log(value), so
-                           0.03 is 3%; near 0 (below 0.002) for a smooth table */
-  double band_sigma[CBRDF_NOISE_BANDS][3]; /* the same per theta_d band and channel */
-  double grazing_growth;          /* last band's sigma over the first's, mean over channels */
-  double psnr_ceiling_tonemapped; /* the sphere PSNR (dB) of the table against itself with
-                                     another draw of its noise: beyond it a coder reproduces
-                                     noise; 100 for a smooth table */
-  double psnr_ceiling_linear;
-  int noisy; /* 1: some channel's sigma is above 0.002; 0: a smooth table */
+  uint32_t struct_size; /**< in: sizeof(cbrdf_noise_estimate); out: the bytes filled */
+  double sigma[3];      /**< relative noise per channel R, G, B: the deviation of log(value), so
+                             0.03 is 3%; near 0 (below 0.002) for a smooth table */
+  double band_sigma[CBRDF_NOISE_BANDS][3]; /**< the same per theta_d band and channel */
+  double grazing_growth;          /**< last band's sigma over the first's, mean over channels */
+  double psnr_ceiling_tonemapped; /**< the tone-mapped sphere PSNR (dB) of the table against
+                                       itself with another draw of its noise: beyond it a coder
+                                       reproduces noise; 100 for a smooth table */
+  double psnr_ceiling_linear;     /**< the same ceiling in linear sphere PSNR (dB) */
+  int noisy;                      /**< 1: some channel's sigma is above 0.002; 0: a smooth table */
 } cbrdf_noise_estimate;
 
-/* Estimates the noise of a full MERL table (layout and count as cbrdf_encode_table; negative and
+/** Estimates the noise of a full MERL table (layout and count as cbrdf_encode_table; negative and
  * NaN values are not measured and ignored). Takes about half a second (three sphere renders).
  * Returns CBRDF_OK, or CBRDF_ERROR_INVALID_ARGUMENT (a NULL pointer, another count, or
  * out->struct_size smaller than the struct's first version). */

@@ -53,6 +53,9 @@ struct RateResult {
   /// encode_to_target_ladder on a noisy table that stopped at its noise floor: one line saying so
   /// (printed by `cbrdf encode`); empty otherwise.
   std::string note;
+  /// The residual layer codes the input with its measurement noise smoothed out (a noisy table
+  /// under encode_to_target_ladder): its bound holds against that, not against the input.
+  bool residual_of_smoothed_input = false;
 };
 
 /// Searches slices in target.slice_counts, components 1..max_components (each a fixed count per
