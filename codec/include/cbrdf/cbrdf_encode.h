@@ -42,12 +42,14 @@ typedef struct cbrdf_encode_settings {
                        max_error); 0 (the default): not */
   /* Since 1.6. */
   int mixture_copulas; /**< with components > 1: 1 (the default) fits each component's copula, 0
-                          leaves them at independence (about half the fit's time and 6% fewer
-                          bytes at the same bits, for about the same tone-mapped PSNR per byte) */
+                          leaves them at independence (about half the fit's time and, in the 1.2
+                          coding the C API writes, 6% fewer bytes at the same bits, for about the
+                          same tone-mapped PSNR per byte) */
 } cbrdf_encode_settings;
 
-/** Sets every field to its default (as `cbrdf encode` without options, except threads = 1) and
- * struct_size to sizeof(cbrdf_encode_settings). Returns CBRDF_OK, or
+/** Sets every field to its default (as `cbrdf encode` without options, except threads = 1; the C
+ * API writes container 1.2 with full metadata, where the command writes 1.3 where smaller with
+ * short metadata) and struct_size to sizeof(cbrdf_encode_settings). Returns CBRDF_OK, or
  * CBRDF_ERROR_INVALID_ARGUMENT (settings NULL). */
 CBRDF_C_API cbrdf_status cbrdf_encode_settings_init(cbrdf_encode_settings* settings);
 
