@@ -55,7 +55,9 @@ inline double pick_theta(CopulaFamily f, ByteSource& in) {
       return choices[mode % 4];
     }
     default: {  // Gumbel, Joe: [1, inf)
-      const double choices[] = {1.0, 1.0 + std::exp(in.in_range(-40.0, std::log(19.0))),
+      // min: exp(log(19)) rounds up, and 1 + it would be 20.000000000000028, outside the range.
+      const double choices[] = {1.0,
+                                std::min(20.0, 1.0 + std::exp(in.in_range(-40.0, std::log(19.0)))),
                                 std::nextafter(1.0, 2.0), in.in_range(1.0, 10.0)};
       return choices[mode % 4];
     }
