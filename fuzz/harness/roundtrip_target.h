@@ -26,6 +26,7 @@
 #include "cbrdf/container.h"
 #include "cbrdf/coords.h"
 #include "cbrdf/model.h"
+#include "chunks.h"
 #include "common.h"
 #include "residual_levels.h"
 
@@ -185,9 +186,12 @@ inline void pick_residual(Model* m, ByteSource& in) {
   constexpr std::size_t kBins = std::size_t{kChannels} * kBinsPerChannel;
   constexpr std::int32_t kMaxCode = std::int32_t{1} << 28;  // spec 4.6: |code| <= 2^28
   Residual& r = m->residual;
-  r.max_error = std::exp(in.in_range(std::log(1e-6), std::log(16.0)));
+  // Clamped: exp(log(16)) rounds to 16.000000000000007, outside the format's range (spec 4.6).
+  r.max_error = std::clamp(std::exp(in.in_range(std::log(1e-6), std::log(16.0))), kMinResidualError,
+                           kMaxResidualError);
   r.step = 2.0 * r.max_error * in.in_range(0.01, 1.0);
-  r.knee = std::exp(in.in_range(std::log(1e-12), std::log(1e12)));
+  r.knee =
+      std::clamp(std::exp(in.in_range(std::log(1e-12), std::log(1e12))), 1e-12, kMaxResidualKnee);
   r.codes.assign(kBins, 0);
   switch (in.u8() % 4) {
     case 0:
