@@ -21,18 +21,6 @@
 namespace cbrdf {
 namespace {
 
-// make-merl.sh's noise: every measured value times exp(sigma n), n standard normal.
-BrdfTable with_noise(const BrdfTable& t, double sigma, unsigned seed) {
-  BrdfTable out = t;
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  for (double& v : out.stored_values()) {
-    const double z = normal(rng);
-    if (v >= 0) v *= std::exp(sigma * z);
-  }
-  return out;
-}
-
 EncoderSettings settings() {
   EncoderSettings s;
   s.fit.threads = 2;
@@ -77,7 +65,7 @@ void check_ladder(const BrdfTable& truth, const BrdfTable& noisy, double min_gai
 TEST(NoiseLadder, NoisySampleStopsAtTheFloorCloserToTheTruth) {
   auto truth = make_sample("ward");
   ASSERT_TRUE(truth.ok());
-  const BrdfTable noisy = with_noise(*truth, 0.03, 5);
+  const BrdfTable noisy = testing::with_noise(*truth, 0.03, 5);
   ASSERT_TRUE(estimate_noise(noisy, {.ceiling = false}).noisy());
   // The sample is the model's own kind of BRDF: the model alone is already as close to the truth
   // as a residual gets (61 dB), so no gain is asked, only not losing.

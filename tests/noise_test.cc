@@ -47,24 +47,6 @@ BrdfTable smooth_table() {
   return t;
 }
 
-// Multiplicative noise as make-merl.sh's: value * exp(s * n), s growing towards grazing angles
-// by `grazing` (s = sigma (1 + grazing (theta_d / 90)^4)).
-BrdfTable with_noise(const BrdfTable& t, double sigma, double grazing, unsigned seed) {
-  BrdfTable out = t;
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  for (int c = 0; c < kChannels; ++c) {
-    double* v = out.channel_data(c);
-    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
-      const double z = normal(rng);
-      if (v[i] < 0) continue;
-      const double d = merl_bin(i).theta_d / 90.0;
-      v[i] *= std::exp(sigma * (1 + grazing * d * d * d * d) * z);
-    }
-  }
-  return out;
-}
-
 // The injected sigma averaged over a band's theta_d bins.
 double band_mean_sigma(double sigma, double grazing, int band) {
   double s = 0;
@@ -87,7 +69,8 @@ TEST(Noise, SyntheticNoiseIsMeasuredPerChannelAndBand) {
   const BrdfTable clean = smooth_table();
   for (double sigma : {0.005, 0.02, 0.08}) {
     SCOPED_TRACE(sigma);
-    const NoiseEstimate e = estimate_noise(with_noise(clean, sigma, 0, 7), {.ceiling = false});
+    const NoiseEstimate e =
+        estimate_noise(testing::with_noise(clean, sigma, 7, 0), {.ceiling = false});
     EXPECT_TRUE(e.noisy());
     for (double s : e.sigma) EXPECT_NEAR(s, sigma, 0.05 * sigma);
     for (const auto& b : e.band_sigma) {
@@ -99,7 +82,7 @@ TEST(Noise, SyntheticNoiseIsMeasuredPerChannelAndBand) {
 
 TEST(Noise, GrowthTowardsGrazingAngles) {
   const NoiseEstimate e =
-      estimate_noise(with_noise(smooth_table(), 0.02, 3, 11), {.ceiling = false});
+      estimate_noise(testing::with_noise(smooth_table(), 0.02, 11, 3), {.ceiling = false});
   for (int b = 0; b < kNoiseBands; ++b) {
     SCOPED_TRACE(b);
     const double want = band_mean_sigma(0.02, 3, b);
@@ -110,7 +93,7 @@ TEST(Noise, GrowthTowardsGrazingAngles) {
 
 TEST(Noise, OneNoisyChannel) {
   BrdfTable t = smooth_table();
-  const BrdfTable noisy = with_noise(t, 0.04, 0, 3);
+  const BrdfTable noisy = testing::with_noise(t, 0.04, 3, 0);
   // Only green carries noise.
   std::copy(noisy.channel_data(1), noisy.channel_data(1) + kBinsPerChannel, t.channel_data(1));
   const NoiseEstimate e = estimate_noise(t, {.ceiling = false});
@@ -131,7 +114,7 @@ TEST(Noise, NothingMeasured) {
 
 TEST(Noise, SmoothedTargetRemovesNoiseKeepsSignal) {
   const BrdfTable clean = smooth_table();
-  const BrdfTable noisy = with_noise(clean, 0.03, 0, 5);
+  const BrdfTable noisy = testing::with_noise(clean, 0.03, 5, 0);
   // A base that misses the signal by a smooth 10% ramp: the smoothed target must restore it.
   BrdfTable base = clean;
   for (int c = 0; c < kChannels; ++c) {

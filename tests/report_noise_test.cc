@@ -27,17 +27,6 @@ BrdfTable truth_material() {
   });
 }
 
-BrdfTable with_noise(const BrdfTable& t, double sigma) {
-  BrdfTable out = t;
-  std::mt19937_64 rng(9);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  for (double& v : out.stored_values()) {
-    const double z = normal(rng);
-    if (v >= 0) v *= std::exp(sigma * z);
-  }
-  return out;
-}
-
 LadderSettings small_ladder() {
   LadderSettings st;
   st.base_components = {1};
@@ -53,7 +42,7 @@ LadderSettings small_ladder() {
 
 TEST(ReportNoise, LadderAgainstTheTruthMarksTheNoiseFloor) {
   const BrdfTable truth = truth_material();
-  const BrdfTable noisy = with_noise(truth, 0.03);
+  const BrdfTable noisy = testing::with_noise(truth, 0.03, 9);
   auto l = measure_ladder("noisy", noisy, small_ladder(), &truth);
   ASSERT_TRUE(l.ok()) << l.status().message();
   EXPECT_NEAR(l->noise_sigma, 0.03, 0.0075);

@@ -8,10 +8,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <mutex>
+#include <random>
 #include <sstream>
 
 namespace cbrdf::testing {
@@ -100,6 +102,22 @@ CommandResult shared_run(const std::string& key,
   ::flock(lock, LOCK_UN);
   ::close(lock);
   return r;
+}
+
+BrdfTable with_noise(const BrdfTable& t, double sigma, unsigned seed, double grazing) {
+  BrdfTable out = t;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (int c = 0; c < kChannels; ++c) {
+    double* v = out.channel_data(c);
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      const double z = normal(rng);
+      if (v[i] < 0) continue;
+      const double d = merl_bin(i).theta_d / 90.0;
+      v[i] *= std::exp(sigma * (1 + grazing * d * d * d * d) * z);
+    }
+  }
+  return out;
 }
 
 fs::path noisy_materials_dir(const std::string& sigma, const std::vector<std::string>& names) {

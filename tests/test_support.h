@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "cbrdf/brdf_table.h"
+
 namespace cbrdf::testing {
 
 // A fresh empty directory under the build tree, removed by its destructor.
@@ -34,6 +36,11 @@ std::vector<std::string> real_material_names();
 // A folder made by ../shared/tools/make-merl.sh --noise `sigma` (text as the script takes it,
 // "0.03" for 3%) for the named materials: NAME.binary (the truth) and NAME-noisy.binary beside it,
 // built once per sigma into the build tree. Empty without ../shared or when the script fails.
+// make-merl.sh's noise: every measured value times exp(s n), n standard normal drawn from
+// mt19937_64(seed) for every bin in storage order, s = sigma (1 + grazing (theta_d / 90)^4)
+// (grazing 0: the same everywhere, as make-merl.sh).
+BrdfTable with_noise(const BrdfTable& t, double sigma, unsigned seed, double grazing = 0);
+
 std::filesystem::path noisy_materials_dir(const std::string& sigma,
                                           const std::vector<std::string>& names);
 

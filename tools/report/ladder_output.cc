@@ -157,6 +157,20 @@ TextTable lossless_table(const std::vector<LadderMaterial>& ladders) {
   return t;
 }
 
+// A method's settings as (mean bytes, mean PSNR) points, PSNR the given member, by increasing
+// bytes.
+std::vector<std::pair<double, double>> method_points(const std::vector<Setting>& settings,
+                                                     const char* method,
+                                                     double LadderPoint::*psnr) {
+  std::vector<std::pair<double, double>> pts;
+  for (const Setting& s : settings) {
+    if (s.method == method)
+      pts.emplace_back(mean(s.points, &LadderPoint::bytes), mean(s.points, psnr));
+  }
+  std::sort(pts.begin(), pts.end());
+  return pts;
+}
+
 // One series per method: its settings' mean (bytes, PSNR), by increasing bytes.
 Chart ladder_chart(const std::vector<LadderMaterial>& ladders, const std::string& title) {
   Chart c;
@@ -167,15 +181,8 @@ Chart ladder_chart(const std::vector<LadderMaterial>& ladders, const std::string
   const std::vector<Setting> settings = settings_of(ladders);
   std::size_t colour = 0;
   for (const char* method : kMethods) {
-    std::vector<std::pair<double, double>> pts;
-    for (const Setting& s : settings) {
-      if (s.method == method) {
-        pts.emplace_back(mean(s.points, &LadderPoint::bytes),
-                         mean(s.points, &LadderPoint::psnr_tonemapped));
-      }
-    }
+    const auto pts = method_points(settings, method, &LadderPoint::psnr_tonemapped);
     if (pts.empty()) continue;
-    std::sort(pts.begin(), pts.end());
     // The base settings are not one curve (components and bits cross): points only.
     const bool line = pts.size() > 1 && std::string(method) != kLadderBase;
     Series series{method, {}, {}, palette(colour++), line, true};
@@ -188,15 +195,8 @@ Chart ladder_chart(const std::vector<LadderMaterial>& ladders, const std::string
   // Against the truth (--truth): cbrdf's curves again, dashed.
   if (have_truth(ladders)) {
     for (const char* method : {kLadderBase, kLadderResidual, kLadderNoiseFloor, kLadderLossless}) {
-      std::vector<std::pair<double, double>> pts;
-      for (const Setting& s : settings) {
-        if (s.method == method) {
-          pts.emplace_back(mean(s.points, &LadderPoint::bytes),
-                           mean(s.points, &LadderPoint::psnr_truth_tonemapped));
-        }
-      }
+      const auto pts = method_points(settings, method, &LadderPoint::psnr_truth_tonemapped);
       if (pts.empty()) continue;
-      std::sort(pts.begin(), pts.end());
       Series series{std::string(method) + " vs truth",
                     {},
                     {},
