@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <random>
@@ -66,38 +67,63 @@ Bytes encode(const Model& m, int bits, bool metadata = true, int zstd_level = 19
   return *b;
 }
 
+// Appends a chunk, and the end, in the framing of `minor` (1.3's compact one or the older).
+void append_chunk(Bytes* out, std::uint16_t minor, std::string_view tag, std::uint32_t flags,
+                  std::span<const std::uint8_t> stored, std::uint32_t payload_bytes) {
+  if (cbrdf::uses_compact_framing(minor)) {
+    cbrdf::append_compact_chunk(out, tag, flags, stored, payload_bytes);
+  } else {
+    cbrdf::append_raw_chunk(out, tag, flags, stored, payload_bytes);
+  }
+}
+void append_end(Bytes* out, std::uint16_t minor) {
+  if (cbrdf::uses_compact_framing(minor)) {
+    cbrdf::append_compact_end(out);
+  } else {
+    cbrdf::append_raw_chunk(out, cbrdf::kTagEnd, 0, {}, 0);
+  }
+}
+
 // The same file with every known chunk stored uncompressed (unknown chunks copied as they are),
-// of its own version unless `minor` is given.
-Bytes uncompressed(const Bytes& file, int minor = -1) {
+// of its own version unless `minor` is given; `edit` may change a known chunk's payload.
+Bytes uncompressed(const Bytes& file, int minor = -1,
+                   const std::function<void(const std::string&, Bytes*)>& edit = {}) {
   cbrdf::Expected<cbrdf::ParsedContainer> pc = cbrdf::parse_container(file);
   if (!pc.ok()) std::exit(1);
-  Bytes out = cbrdf::container_file_header(
-      cbrdf::kContainerMajorVersion, std::uint16_t(minor >= 0 ? minor : int(pc->layout.minor)));
-  for (std::size_t i = 0; i < pc->layout.chunks.size(); ++i) {
+  const auto m = std::uint16_t(minor >= 0 ? minor : int(pc->layout.minor));
+  const bool compact_source = cbrdf::uses_compact_framing(pc->layout.minor);
+  Bytes out = cbrdf::container_file_header(cbrdf::kContainerMajorVersion, m);
+  for (std::size_t i = 0; i + 1 < pc->layout.chunks.size(); ++i) {
     const cbrdf::ChunkInfo& c = pc->layout.chunks[i];
     if (c.known) {
-      const Bytes& p = pc->payloads[i];
-      cbrdf::append_raw_chunk(&out, c.tag, 0, p, std::uint32_t(p.size()));
+      Bytes p = pc->payloads[i];
+      if (edit) edit(c.tag, &p);
+      append_chunk(&out, m, c.tag, 0, p, std::uint32_t(p.size()));
     } else {
-      const auto begin = file.begin() + std::ptrdiff_t(c.offset);
-      out.insert(out.end(), begin,
-                 begin + std::ptrdiff_t(cbrdf::kChunkHeaderBytes + c.stored_bytes +
-                                        cbrdf::kChunkChecksumBytes));
+      const std::size_t at =
+          std::size_t(c.offset) + (compact_source ? c.frame_bytes : cbrdf::kChunkHeaderBytes);
+      append_chunk(&out, m, c.tag, c.flags,
+                   std::span<const std::uint8_t>(file).subspan(at, c.stored_bytes),
+                   c.payload_bytes);
     }
   }
+  append_end(&out, m);
   return out;
 }
 
-// Inserts an ancillary chunk before the end chunk (the last 24 bytes).
-Bytes with_ancillary(Bytes file) {
-  Bytes end(file.end() - 24, file.end());
-  file.resize(file.size() - 24);
+// Inserts an ancillary chunk before the end chunk.
+Bytes with_ancillary(const Bytes& file) {
+  cbrdf::Expected<cbrdf::ParsedContainer> pc = cbrdf::parse_container(file);
+  if (!pc.ok()) std::exit(1);
+  std::vector<cbrdf::ChunkToWrite> chunks;
+  for (std::size_t i = 0; i + 1 < pc->layout.chunks.size(); ++i) {
+    chunks.push_back({pc->layout.chunks[i].tag, pc->payloads[i], pc->layout.chunks[i].compressed});
+  }
   const std::string hi = "hello";
-  cbrdf::append_raw_chunk(&file, "zTST", 0,
-                          {reinterpret_cast<const std::uint8_t*>(hi.data()), hi.size()},
-                          std::uint32_t(hi.size()));
-  file.insert(file.end(), end.begin(), end.end());
-  return file;
+  chunks.push_back({"zTST", Bytes(hi.begin(), hi.end()), false});
+  cbrdf::Expected<Bytes> out = cbrdf::write_container(chunks, 19, pc->layout.minor);
+  if (!out.ok()) std::exit(1);
+  return *out;
 }
 
 Model sparse_per_bin_mask_model() {
@@ -182,6 +208,7 @@ void container_and_decode_seeds(Writer& w) {
   valid["enc13-mixture-b8.cbrdf"] =
       encode(cbrdf::testing::make_mixture_model({0, 40, 90}, 4, 6), 8, true, 19, kV13);
   valid["enc13-tiny1-b16.cbrdf"] = encode(make_model({0, 90}, false, 1), 16, false, 19, kV13);
+  valid["enc13-ancillary-chunk.cbrdf"] = with_ancillary(valid["enc13-tiny1-b16.cbrdf"]);
 
   for (const auto& [name, bytes] : valid) {
     w.add("fuzz_container", name, bytes, "accepted");
@@ -204,16 +231,51 @@ void container_and_decode_seeds(Writer& w) {
   // coded stream (the payload reader does).
   const Bytes& v13 = valid["enc13-six-peaked-b10.cbrdf"];
   w.add("fuzz_container", "bad13-base-in-minor2.cbrdf", uncompressed(v13, 2), "rejected corrupt");
+  w.add("fuzz_decode", "bad13-base-trailing.cbrdf",
+        uncompressed(v13, -1,
+                     [](const std::string& tag, Bytes* p) {
+                       if (tag == cbrdf::kTagBase) p->insert(p->end(), 5, 0x55);
+                     }),
+        "rejected corrupt");
+
+  // The compact framing (spec 2.2): each way its fields can be wrong.
+  const Bytes v13_header = cbrdf::container_file_header(cbrdf::kContainerMajorVersion, 3);
+  auto framed13 = [&](std::initializer_list<std::uint8_t> body) {
+    Bytes b = v13_header;
+    b.insert(b.end(), body);
+    return b;
+  };
+  w.add("fuzz_container", "bad13-truncated-varint.cbrdf", framed13({'H', 'E', 'A', 'D', 0x80}),
+        "rejected truncated");
+  w.add("fuzz_container", "bad13-overlong-varint.cbrdf",
+        framed13({'H', 'E', 'A', 'D', 0x88, 0x00, 0, 0}), "rejected corrupt");
+  w.add("fuzz_container", "bad13-long-varint.cbrdf",
+        framed13({'H', 'E', 'A', 'D', 0x80, 0x80, 0x80, 0x80, 0x80, 0x01}), "rejected corrupt");
+  w.add("fuzz_container", "bad13-length-past-end.cbrdf",
+        framed13({'H', 'E', 'A', 'D', 0xA0, 0x1F, 1, 2, 3}), "rejected truncated");
+  w.add("fuzz_container", "bad13-reserved-bit.cbrdf", framed13({'H', 'E', 'A', 'D', 0x0A, 0, 0}),
+        "rejected corrupt");
+  Bytes damaged13 = v13;
+  damaged13[damaged13.size() / 2] ^= 0x40;
+  w.add("fuzz_container", "bad13-checksum.cbrdf", damaged13, "rejected checksum");
+  w.add("fuzz_container", "bad13-no-file-checksum.cbrdf", Bytes(v13.begin(), v13.end() - 4),
+        "rejected truncated");
   {
-    cbrdf::Expected<cbrdf::ParsedContainer> pc = cbrdf::parse_container(v13);
-    if (!pc.ok()) std::exit(1);
-    Bytes out = cbrdf::container_file_header(cbrdf::kContainerMajorVersion, 3);
-    for (std::size_t i = 0; i < pc->layout.chunks.size(); ++i) {
-      Bytes p = pc->payloads[i];
-      if (pc->layout.chunks[i].tag == cbrdf::kTagBase) p.insert(p.end(), 5, 0x55);
-      cbrdf::append_raw_chunk(&out, pc->layout.chunks[i].tag, 0, p, std::uint32_t(p.size()));
+    Bytes many = v13_header;
+    cbrdf::append_compact_chunk(&many, cbrdf::kTagHeader, 0, Bytes(2, 0), 2);
+    for (std::size_t i = 0; i < cbrdf::kMaxChunks; ++i) {
+      cbrdf::append_compact_chunk(&many, "xPAD", 0, {}, 0);
     }
-    w.add("fuzz_decode", "bad13-base-trailing.cbrdf", out, "rejected corrupt");
+    cbrdf::append_compact_end(&many);
+    w.add("fuzz_container", "bad13-too-many-chunks.cbrdf", many, "rejected limit");
+  }
+  {
+    // A compressed chunk whose declared payload is above its limit: refused from the field.
+    Bytes big = v13_header;
+    cbrdf::append_compact_chunk(&big, cbrdf::kTagHeader, cbrdf::kChunkFlagZstd, Bytes(9, 0),
+                                0xFFFFFFFFu);
+    cbrdf::append_compact_end(&big);
+    w.add("fuzz_container", "bad13-payload-limit.cbrdf", big, "rejected limit");
   }
 
   const Bytes& tiny = valid["enc-tiny1-b6.cbrdf"];

@@ -76,6 +76,12 @@ void expect_error(const Bytes& b, ErrorCode code, const std::string& needle) {
   EXPECT_EQ(info.status().message(), m.status().message());
 }
 
+// Rewrites the compact framing's file checksum (the last 4 bytes) after an edit.
+void seal(Bytes* b) {
+  const std::uint32_t sum = file_checksum(std::span<const std::uint8_t>(*b).first(b->size() - 4));
+  for (int i = 0; i < 4; ++i) (*b)[b->size() - 4 + std::size_t(i)] = std::uint8_t(sum >> (8 * i));
+}
+
 // Re-writes a file chunk by chunk (valid checksums) after `edit` changes the list of chunks.
 // The version is the file's own unless `minor` is given.
 Bytes rebuild(const Bytes& file, const std::function<void(std::vector<ChunkToWrite>*)>& edit,
@@ -87,12 +93,15 @@ Bytes rebuild(const Bytes& file, const std::function<void(std::vector<ChunkToWri
     chunks.push_back({pc->layout.chunks[i].tag, pc->payloads[i], true});
   }
   edit(&chunks);
-  Expected<Bytes> out = write_container(chunks, 3);
+  const int m = minor >= 0 ? minor : int(pc->layout.minor);
+  const bool compact = uses_compact_framing(std::uint16_t(m));
+  // Written in the framing of the version it is labelled with.
+  Expected<Bytes> out = write_container(chunks, 3, compact ? kCompactFramingMinor : 0);
   EXPECT_TRUE(out.ok()) << out.status().message();
   Bytes b = *out;
-  const int m = minor >= 0 ? minor : int(pc->layout.minor);
   b[10] = std::uint8_t(m);
   b[11] = std::uint8_t(m >> 8);
+  if (compact) seal(&b);
   return b;
 }
 
@@ -600,6 +609,193 @@ TEST(ContainerErrors, EncoderRefusesTooManyComponents) {
       b.status().message().find("slice 0 channel R has 9 components; at most 8 fit in a file"),
       std::string::npos)
       << b.status().message();
+}
+
+// The compact framing of version 1.3 (spec 2.2).
+
+const Bytes& small_file13() {
+  static const Bytes b = [] {
+    ContainerSettings s;
+    s.format = ContainerSettings::Format::kV13;
+    s.bits = 8;
+    s.zstd_level = 3;
+    s.source_name = "errors";
+    Expected<Bytes> out = encode_model(testing::make_model({0, 90}, false, 1), s);
+    EXPECT_TRUE(out.ok()) << out.status().message();
+    return out.ok() ? *out : Bytes{};
+  }();
+  return b;
+}
+
+// A 1.3 file header followed by `body` as it is.
+Bytes compact(std::initializer_list<std::uint8_t> body) {
+  Bytes b = container_file_header(kContainerMajorVersion, 3);
+  b.insert(b.end(), body);
+  return b;
+}
+
+TEST(ContainerErrorsCompact, ValidFileUsesTheCompactFraming) {
+  const ContainerLayout l = layout_of(small_file13());
+  ASSERT_EQ(l.minor, 3);
+  EXPECT_EQ(chunk(l, "HEAD").offset, 12u);
+  EXPECT_EQ(chunk(l, "HEAD").frame_bytes, 5u);  // tag and a 1-byte length field
+  EXPECT_EQ(l.chunks.back().frame_bytes, 9u);   // tag, 0, file checksum
+  EXPECT_EQ(l.chunks.back().offset + 9, small_file13().size());
+}
+
+TEST(ContainerErrorsCompact, TruncatedLengthField) {
+  // 'HEAD' and a length byte with its continuation bit set, then the end of the file.
+  expect_error(compact({'H', 'E', 'A', 'D', 0x80}), ErrorCode::kTruncated,
+               "chunk 'HEAD' at offset 12: length field needs 1 bytes at offset 17 but only 0 "
+               "are left");
+  // The payload length of a compressed chunk.
+  expect_error(compact({'H', 'E', 'A', 'D', 0x09, 0x80}), ErrorCode::kTruncated,
+               "chunk 'HEAD' at offset 12: payload length needs 1 bytes at offset 18");
+  // Fewer than 5 bytes where a chunk must start.
+  expect_error(compact({'H', 'E', 'A'}), ErrorCode::kTruncated,
+               "chunk header at offset 12 needs at least 5 bytes but only 3 are left");
+}
+
+TEST(ContainerErrorsCompact, OverlongAndOversizedLengthFields) {
+  // 8 written as 88 00: a value with two encodings would let two files differ and mean the same.
+  expect_error(compact({'H', 'E', 'A', 'D', 0x88, 0x00, 'h', 'd', 0, 0}), ErrorCode::kCorrupt,
+               "chunk 'HEAD' at offset 12: length field at offset 16: varint is overlong");
+  expect_error(compact({'H', 'E', 'A', 'D', 0x80, 0x80, 0x80, 0x80, 0x80, 0x01}),
+               ErrorCode::kCorrupt, "length field at offset 16: varint is longer than 5 bytes");
+  expect_error(compact({'H', 'E', 'A', 'D', 0xFF, 0xFF, 0xFF, 0xFF, 0x1F}), ErrorCode::kCorrupt,
+               "length field at offset 16: varint exceeds 2^32-1");
+  expect_error(compact({'H', 'E', 'A', 'D', 0x09, 0x82, 0x00, 0, 0}), ErrorCode::kCorrupt,
+               "chunk 'HEAD' at offset 12: payload length at offset 17: varint is overlong");
+}
+
+TEST(ContainerErrorsCompact, LengthPastTheEnd) {
+  // Stored length 1000 (field 4000 = A0 1F) with 3 bytes left.
+  expect_error(compact({'H', 'E', 'A', 'D', 0xA0, 0x1F, 1, 2, 3}), ErrorCode::kTruncated,
+               "chunk 'HEAD' at offset 12: declared length 1000 exceeds the 3 bytes left in the "
+               "file");
+  // The largest value the field holds: checked before anything is read or allocated.
+  expect_error(compact({'M', 'A', 'S', 'K', 0xFC, 0xFF, 0xFF, 0xFF, 0x0F}), ErrorCode::kTruncated,
+               "chunk 'MASK' at offset 12: declared length 1073741823 exceeds the 0 bytes left");
+  // Every cut of a valid file fails, and never with a checksum error before the framing is read.
+  const Bytes& f = small_file13();
+  for (std::size_t n = 0; n < f.size(); ++n) {
+    Expected<ParsedContainer> pc = parse_container(Bytes(f.begin(), f.begin() + std::ptrdiff_t(n)));
+    ASSERT_FALSE(pc.ok()) << n;
+    if (n >= 8) {
+      EXPECT_EQ(pc.status().code(), ErrorCode::kTruncated) << n << ": " << pc.status().message();
+    }
+  }
+}
+
+TEST(ContainerErrorsCompact, FileChecksum) {
+  const Bytes& f = small_file13();
+  const ContainerLayout l = layout_of(f);
+  const std::size_t sum_at = f.size() - 4;
+  // A flipped bit in any payload byte, in a length field's value that still parses, or in the
+  // version is caught by the one checksum.
+  Bytes b = f;
+  b[chunk(l, "BASE").offset + chunk(l, "BASE").frame_bytes + 10] ^= 0x04;
+  expect_error(b, ErrorCode::kChecksum,
+               "file checksum at offset " + std::to_string(sum_at) + " does not match (stored 0x");
+  expect_error(b, ErrorCode::kChecksum,
+               "over bytes 0-" + std::to_string(sum_at - 1) + "); the file is damaged");
+  b = f;
+  b[sum_at + 3] ^= 0x80;  // the checksum itself
+  expect_error(b, ErrorCode::kChecksum, "the file is damaged");
+  b = f;
+  b[10] = 4;  // minor 4 reads the same framing: only the checksum sees it
+  expect_error(b, ErrorCode::kChecksum, "the file is damaged");
+  // Damage in a zstd frame is reported as damage, before the decompressor sees the frame.
+  const Bytes z = [] {
+    Bytes out = container_file_header(kContainerMajorVersion, 3);
+    Expected<Bytes> frame = zstd_compress(Bytes(500, 7), 3);
+    EXPECT_TRUE(frame.ok());
+    // The chunk layer does not look inside payloads: an empty BASE stands for the model.
+    append_compact_chunk(&out, "HEAD", 0, Bytes(2, 0), 2);
+    append_compact_chunk(&out, "BASE", 0, {}, 0);
+    append_compact_chunk(&out, "MASK", kChunkFlagZstd, *frame, 500);
+    append_compact_end(&out);
+    return out;
+  }();
+  ASSERT_TRUE(parse_container(z).ok()) << parse_container(z).status().message();
+  const ChunkInfo mask = chunk(layout_of(z), "MASK");
+  ASSERT_TRUE(mask.compressed);
+  Bytes zd = z;
+  zd[mask.offset + mask.frame_bytes + 3] ^= 0xFF;  // inside the zstd frame
+  Expected<ParsedContainer> pc = parse_container(zd);
+  ASSERT_FALSE(pc.ok());
+  EXPECT_EQ(pc.status().code(), ErrorCode::kChecksum) << pc.status().message();
+  // The file ends right after the end chunk: no checksum.
+  expect_error(Bytes(f.begin(), f.end() - 4), ErrorCode::kTruncated,
+               "the file checksum after the end chunk at offset " +
+                   std::to_string(l.chunks.back().offset) + " needs 4 bytes but only 0 are left");
+  // Bytes after the checksum.
+  b = f;
+  b.push_back(0);
+  expect_error(b, ErrorCode::kCorrupt, "1 bytes follow the end chunk");
+}
+
+TEST(ContainerErrorsCompact, ReservedFlagBitAndEndChunk) {
+  // HEAD stored length 2 with flag bit 1: field 2 x 4 + 2 = 10.
+  expect_error(compact({'H', 'E', 'A', 'D', 0x0A, 'h', 'd'}), ErrorCode::kCorrupt,
+               "chunk 'HEAD' at offset 12: reserved flag bit 1 is set (length field 10; its low "
+               "two bits are the flags, only bit 0 is defined)");
+  expect_error(compact({'H', 'E', 'A', 'D', 0x0B, 0x02, 'h', 'd'}), ErrorCode::kCorrupt,
+               "reserved flag bit 1 is set (length field 11");
+  // The end chunk holds nothing and sets no flag.
+  expect_error(
+      compact({'H', 'E', 'A', 'D', 0x08, 'h', 'd', 'C', 'E', 'N', 'D', 0x04, 0, 1, 2, 3, 4}),
+      ErrorCode::kCorrupt,
+      "chunk 'CEND' at offset 19: the end chunk must be empty and unflagged (length "
+      "field 4, expected 0)");
+  // A valid frame sequence whose chunks break the rules after the checksum: HEAD not first.
+  Bytes b = container_file_header(kContainerMajorVersion, 3);
+  append_compact_chunk(&b, "MASK", 0, Bytes(2, 0), 2);
+  append_compact_end(&b);
+  expect_error(b, ErrorCode::kCorrupt, "chunk 'MASK' at offset 12: the first chunk must be 'HEAD'");
+}
+
+TEST(ContainerErrorsCompact, LimitsAfterTheChecksumBeforeAllocation) {
+  // A compressed HEAD declaring a 257-byte payload (its limit is 256): refused from the field,
+  // before the frame is decompressed.
+  Expected<Bytes> frame = zstd_compress(Bytes(257, 0), 3);
+  ASSERT_TRUE(frame.ok());
+  Bytes b = container_file_header(kContainerMajorVersion, 3);
+  append_compact_chunk(&b, "HEAD", kChunkFlagZstd, *frame, 257);
+  append_compact_end(&b);
+  expect_error(b, ErrorCode::kLimit,
+               "chunk 'HEAD' at offset 12: payload of 257 bytes exceeds the limit of 256 bytes");
+  // A declared payload length of 2^32-1 for MASK: the same, from the field alone.
+  b = container_file_header(kContainerMajorVersion, 3);
+  append_compact_chunk(&b, "HEAD", 0, Bytes(2, 0), 2);
+  append_compact_chunk(&b, "MASK", kChunkFlagZstd, *frame, 0xFFFFFFFFu);
+  append_compact_end(&b);
+  expect_error(b, ErrorCode::kLimit, "chunk 'MASK' at offset 19: payload of 4294967295 bytes");
+}
+
+TEST(ContainerErrorsCompact, TooManyChunks) {
+  const Bytes b = rebuild(small_file13(), [](std::vector<ChunkToWrite>* c) {
+    for (std::size_t i = 0; i < kMaxChunks; ++i) c->push_back({"xPAD", {}, false});
+  });
+  ASSERT_TRUE(uses_compact_framing(layout_of(small_file13()).minor));
+  // 1024 chunks, the end chunk included, are allowed; the 1025th is not.
+  const ContainerLayout ok = layout_of(rebuild(small_file13(), [](std::vector<ChunkToWrite>* c) {
+    while (c->size() + 1 < kMaxChunks) c->push_back({"xPAD", {}, false});
+  }));
+  EXPECT_EQ(ok.chunks.size(), kMaxChunks);
+  expect_error(b, ErrorCode::kLimit, "would be chunk number 1025, above the limit of 1024 chunks");
+}
+
+TEST(ContainerErrorsCompact, NewerMinorVersionReadsTheSameFraming) {
+  auto grow = [](Bytes* p) { p->push_back(0); };
+  const Bytes newer = edit_payload(small_file13(), "HEAD", grow, kContainerMinorVersion + 1);
+  Expected<Model> m = decode_model(newer);
+  ASSERT_TRUE(m.ok()) << m.status().message();
+  Expected<Model> ref = decode_model(small_file13());
+  ASSERT_TRUE(ref.ok());
+  EXPECT_EQ(m->slices[0].channel[1].pdf_d, ref->slices[0].channel[1].pdf_d);
+  expect_error(edit_payload(small_file13(), "HEAD", grow), ErrorCode::kCorrupt,
+               "chunk 'HEAD' at offset 12: 1 unexpected bytes after the payload's last field");
 }
 
 }  // namespace

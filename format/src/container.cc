@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The version-1 chunk layer: tag rules, limits and the one validating parser.
+// The version-1 chunk layer: tag rules, limits and the one validating parser, for the framing of
+// 1.0-1.2 and the compact one of 1.3.
 #include "cbrdf/container.h"
 
 #include <xxhash.h>
@@ -31,6 +32,12 @@ constexpr std::string_view kModelTags[] = {kTagModel, kTagMarginals};
 std::string hex64(std::uint64_t v) {
   char buf[19];
   std::snprintf(buf, sizeof buf, "0x%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+std::string hex32(std::uint32_t v) {
+  char buf[11];
+  std::snprintf(buf, sizeof buf, "0x%08x", v);
   return buf;
 }
 
@@ -168,12 +175,83 @@ Status read_chunk_frame(std::span<const std::uint8_t> bytes, ByteReader& r,
   CBRDF_RETURN_IF_ERROR(r.bytes(info->stored_bytes, stored, "chunk payload"));
   std::uint64_t stored_sum = 0;
   CBRDF_RETURN_IF_ERROR(r.u64(&stored_sum, "chunk checksum"));
+  info->frame_bytes = std::uint32_t(kChunkHeaderBytes + kChunkChecksumBytes);
   info->checksum = chunk_checksum(bytes.subspan(offset, kChunkHeaderBytes + info->stored_bytes));
   if (stored_sum != info->checksum) {
     return error(ErrorCode::kChecksum, where + ": checksum mismatch (stored " + hex64(stored_sum) +
                                            ", computed " + hex64(info->checksum) +
                                            "); the file is damaged");
   }
+  return ok_status();
+}
+
+// One chunk's compact framing (minor >= 3): tag, length field (stored length x 4 + flags), payload
+// length when compressed, stored bytes (into `stored`); each checked against what is left of the
+// file. Nothing is verified against the file checksum yet: parse_compact does that before any
+// payload is decompressed.
+Status read_compact_frame(ByteReader& r, std::size_t chunks_so_far, ChunkInfo* info,
+                          std::span<const std::uint8_t>* stored) {
+  const std::uint64_t offset = r.offset();
+  if (r.at_end()) {
+    return error(ErrorCode::kTruncated, "file ends at offset " + std::to_string(offset) +
+                                            " without the end chunk 'CEND' (truncated?)");
+  }
+  if (chunks_so_far == kMaxChunks) {
+    return error(ErrorCode::kLimit, "chunk at offset " + std::to_string(offset) +
+                                        " would be chunk number " + std::to_string(kMaxChunks + 1) +
+                                        ", above the limit of " + std::to_string(kMaxChunks) +
+                                        " chunks per file");
+  }
+  if (r.remaining() < kCompactFrameMinBytes) {
+    return error(ErrorCode::kTruncated,
+                 "chunk header at offset " + std::to_string(offset) + " needs at least " +
+                     std::to_string(kCompactFrameMinBytes) + " bytes but only " +
+                     std::to_string(r.remaining()) + " are left (truncated?)");
+  }
+  std::span<const std::uint8_t> raw_tag;
+  CBRDF_RETURN_IF_ERROR(r.bytes(4, &raw_tag, "chunk tag"));
+  const std::string tag(raw_tag.begin(), raw_tag.end());
+  if (!chunk_tag_valid(tag)) {
+    return error(ErrorCode::kCorrupt, "chunk at offset " + std::to_string(offset) +
+                                          " has an invalid tag '" + printable_tag(raw_tag) +
+                                          "' (expected four ASCII letters or digits)");
+  }
+  info->tag = tag;
+  info->offset = offset;
+  info->critical = chunk_tag_critical(tag);
+  info->known = chunk_tag_known(tag);
+  // Built only for an error message: parsing a small file is mostly this function.
+  auto where = [&] { return at(tag, offset); };
+  std::uint32_t field = 0;
+  if (Status st = r.varint32(&field, "length field"); !st.ok()) return st.with_context(where());
+  info->stored_bytes = field >> 2;
+  info->flags = field & 3u;
+  if ((info->flags & ~kChunkFlagZstd) != 0) {
+    return error(ErrorCode::kCorrupt, where() + ": reserved flag bit 1 is set (length field " +
+                                          std::to_string(field) +
+                                          "; its low two bits are the flags, only bit 0 is "
+                                          "defined)");
+  }
+  info->compressed = (info->flags & kChunkFlagZstd) != 0;
+  info->payload_bytes = info->stored_bytes;
+  if (info->compressed) {
+    if (Status st = r.varint32(&info->payload_bytes, "payload length"); !st.ok()) {
+      return st.with_context(where());
+    }
+  }
+  if (info->stored_bytes > r.remaining()) {
+    return error(ErrorCode::kTruncated,
+                 where() + ": declared length " + std::to_string(info->stored_bytes) +
+                     " exceeds the " + std::to_string(r.remaining()) + " bytes left in the file");
+  }
+  if (tag == kTagEnd && field != 0) {
+    return error(ErrorCode::kCorrupt, where() +
+                                          ": the end chunk must be empty and unflagged "
+                                          "(length field " +
+                                          std::to_string(field) + ", expected 0)");
+  }
+  CBRDF_RETURN_IF_ERROR(r.bytes(info->stored_bytes, stored, "chunk payload"));
+  info->frame_bytes = std::uint32_t(r.offset() - offset - info->stored_bytes);
   return ok_status();
 }
 
@@ -307,10 +385,65 @@ std::uint64_t chunk_checksum(std::span<const std::uint8_t> header_and_stored) {
   return XXH64(header_and_stored.data(), header_and_stored.size(), 0);
 }
 
+std::uint32_t file_checksum(std::span<const std::uint8_t> bytes_before_checksum) {
+  return std::uint32_t(XXH64(bytes_before_checksum.data(), bytes_before_checksum.size(), 0));
+}
+
+namespace {
+
+// The compact framing in two passes: every frame and the file checksum first, so that damage
+// anywhere is caught before any byte reaches the decompressor; then each chunk's place, limit
+// and payload, as for the older framing.
+Expected<ParsedContainer> parse_compact(std::span<const std::uint8_t> bytes, ByteReader& r,
+                                        ParsedContainer pc) {
+  std::vector<ChunkInfo> infos;
+  std::vector<std::span<const std::uint8_t>> stored;
+  infos.reserve(8);  // a file has 5-7 chunks
+  stored.reserve(8);
+  while (infos.empty() || infos.back().tag != kTagEnd) {
+    ChunkInfo info;
+    std::span<const std::uint8_t> s;
+    CBRDF_RETURN_IF_ERROR(read_compact_frame(r, infos.size(), &info, &s));
+    infos.push_back(std::move(info));
+    stored.push_back(s);
+  }
+  ChunkInfo& end = infos.back();
+  const std::uint64_t sum_at = r.offset();
+  if (r.remaining() < kFileChecksumBytes) {
+    return error(ErrorCode::kTruncated,
+                 "the file checksum after the end chunk at offset " + std::to_string(end.offset) +
+                     " needs " + std::to_string(kFileChecksumBytes) + " bytes but only " +
+                     std::to_string(r.remaining()) + " are left (truncated?)");
+  }
+  std::uint32_t stored_sum = 0;
+  CBRDF_RETURN_IF_ERROR(r.u32(&stored_sum, "file checksum"));
+  const std::uint32_t sum = file_checksum(bytes.first(std::size_t(sum_at)));
+  if (stored_sum != sum) {
+    return error(ErrorCode::kChecksum, "file checksum at offset " + std::to_string(sum_at) +
+                                           " does not match (stored " + hex32(stored_sum) +
+                                           ", computed " + hex32(sum) + " over bytes 0-" +
+                                           std::to_string(sum_at - 1) + "); the file is damaged");
+  }
+  end.checksum = stored_sum;
+  end.frame_bytes += std::uint32_t(kFileChecksumBytes);
+  for (std::size_t i = 0; i < infos.size(); ++i) {
+    CBRDF_RETURN_IF_ERROR(check_chunk_place(pc, infos[i]));
+    Expected<std::vector<std::uint8_t>> payload = chunk_payload(infos[i], stored[i]);
+    if (!payload.ok()) return payload.status();
+    pc.layout.chunks.push_back(std::move(infos[i]));
+    pc.payloads.push_back(std::move(payload).value());
+  }
+  CBRDF_RETURN_IF_ERROR(check_complete(pc, r));
+  return pc;
+}
+
+}  // namespace
+
 Expected<ParsedContainer> parse_container(std::span<const std::uint8_t> bytes) {
   ParsedContainer pc;
   ByteReader r(bytes);
   CBRDF_RETURN_IF_ERROR(read_preamble(bytes, r, &pc.layout));
+  if (uses_compact_framing(pc.layout.minor)) return parse_compact(bytes, r, std::move(pc));
   bool ended = false;
   while (!ended) {
     ChunkInfo info;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The container writer: the file header, chunks (zstd where it pays) and the end chunk.
+// The container writer: the file header, chunks (zstd where it pays) and the end chunk, in the
+// framing of 1.0-1.2 or the compact one of 1.3.
 #include <algorithm>
 #include <string>
 
@@ -8,6 +9,24 @@
 #include "zstd_util.h"
 
 namespace cbrdf {
+namespace {
+
+std::size_t varint_bytes(std::uint64_t v) {
+  std::size_t n = 1;
+  while (v >= 0x80) {
+    v >>= 7;
+    ++n;
+  }
+  return n;
+}
+
+// Tag and length field, and the payload length field of a compressed chunk.
+std::size_t compact_frame_bytes(std::size_t stored, bool compressed, std::uint32_t payload_bytes) {
+  return 4 + varint_bytes(std::uint64_t(stored) << 2) +
+         (compressed ? varint_bytes(payload_bytes) : 0);
+}
+
+}  // namespace
 
 std::vector<std::uint8_t> container_file_header(std::uint16_t major, std::uint16_t minor) {
   ByteWriter w;
@@ -29,6 +48,22 @@ void append_raw_chunk(std::vector<std::uint8_t>* out, std::string_view tag, std:
   out->insert(out->end(), w.data().begin(), w.data().end());
 }
 
+void append_compact_chunk(std::vector<std::uint8_t>* out, std::string_view tag, std::uint32_t flags,
+                          std::span<const std::uint8_t> stored, std::uint32_t payload_bytes) {
+  ByteWriter w;
+  for (std::size_t i = 0; i < 4; ++i) w.u8(i < tag.size() ? std::uint8_t(tag[i]) : 0);
+  w.varint32(std::uint32_t(stored.size() << 2) | (flags & 3u));
+  if ((flags & kChunkFlagZstd) != 0) w.varint32(payload_bytes);
+  w.bytes(stored);
+  out->insert(out->end(), w.data().begin(), w.data().end());
+}
+
+void append_compact_end(std::vector<std::uint8_t>* out) {
+  append_compact_chunk(out, kTagEnd, 0, {}, 0);
+  const std::uint32_t sum = file_checksum(*out);
+  for (int i = 0; i < 4; ++i) out->push_back(std::uint8_t(sum >> (8 * i)));
+}
+
 Expected<std::vector<std::uint8_t>> write_container(std::span<const ChunkToWrite> chunks,
                                                     int zstd_level, std::uint16_t minor) {
   if (minor > kContainerMinorVersion) {
@@ -37,6 +72,15 @@ Expected<std::vector<std::uint8_t>> write_container(std::span<const ChunkToWrite
                                                   std::to_string(kContainerMinorVersion));
   }
   std::vector<std::uint8_t> out = container_file_header(kContainerMajorVersion, minor);
+  const bool compact = uses_compact_framing(minor);
+  auto append = [&](std::string_view tag, std::uint32_t flags, std::span<const std::uint8_t> stored,
+                    std::uint32_t payload_bytes) {
+    if (compact) {
+      append_compact_chunk(&out, tag, flags, stored, payload_bytes);
+    } else {
+      append_raw_chunk(&out, tag, flags, stored, payload_bytes);
+    }
+  };
   for (const ChunkToWrite& c : chunks) {
     if (!chunk_tag_valid(c.tag) || c.tag == kTagEnd) {
       return error(ErrorCode::kInvalidArgument,
@@ -56,14 +100,23 @@ Expected<std::vector<std::uint8_t>> write_container(std::span<const ChunkToWrite
       Expected<std::vector<std::uint8_t>> z =
           zstd_compress(c.payload, std::min(zstd_level, c.max_zstd_level));
       if (!z.ok()) return z.status().with_context("chunk '" + c.tag + "'");
-      if (z->size() < c.payload.size()) {
-        append_raw_chunk(&out, c.tag, kChunkFlagZstd, *z, payload_bytes);
+      // In the compact framing a compressed chunk also pays for its payload length field.
+      const bool smaller =
+          compact ? compact_frame_bytes(z->size(), true, payload_bytes) + z->size() <
+                        compact_frame_bytes(c.payload.size(), false, 0) + c.payload.size()
+                  : z->size() < c.payload.size();
+      if (smaller) {
+        append(c.tag, kChunkFlagZstd, *z, payload_bytes);
         continue;
       }
     }
-    append_raw_chunk(&out, c.tag, 0, c.payload, payload_bytes);
+    append(c.tag, 0, c.payload, payload_bytes);
   }
-  append_raw_chunk(&out, kTagEnd, 0, {}, 0);
+  if (compact) {
+    append_compact_end(&out);
+  } else {
+    append_raw_chunk(&out, kTagEnd, 0, {}, 0);
+  }
   if (out.size() > kMaxContainerBytes) {
     return error(ErrorCode::kLimit, "the encoded file would be " + std::to_string(out.size()) +
                                         " bytes, above the .cbrdf limit of " +

@@ -32,7 +32,12 @@ inline void check_layout(const ParsedContainer& pc, Bytes bytes, Result* r) {
     const std::string name = "chunk " + std::to_string(i) + " '" + c.tag + "'";
     r->check(chunk_tag_valid(c.tag), name + ": invalid tag accepted");
     r->check(c.offset == expected_offset, name + ": offset does not follow the previous chunk");
-    expected_offset = c.offset + kChunkHeaderBytes + c.stored_bytes + kChunkChecksumBytes;
+    const std::uint64_t frame =
+        uses_compact_framing(l.minor) ? 0 : kChunkHeaderBytes + kChunkChecksumBytes;
+    if (frame != 0) r->check(c.frame_bytes == frame, name + ": frame_bytes is not 24");
+    r->check(c.frame_bytes >= (frame != 0 ? frame : kCompactFrameMinBytes),
+             name + ": frame_bytes below the framing's minimum");
+    expected_offset = c.offset + c.frame_bytes + c.stored_bytes;
     r->check((c.flags & ~kChunkFlagZstd) == 0, name + ": reserved flags accepted");
     r->check(c.compressed || c.payload_bytes == c.stored_bytes, name + ": P != L uncompressed");
     r->check(c.known || !c.critical, name + ": unknown critical chunk accepted");

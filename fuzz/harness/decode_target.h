@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // fuzz_decode: decode_model, then evaluation of the decoded model.
 //
-// Every mutation of a chunk breaks its XXH64, which would stop almost every input at the chunk
-// layer (fuzz_container covers that layer). So this target first rewrites each chunk's checksum
-// that it can locate (repair_checksums): mutations then reach the payload parsers. The seeds are
-// .cbrdf files whose chunks are stored uncompressed, so that mutations land on payload fields
-// rather than inside zstd frames; compressed seeds keep the zstd paths covered.
+// Every mutation of a chunk breaks its XXH64 (1.3: the file's checksum), which would stop almost
+// every input at the chunk layer (fuzz_container covers that layer). So this target first rewrites
+// each chunk's checksum that it can locate (repair_checksums): mutations then reach the payload
+// parsers. The seeds are .cbrdf files whose chunks are stored uncompressed, so that mutations land
+// on payload fields rather than inside zstd frames; compressed seeds keep the zstd paths covered.
 //
 // Each accepted model is checked (model_checks.h), evaluated at fixed bins and direction pairs
 // (every value finite and >= 0: a renderer or the MERL writer must never see NaN or Inf), and for
@@ -42,10 +42,49 @@ inline std::uint32_t read_u32le(const std::vector<std::uint8_t>& b, std::size_t 
          (std::uint32_t(b[at + 3]) << 24);
 }
 
+// LEB128 of at most 5 bytes at `*at`; false when it runs past the end or is longer.
+inline bool read_varint(const std::vector<std::uint8_t>& b, std::size_t* at, std::uint64_t* v) {
+  *v = 0;
+  for (int i = 0; i < 5 && *at < b.size(); ++i) {
+    const std::uint8_t c = b[(*at)++];
+    *v |= std::uint64_t(c & 0x7F) << (7 * i);
+    if ((c & 0x80) == 0) return true;
+  }
+  return false;
+}
+
+// The compact framing (minor >= 3): walks the frames to the end chunk and rewrites the file
+// checksum after it; leaves the file as it is when a frame does not fit.
+inline void repair_file_checksum(std::vector<std::uint8_t>* out) {
+  std::size_t at = kContainerHeaderBytes;
+  while (out->size() - at >= kCompactFrameMinBytes) {
+    const bool end = std::memcmp(out->data() + at, "CEND", 4) == 0;
+    at += 4;
+    std::uint64_t field = 0;
+    std::uint64_t payload = 0;
+    if (!read_varint(*out, &at, &field)) return;
+    if ((field & 1) != 0 && !read_varint(*out, &at, &payload)) return;
+    if ((field >> 2) > out->size() - at) return;
+    at += std::size_t(field >> 2);
+    if (end) {
+      if (out->size() - at < kFileChecksumBytes) return;
+      const std::uint32_t sum = file_checksum(std::span<const std::uint8_t>(*out).first(at));
+      for (int i = 0; i < 4; ++i) (*out)[at + std::size_t(i)] = std::uint8_t(sum >> (8 * i));
+      return;
+    }
+  }
+}
+
 // Walks the chunks from the file header on and rewrites the checksum of each chunk whose declared
-// length fits in the file; stops at the first chunk that does not.
+// length fits in the file; stops at the first chunk that does not. In the compact framing, the
+// one file checksum.
 inline std::vector<std::uint8_t> repair_checksums(Bytes bytes) {
   std::vector<std::uint8_t> out(bytes.begin(), bytes.end());
+  if (out.size() >= kContainerHeaderBytes &&
+      uses_compact_framing(std::uint16_t(out[10] | (out[11] << 8)))) {
+    repair_file_checksum(&out);
+    return out;
+  }
   std::size_t at = kContainerHeaderBytes;
   while (out.size() >= at && out.size() - at >= kChunkHeaderBytes) {
     const std::uint64_t stored = read_u32le(out, at + 4);

@@ -1,8 +1,12 @@
 # SPDX-License-Identifier: MIT
-"""A second decoder of container 1.3's BASE chunk, written from spec/container.md (4.8, 4.9)
-alone, against the library's: parameters bit for bit and every marginal mass equal."""
+"""A second decoder of container 1.3's BASE chunk and compact framing, written from
+spec/container.md (2.2, 4.8, 4.9) alone, against the library's: the same chunks at the same
+offsets, parameters bit for bit and every marginal mass equal."""
 import math
 import struct
+from pathlib import Path
+
+import pytest
 
 import cbrdf
 from conftest import run_cli
@@ -57,17 +61,90 @@ class RangeDecoder:
         return -m if s else m
 
 
+# XXH64 (seed 0), from its specification (github.com/Cyan4973/xxHash, doc/xxhash_spec.md).
+M64 = (1 << 64) - 1
+P1, P2, P3, P4, P5 = (0x9E3779B185EBCA87, 0xC2B2AE3D27D4EB4F, 0x165667B19E3779F9,
+                      0x85EBCA77C2B2AE63, 0x27D4EB2F165667C5)
+
+
+def _rotl(x, r):
+    return ((x << r) | (x >> (64 - r))) & M64
+
+
+def _round(acc, lane):
+    return (_rotl((acc + lane * P2) & M64, 31) * P1) & M64
+
+
+def xxh64(data, seed=0):
+    n, i = len(data), 0
+    if n >= 32:
+        v = [(seed + P1 + P2) & M64, (seed + P2) & M64, seed, (seed - P1) & M64]
+        while i + 32 <= n:
+            for k in range(4):
+                v[k] = _round(v[k], int.from_bytes(data[i + 8 * k:i + 8 * k + 8], "little"))
+            i += 32
+        h = (_rotl(v[0], 1) + _rotl(v[1], 7) + _rotl(v[2], 12) + _rotl(v[3], 18)) & M64
+        for k in range(4):
+            h = ((h ^ _round(0, v[k])) * P1 + P4) & M64
+    else:
+        h = (seed + P5) & M64
+    h = (h + n) & M64
+    while i + 8 <= n:
+        h = ((_rotl(h ^ _round(0, int.from_bytes(data[i:i + 8], "little")), 27) * P1) + P4) & M64
+        i += 8
+    if i + 4 <= n:
+        h = ((_rotl(h ^ (int.from_bytes(data[i:i + 4], "little") * P1 & M64), 23) * P2) + P3) & M64
+        i += 4
+    while i < n:
+        h = (_rotl(h ^ (data[i] * P5 & M64), 11) * P1) & M64
+        i += 1
+    h ^= h >> 33
+    h = (h * P2) & M64
+    h ^= h >> 29
+    h = (h * P3) & M64
+    return h ^ (h >> 32)
+
+
+def varint(data, pos):
+    """Spec 2.2: LEB128, at most 5 bytes, below 2^32, shortest form."""
+    value = 0
+    for i in range(5):
+        b = data[pos + i]  # IndexError: truncated
+        value |= (b & 0x7F) << (7 * i)
+        if not b & 0x80:
+            assert i == 0 or b != 0, "overlong"
+            assert value < 1 << 32
+            return value, pos + i + 1
+    raise AssertionError("longer than 5 bytes")
+
+
 def chunks(data):
+    """Spec 1 and 2.2: the compact framing of a 1.3 file, its file checksum verified."""
     assert data[:8] == b"\x8bCBR\r\n\x1a\n"
     major, minor = struct.unpack_from("<HH", data, 8)
-    pos, out = 12, {}
-    while pos < len(data):
-        tag = data[pos:pos + 4].decode()
-        stored, flags, plen = struct.unpack_from("<III", data, pos + 4)
-        assert flags == 0  # the reference writer stores HEAD and BASE without zstd
-        out[tag] = data[pos + 16:pos + 16 + stored]
-        pos += 16 + stored + 8
-    return minor, out
+    assert major == 1 and minor >= 3
+    pos, out, layout = 12, {}, []
+    while True:
+        start, tag = pos, data[pos:pos + 4].decode("latin-1")
+        assert len(tag) == 4 and tag[0].isascii() and tag[0].isalpha()  # spec 2: tags
+        assert all(ch.isascii() and (ch.isupper() or ch.isdigit()) for ch in tag[1:])
+        field, pos = varint(data, pos + 4)
+        stored, flags = field >> 2, field & 3
+        assert flags in (0, 1)
+        plen = stored
+        if flags:
+            plen, pos = varint(data, pos)
+        assert pos + stored <= len(data)
+        layout.append((tag, start, stored, plen, bool(flags)))
+        if tag == "CEND":
+            assert field == 0
+            break
+        out[tag] = data[pos:pos + stored]
+        pos += stored
+    (stored_sum,) = struct.unpack_from("<I", data, pos)
+    assert stored_sum == xxh64(data[:pos]) & 0xFFFFFFFF
+    assert pos + 4 == len(data)
+    return minor, out, layout
 
 
 def masses(codes, hi_units, span_units, bits):
@@ -147,8 +224,14 @@ def test_spec_decoder_reads_what_the_library_reads(tmp_path):
         out = tmp_path / "p.cbrdf"
         run_cli("encode", binary, "-o", out, "--format-version", "1.3", "--no-metrics", *extra)
         data = out.read_bytes()
-        minor, ch = chunks(data)
+        minor, ch, layout = chunks(data)
+        # The framing as the library reads it: the same chunks at the same offsets.
+        info = cbrdf.info(data)
+        assert [(c["tag"], c["offset"], c["stored_bytes"], c["payload_bytes"], c["compressed"])
+                for c in info["chunks"]] == layout
         assert minor == 3 and "BASE" in ch and "MARG" not in ch
+        # The reference writer stores HEAD and BASE without zstd.
+        assert not any(c[4] for c in layout if c[0] in ("HEAD", "BASE"))
         assert ch["HEAD"][0] == 0
         bits, comps, tables = decode_base(ch["BASE"], ch["HEAD"][1])
         model = cbrdf.decode(data)
@@ -160,3 +243,24 @@ def test_spec_decoder_reads_what_the_library_reads(tmp_path):
             for axis in (comp.pdf_h, comp.pdf_d, comp.pdf_p):
                 assert list(axis) == tables[t]
                 t += 1
+
+
+def test_spec_framing_reads_the_golden_files_and_refuses_damage():
+    golden = Path(__file__).resolve().parents[1] / "data" / "golden"
+    files = sorted(golden.glob("v1.3-*.cbrdf"))
+    assert len(files) == 3
+    for f in files:
+        data = f.read_bytes()
+        minor, ch, layout = chunks(data)
+        info = cbrdf.info(data)
+        assert [(c["tag"], c["offset"], c["stored_bytes"], c["payload_bytes"], c["compressed"])
+                for c in info["chunks"]] == layout
+        assert layout[-1][1] + 9 == len(data)  # 'CEND', 0, the file checksum
+        # One flipped bit anywhere before the checksum: both refuse the file.
+        for at in (10, layout[1][1] + 7, len(data) - 6):
+            bad = bytearray(data)
+            bad[at] ^= 0x10
+            with pytest.raises((AssertionError, IndexError)):
+                chunks(bytes(bad))
+            with pytest.raises(cbrdf.Error):
+                cbrdf.decode(bytes(bad))
