@@ -470,6 +470,21 @@ std::uint64_t model_hash(const Model& m) {
   return h;
 }
 
+// FNV-1a over the codes as little-endian int32: what tests/python/test_base_spec.py's decoder,
+// written from the spec alone, must get from the range-coded golden file too.
+std::uint64_t codes_fnv(const std::vector<std::int32_t>& codes) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::int32_t q : codes) {
+    const auto u = std::uint32_t(q);
+    for (int i = 0; i < 4; ++i) {
+      h ^= (u >> (8 * i)) & 0xFF;
+      h *= 1099511628211ull;
+    }
+  }
+  return h;
+}
+constexpr std::uint64_t kRangedCodesFnv = 0x74ba0d728c343abdull;
+
 struct Golden13 {
   const char* name;
   std::uint64_t hash;
@@ -530,6 +545,8 @@ TEST(BaseCodingGolden, CommittedFilesDecodeToRecordedModels) {
       const int k = committed->find(kTagResidual);
       ASSERT_GE(k, 0);
       EXPECT_EQ(committed->payloads[std::size_t(k)][1], kResidualPredictorRange);
+      EXPECT_EQ(codes_fnv(decoded->residual.codes), kRangedCodesFnv)
+          << std::hex << "0x" << codes_fnv(decoded->residual.codes);
     }
     const std::uint64_t h = model_hash(*decoded);
     if (regenerate) std::printf("%s 0x%016llxull\n", g.name, static_cast<unsigned long long>(h));
