@@ -12,14 +12,17 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
+#include "chunks.h"
 #include "quantize.h"
 #include "range_coder.h"
+#include "residual_levels.h"
 #include "synthetic_model.h"
 
 namespace cbrdf {
@@ -407,6 +410,38 @@ Model golden13_residual6() {
   return m;
 }
 
+// Mode 3 (L = 3, m = 8, a step per row) in a 1.3 file, whose codes the writer range codes
+// (spec 4.6, "Range-coded codes"): a smooth target with noise, codes of both signs and sizes up
+// to tens in every level class, and an escape.
+Model golden13_ranged_residual6() {
+  Model m = golden13_frank6();
+  Residual& r = m.residual;
+  r.max_error = 0.01;
+  r.step = 0.0199;
+  r.knee = 1e-4;
+  r.levels = 3;
+  r.fine_multiplier = 8;
+  r.row_shift.assign(kResidualRows, 0);
+  for (std::size_t row = 0; row < kResidualRows; ++row) r.row_shift[row] = std::uint8_t(row % 2);
+  std::vector<double> target(kMaskBits, std::numeric_limits<double>::quiet_NaN());
+  std::uint32_t lcg = 2026;
+  for (int c = 0; c < kChannels; ++c) {
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      if (m.not_measured.test(c, i)) continue;
+      lcg = lcg * 1664525u + 1013904223u;
+      const double h = double(i / 16200), d = double((i / 180) % 90), p = double(i % 180);
+      target[std::size_t(c) * kBinsPerChannel + i] =
+          0.3 * std::sin(0.07 * h + 0.04 * d + 0.1 * c) * std::cos(0.03 * p) +
+          (double(lcg >> 8) / double(1 << 24) - 0.5) * (h >= 60 && h < 62 ? 0.3 : 0.002);
+    }
+  }
+  internal::quantize_interpolated(target.data(), &r);
+  std::size_t measured = 0;
+  while (m.not_measured.test(1, measured)) ++measured;
+  r.escapes = {{std::uint32_t(kBinsPerChannel + measured), 0.5}};
+  return m;
+}
+
 // FNV-1a over the bit patterns of everything a decoded model holds.
 std::uint64_t model_hash(const Model& m) {
   std::uint64_t h = 1469598103934665603ull;
@@ -435,17 +470,36 @@ std::uint64_t model_hash(const Model& m) {
   return h;
 }
 
+// FNV-1a over the codes as little-endian int32: what tests/python/test_base_spec.py's decoder,
+// written from the spec alone, must get from the range-coded golden file too.
+std::uint64_t codes_fnv(const std::vector<std::int32_t>& codes) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::int32_t q : codes) {
+    const auto u = std::uint32_t(q);
+    for (int i = 0; i < 4; ++i) {
+      h ^= (u >> (8 * i)) & 0xFF;
+      h *= 1099511628211ull;
+    }
+  }
+  return h;
+}
+constexpr std::uint64_t kRangedCodesFnv = 0x74ba0d728c343abdull;
+
 struct Golden13 {
   const char* name;
   std::uint64_t hash;
   int bits;
   Model (*build)();
+  // False for the residual file written before the codes could be range coded (issue 28): the
+  // writer now range codes them, and the committed file must still decode as before.
+  bool writer_pins_resd = true;
 };
 
 const Golden13 kGolden13[] = {
     {"v1.3-frank6-b10.cbrdf", 0x5e21a570cafc70c1ull, 10, golden13_frank6},
     {"v1.3-mixture3-b12.cbrdf", 0xc5917255596ad58aull, 12, golden13_mixture3},
-    {"v1.3-residual-frank6-b10.cbrdf", 0x08c54933dc6314acull, 10, golden13_residual6},
+    {"v1.3-residual-frank6-b10.cbrdf", 0x08c54933dc6314acull, 10, golden13_residual6, false},
+    {"v1.3-ranged-residual-frank6-b10.cbrdf", 0xc19a7411dd261c79ull, 10, golden13_ranged_residual6},
 };
 
 // CBRDF_REGENERATE_GOLDEN=NAME (or all) rewrites the file and prints its hash to record here.
@@ -481,12 +535,19 @@ TEST(BaseCodingGolden, CommittedFilesDecodeToRecordedModels) {
     ASSERT_TRUE(committed.ok() && again.ok());
     for (std::string_view tag : {kTagHeader, kTagBase, kTagMask, kTagResidual}) {
       ASSERT_EQ(committed->find(tag) >= 0, again->find(tag) >= 0) << tag;
-      if (committed->find(tag) < 0) continue;
+      if (committed->find(tag) < 0 || (tag == kTagResidual && !g.writer_pins_resd)) continue;
       EXPECT_EQ(committed->payloads[std::size_t(committed->find(tag))],
                 again->payloads[std::size_t(again->find(tag))])
           << "the encoder's " << tag << " payload changed";
     }
     EXPECT_EQ(decoded->residual.codes, built.residual.codes);
+    if (std::string(g.name).find("ranged") != std::string::npos) {
+      const int k = committed->find(kTagResidual);
+      ASSERT_GE(k, 0);
+      EXPECT_EQ(committed->payloads[std::size_t(k)][1], kResidualPredictorRange);
+      EXPECT_EQ(codes_fnv(decoded->residual.codes), kRangedCodesFnv)
+          << std::hex << "0x" << codes_fnv(decoded->residual.codes);
+    }
     const std::uint64_t h = model_hash(*decoded);
     if (regenerate) std::printf("%s 0x%016llxull\n", g.name, static_cast<unsigned long long>(h));
     EXPECT_EQ(h, g.hash) << std::hex << "decoded hash 0x" << h

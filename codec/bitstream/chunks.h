@@ -69,6 +69,8 @@ inline constexpr int kMaxResidualLevels = 4;  // coarsest spacing 16: phi_d + h 
 inline constexpr int kMaxFineMultiplier = 64;
 inline constexpr std::uint8_t kResidualPredictorNone = 0;  // codes as they are
 inline constexpr std::uint8_t kResidualPredictorPhi = 1;   // from the previous phi_d bin
+// Version 1.3: the codes range coded with contexts (residual_codes.h), in files of minor >= 3.
+inline constexpr std::uint8_t kResidualPredictorRange = 2;
 inline constexpr double kMinResidualError = 1e-6;
 inline constexpr double kMaxResidualError = 16.0;
 // Down to 1e-300 so that a table at any scale has a knee below its values (issue 31: a table
@@ -159,7 +161,9 @@ std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, i
 std::vector<std::uint8_t> encode_model_chunk(const Model& model);
 std::vector<std::uint8_t> encode_marginals_chunk(const Model& model, int bits);
 std::vector<std::uint8_t> encode_mask_chunk(const NotMeasured& mask);
-std::vector<std::uint8_t> encode_residual_chunk(const Model& model);
+// range_coding: the file is version 1.3 or later, so the codes may be range coded (the writer
+// takes that or the 1.2 coding, whichever is smaller after zstd).
+std::vector<std::uint8_t> encode_residual_chunk(const Model& model, bool range_coding);
 std::vector<std::uint8_t> encode_metadata_chunk(
     const std::vector<std::pair<std::string, std::string>>& entries);
 

@@ -5,12 +5,6 @@
 #include <string>
 
 namespace cbrdf::rc {
-namespace {
-
-constexpr std::uint32_t kTop = 1u << 24;
-
-}  // namespace
-
 void Encoder::shift_low() {
   // A byte is final once no carry can reach it: low below 0xFF000000, or a carry just happened.
   if (std::uint32_t(low_) < 0xFF000000u || (low_ >> 32) != 0) {
@@ -26,21 +20,6 @@ void Encoder::shift_low() {
   low_ = (low_ & 0x00FFFFFFu) << 8;
 }
 
-void Encoder::bit(Prob& prob, int b) {
-  const std::uint32_t bound = (range_ >> kProbBits) * prob.p;
-  if (b == 0) {
-    range_ = bound;
-  } else {
-    low_ += bound;
-    range_ -= bound;
-  }
-  prob.update(b);
-  while (range_ < kTop) {
-    range_ <<= 8;
-    shift_low();
-  }
-}
-
 std::vector<std::uint8_t> Encoder::finish() {
   for (int i = 0; i < 5; ++i) shift_low();
   // The first byte is the initial cache, always 0 (low starts at 0 and never carries into it).
@@ -49,12 +28,6 @@ std::vector<std::uint8_t> Encoder::finish() {
   // end.
   for (int i = 0; i < 4 && !out.empty() && out.back() == 0; ++i) out.pop_back();
   return out;
-}
-
-void CostMeter::bit(Prob& prob, int b) {
-  const double p0 = double(prob.p) / double(kProbOne);
-  bits_ -= std::log2(b == 0 ? p0 : 1.0 - p0);
-  prob.update(b);
 }
 
 Decoder::Decoder(std::span<const std::uint8_t> data) : data_(data) {

@@ -6,6 +6,8 @@
 // unsigned LEB128 varint; the chunk's zstd frame does the entropy coding. Mode 2 adds one step
 // shift per (theta_h, theta_d) row before the codes; mode 3 adds the level count and the finest
 // level's multiplier after them, and its codes correct an interpolation (residual_levels.h).
+// In version 1.3 the codes may instead be range coded with contexts (residual_codes.h).
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -16,7 +18,9 @@
 #include "byte_writer.h"
 #include "chunks.h"
 #include "exact_table.h"
+#include "residual_codes.h"
 #include "residual_levels.h"
+#include "zstd_util.h"
 
 namespace cbrdf {
 namespace {
@@ -57,12 +61,13 @@ double entropy_bits(const std::vector<std::uint8_t>& s) {
 }
 
 Status check_header(std::uint8_t predictor, std::uint16_t reserved, double max_error, double step,
-                    double knee, std::uint32_t escapes) {
-  if (predictor > kResidualPredictorPhi || reserved != 0) {
+                    double knee, std::uint32_t escapes, std::uint16_t file_minor) {
+  const std::uint8_t top = file_minor >= 3 ? kResidualPredictorRange : kResidualPredictorPhi;
+  if (predictor > top || reserved != 0) {
     return error(ErrorCode::kCorrupt, "predictor " + std::to_string(predictor) + " / reserved " +
                                           std::to_string(reserved) +
-                                          ": the predictor must be 0 or 1 and the reserved "
-                                          "field 0");
+                                          ": the predictor must be 0 or 1 (2, range-coded " +
+                                          "codes, from version 1.3 on) and the reserved field 0");
   }
   if (!(max_error >= kMinResidualError && max_error <= kMaxResidualError)) {
     return error(ErrorCode::kNumeric, "max error " + number_text(max_error) + " is outside " +
@@ -263,7 +268,7 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   CBRDF_RETURN_IF_ERROR(r.f64(&out->knee, "knee"));
   CBRDF_RETURN_IF_ERROR(r.u32(&escapes, "escape count"));
   CBRDF_RETURN_IF_ERROR(
-      check_header(predictor, reserved, out->max_error, out->step, out->knee, escapes));
+      check_header(predictor, reserved, out->max_error, out->step, out->knee, escapes, file_minor));
   out->row_shift.clear();
   out->levels = 0;
   out->fine_multiplier = 1;
@@ -272,34 +277,38 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   if (mode == kResidualModeInterp) CBRDF_RETURN_IF_ERROR(read_levels(r, out));
   out->codes.assign(kMaskBits, 0);
   std::span<const std::uint8_t> rest;
-  const std::uint64_t codes_at = r.offset();
-  CBRDF_RETURN_IF_ERROR(r.bytes(r.remaining(), &rest, "codes"));
-  Expected<std::size_t> used = read_codes(rest, codes_at, mask, predictor, out->codes.data());
-  if (!used.ok()) return used.status();
-  ByteReader tail(rest.subspan(*used), codes_at + *used, "payload offset");
-  CBRDF_RETURN_IF_ERROR(read_escapes(tail, escapes, mask, &out->escapes));
-  CBRDF_RETURN_IF_ERROR(check_trailing(tail.remaining(), file_minor));
+  std::uint64_t codes_at = r.offset();
+  if (predictor == kResidualPredictorRange) {
+    std::uint32_t length = 0;
+    CBRDF_RETURN_IF_ERROR(r.u32(&length, "coded stream length"));
+    codes_at = r.offset();
+    CBRDF_RETURN_IF_ERROR(r.bytes(length, &rest, "coded stream"));
+    CBRDF_RETURN_IF_ERROR(internal::decode_residual_codes(rest, codes_at, mask, out->codes.data()));
+    CBRDF_RETURN_IF_ERROR(read_escapes(r, escapes, mask, &out->escapes));
+    CBRDF_RETURN_IF_ERROR(check_trailing(r.remaining(), file_minor));
+  } else {
+    CBRDF_RETURN_IF_ERROR(r.bytes(r.remaining(), &rest, "codes"));
+    Expected<std::size_t> used = read_codes(rest, codes_at, mask, predictor, out->codes.data());
+    if (!used.ok()) return used.status();
+    ByteReader tail(rest.subspan(*used), codes_at + *used, "payload offset");
+    CBRDF_RETURN_IF_ERROR(read_escapes(tail, escapes, mask, &out->escapes));
+    CBRDF_RETURN_IF_ERROR(check_trailing(tail.remaining(), file_minor));
+  }
   if (out->interpolated()) internal::rebuild_interpolated(out);
   return check_residual_values(*out, codes_at);
 }
 
-std::vector<std::uint8_t> encode_residual_chunk(const Model& model) {
-  const Residual& res = model.residual;
+namespace {
+
+// The payload with the codes as given (kResidualPredictorRange: its u32 length first).
+std::vector<std::uint8_t> residual_payload(const Residual& res, std::uint8_t predictor,
+                                           const std::vector<std::uint8_t>& codes) {
   ByteWriter w;
-  if (res.exact) {
-    w.u8(kResidualModeExact);
-    w.bytes(internal::encode_exact_table(*res.exact));
-    return w.take();
-  }
-  // The predictor whose stream has the lower order-0 entropy (ties: none).
-  std::vector<std::uint8_t> none = code_stream(model, kResidualPredictorNone);
-  std::vector<std::uint8_t> phi = code_stream(model, kResidualPredictorPhi);
-  const bool use_phi = entropy_bits(phi) < entropy_bits(none);
   // Mode 3 always carries row shifts (check_residual: all 0 for one step).
   w.u8(res.interpolated()      ? kResidualModeInterp
        : res.row_shift.empty() ? kResidualModeLog
                                : kResidualModeRows);
-  w.u8(use_phi ? kResidualPredictorPhi : kResidualPredictorNone);
+  w.u8(predictor);
   w.u16(0);
   w.f64(res.max_error);
   w.f64(res.step);
@@ -310,7 +319,8 @@ std::vector<std::uint8_t> encode_residual_chunk(const Model& model) {
     w.u8(res.levels);
     w.u8(res.fine_multiplier);
   }
-  w.bytes(use_phi ? phi : none);
+  if (predictor == kResidualPredictorRange) w.u32(std::uint32_t(codes.size()));
+  w.bytes(codes);
   std::uint64_t next = 0;
   for (const ResidualEscape& e : res.escapes) {
     w.varint32(std::uint32_t(e.bin - next));
@@ -318,6 +328,36 @@ std::vector<std::uint8_t> encode_residual_chunk(const Model& model) {
     next = std::uint64_t(e.bin) + 1;
   }
   return w.take();
+}
+
+// What the chunk will take in the file: the payload or its zstd frame, whichever is smaller (as
+// write_container stores it).
+std::size_t stored_size(const std::vector<std::uint8_t>& payload) {
+  Expected<std::vector<std::uint8_t>> z = zstd_compress(payload, kResidualZstdLevel);
+  return z.ok() ? std::min(z->size(), payload.size()) : payload.size();
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encode_residual_chunk(const Model& model, bool range_coding) {
+  const Residual& res = model.residual;
+  if (res.exact) {
+    ByteWriter w;
+    w.u8(kResidualModeExact);
+    w.bytes(internal::encode_exact_table(*res.exact));
+    return w.take();
+  }
+  // The predictor whose stream has the lower order-0 entropy (ties: none).
+  std::vector<std::uint8_t> none = code_stream(model, kResidualPredictorNone);
+  std::vector<std::uint8_t> phi = code_stream(model, kResidualPredictorPhi);
+  const bool use_phi = entropy_bits(phi) < entropy_bits(none);
+  std::vector<std::uint8_t> varints = residual_payload(
+      res, use_phi ? kResidualPredictorPhi : kResidualPredictorNone, use_phi ? phi : none);
+  if (!range_coding) return varints;
+  std::vector<std::uint8_t> coded =
+      residual_payload(res, kResidualPredictorRange,
+                       internal::encode_residual_codes(res.codes.data(), model.not_measured));
+  return stored_size(coded) < stored_size(varints) ? coded : varints;
 }
 
 }  // namespace cbrdf

@@ -247,7 +247,7 @@ Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
   chunks.push_back({std::string(kTagMask), encode_mask_chunk(model.not_measured), true, 9});
   if (model.residual.present()) {
     // The exact table's streams are zstd frames already.
-    chunks.push_back({std::string(kTagResidual), encode_residual_chunk(model),
+    chunks.push_back({std::string(kTagResidual), encode_residual_chunk(model, minor >= 3),
                       model.residual.exact == nullptr, kResidualZstdLevel});
   }
   if (settings.write_metadata) {

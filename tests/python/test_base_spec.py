@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: MIT
-"""A second decoder of container 1.3's BASE chunk and compact framing, written from
-spec/container.md (2.2, 4.8, 4.9) alone, against the library's: the same chunks at the same
-offsets, parameters bit for bit and every marginal mass equal."""
+"""A second decoder of container 1.3's compact framing, BASE chunk and RESD's range-coded codes,
+written from spec/container.md (2.2, 4.4, 4.6, 4.8, 4.9) alone, against the library's: the same
+chunks at the same offsets, parameters bit for bit, every marginal mass equal, and the residual
+codes the C++ decoder reads."""
 import math
 import struct
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -248,7 +250,7 @@ def test_spec_decoder_reads_what_the_library_reads(tmp_path):
 def test_spec_framing_reads_the_golden_files_and_refuses_damage():
     golden = Path(__file__).resolve().parents[1] / "data" / "golden"
     files = sorted(golden.glob("v1.3-*.cbrdf"))
-    assert len(files) == 3
+    assert len(files) == 4
     for f in files:
         data = f.read_bytes()
         minor, ch, layout = chunks(data)
@@ -264,3 +266,162 @@ def test_spec_framing_reads_the_golden_files_and_refuses_damage():
                 chunks(bytes(bad))
             with pytest.raises(cbrdf.Error):
                 cbrdf.decode(bytes(bad))
+
+
+# ---- RESD's range-coded codes (spec 4.6, "Range-coded codes"; 4.4 for the mask) ---------------
+
+# FNV-1a (64-bit) over the decoded codes as little-endian int32, channel-major MERL order: the
+# value tests/base_coding_test.cc pins for the C++ decoder of the same golden file.
+RANGED_GOLDEN = "v1.3-ranged-residual-frank6-b10.cbrdf"
+RANGED_CODES_FNV = 0x74BA0D728C343ABD
+
+
+def below_horizon():
+    """Spec 4.4's G for one channel, in MERL index order."""
+    g = bytearray(90 * 90 * 180)
+    i = 0
+    for h in range(90):
+        th = h / 90.0 * h / 90.0 * (math.pi / 2)
+        sth, cth = math.sin(th), math.cos(th)
+        for d in range(90):
+            td = d / 90.0 * (math.pi / 2)
+            std, ctd = math.sin(td), math.cos(td)
+            for p in range(180):
+                pd = p / 180.0 * math.pi
+                dx = std * math.cos(pd)
+                dz = ctd
+                wi_z = -dx * sth + dz * cth
+                c = (dx * cth + dz * sth) * sth + wi_z * cth
+                wo_z = 2 * c * cth - wi_z
+                g[i] = 1 if (wi_z <= 0 or wo_z <= 0) else 0
+                i += 1
+    return g
+
+
+def decode_ranged_codes(stream, masked):
+    """The codes of every measured bin, exactly as the spec's pseudo-code says."""
+    n_bins = 90 * 90 * 180
+    q = [0] * (3 * n_bins)
+    data, pos, past = stream, 0, 0
+    rng, code = 0xFFFFFFFF, 0
+
+    def nxt():
+        nonlocal pos, past
+        if pos < len(data):
+            pos += 1
+            return data[pos - 1]
+        past += 1
+        return 0
+
+    for _ in range(4):
+        code = ((code << 8) | nxt()) & 0xFFFFFFFF
+    probs = {}
+
+    def bit(key):
+        nonlocal rng, code
+        p = probs.get(key, 16384)
+        bound = (rng >> 15) * p
+        if code < bound:
+            rng, b = bound, 0
+            probs[key] = p + ((32768 - p) >> 4)
+        else:
+            code -= bound
+            rng -= bound
+            probs[key], b = p - (p >> 4), 1
+        while rng < (1 << 24):
+            rng = (rng << 8) & 0xFFFFFFFF
+            code = ((code << 8) | nxt()) & 0xFFFFFFFF
+        return b
+
+    def tz3(v):
+        n = 0
+        while n < 3 and v % 2 == 0:
+            v //= 2
+            n += 1
+        return n
+
+    def sg(v):
+        return 0 if v == 0 else 1 if v > 0 else 2
+
+    cls_of = {}
+    for d in range(8):
+        for p in range(8):
+            lv = min(tz3(d), tz3(p))
+            cls_of[d, p] = 0 if lv == 3 else 1 + 2 * (2 - lv) + (0 if d % (2 ** (lv + 1)) == 0 else 1)
+    tops = (0, 1, 2, 4, 6, 9, 14, 22, 40, 80)
+    slab = 90 * 180
+    for c in range(3):
+        base = c * n_bins
+        for h in range(90):
+            for d in range(90):
+                for p in range(180):
+                    i = (h * 90 + d) * 180 + p
+                    if masked[base + i]:
+                        continue
+                    a = q[base + i - slab] if h > 0 else 0
+                    s = 0
+                    if h > 0:
+                        row = base + i - p - slab
+                        s = 2 * abs(a) + abs(q[row + (p + 179) % 180]) + abs(q[row + (p + 1) % 180])
+                    b = q[base + i - n_bins] if c > 0 else 0
+                    s += 2 * abs(b)
+                    bucket = sum(1 for t in tops if s > t)
+                    k = 2 * (11 * cls_of[d % 8, p % 8] + bucket) + (1 if c > 0 else 0)
+                    if not bit(("zero", k)):
+                        continue
+                    e = q[base + i - 2 * slab] if h > 1 else 0
+                    neg = bit(("sign", 9 * sg(a) + 3 * sg(b) + sg(e)))
+                    n = 0
+                    while bit(("exp", k, n)):
+                        n += 1
+                        assert n <= 28
+                    x = 1
+                    for j in range(n - 1, -1, -1):
+                        x = 2 * x + bit(("mant", k, n, j))
+                    assert x <= 1 << 28
+                    q[base + i] = -x if neg else x
+    assert pos == len(data) and past <= 4
+    return q
+
+
+def test_spec_decoder_reads_range_coded_residual_codes():
+    path = Path(__file__).resolve().parents[1] / "data" / "golden" / RANGED_GOLDEN
+    data = path.read_bytes()
+    minor, stored, layout = chunks(data)  # spec 2.2's framing
+    assert minor == 3
+    ch = {}
+    for tag, _, _, plen, compressed in layout[:-1]:
+        raw = stored[tag]
+        if compressed:  # one zstd frame
+            raw = subprocess.run(["zstd", "-d", "-c"], input=raw, capture_output=True,
+                                 check=True).stdout
+        assert len(raw) == plen
+        ch[tag] = raw
+    # MASK: against the below-horizon mask, one clear run (the standard mask).
+    mask = ch["MASK"]
+    assert mask[0] == 1 and mask[1] == 1
+    count = struct.unpack_from("<I", mask, 4)[0]
+    assert struct.unpack_from("<I", mask, 16)[0] == 1
+    masked = below_horizon() * 3
+    assert sum(masked) == count
+    resd = ch["RESD"]
+    mode, predictor = resd[0], resd[1]
+    assert mode == 3 and predictor == 2
+    escapes = struct.unpack_from("<I", resd, 28)[0]
+    at = 32 + 8100 + 2
+    length = struct.unpack_from("<I", resd, at)[0]
+    stream = resd[at + 4:at + 4 + length]
+    q = decode_ranged_codes(stream, masked)
+    # The escapes end the payload: varint gap, f64 each.
+    rest = resd[at + 4 + length:]
+    k = 0
+    for _ in range(escapes):
+        while rest[k] & 0x80:
+            k += 1
+        k += 1 + 8
+    assert k == len(rest)
+    h = 0xCBF29CE484222325
+    for v in q:
+        for byte in struct.pack("<i", v):
+            h = ((h ^ byte) * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
+    assert any(q) and h == RANGED_CODES_FNV, hex(h)
