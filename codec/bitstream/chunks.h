@@ -165,15 +165,13 @@ namespace base_codes {
 // kSpanSearch units more where plain rounding then errs least on the mass-squared-weighted log
 // masses: what a linear image sees), the largest
 // mass at the top code (exact, as 1.2's range made it), position[i] in [1, top] (0 for a zero
-// mass), weight[i] the mass over the largest raised to kWeightPower: 0, every nonzero mass alike,
-// as a tone-mapped image sees a relative error (measured on 4 real materials against powers 0.5
-// and 1, which let low-mass bins drift a whole step: 0.8 dB more at 6 bits, 0.4 at 8, for 3.5% of
-// the bytes).
+// mass), weight[i] the mass over the largest raised to kWeightPower (what a rendered image sees
+// of a relative error in bin i, between the tone-mapped and the linear image's view).
 struct Positions {
   std::uint32_t span_units = 0;
   std::vector<double> position, weight;
 };
-inline constexpr double kWeightPower = 0.0;
+inline constexpr double kWeightPower = 1.0;
 inline constexpr std::uint32_t kSpanSearch = 8;
 Positions positions(std::span<const double> masses, int bits);
 // Plain rounding of every position.
