@@ -171,8 +171,11 @@ std::vector<std::string> tags(const Bytes& b) {
   return out;
 }
 
-// Every decoded mass within the bound of its table's grid range (spec 4.3's e^step - 1 with the
-// 1.3 range), every parameter within binary32's rounding (one ulp: 2^-23 relative).
+// Every decoded mass within the bound of its table's range, every parameter within binary32's
+// rounding (one ulp: 2^-23 relative). The bound: files written before rate-distortion rounding
+// (the committed golden files) rounded to nearest on the grid range, spec 4.3's e^step - 1; the
+// writer now rounds each log mass to either neighbour code on its own span D (base_codes), so
+// renormalization included e^(2 step) - 1 with that D's step (spec 4.8).
 void expect_within_budget(const Model& source, const Model& decoded, int bits) {
   ASSERT_EQ(source.slices.size(), decoded.slices.size());
   double worst = 0.0;
@@ -193,7 +196,9 @@ void expect_within_budget(const Model& source, const Model& decoded, int bits) {
         for (int ax = 0; ax < 3; ++ax) {
           GridRange range;
           const QuantizedTable t = quantize_masses_on_grid(*xs[ax], bits, &range);
-          const double bound = relative_error_bound(t, bits);
+          const double step = double(base_codes::positions(*xs[ax], bits).span_units) /
+                              kRangeGridUnits / double(max_code(bits) - 1);
+          const double bound = std::max(relative_error_bound(t, bits), std::expm1(2 * step));
           double sum = 0.0;
           for (double v : *xs[ax]) sum += v;
           ASSERT_EQ(xs[ax]->size(), ys[ax]->size());
@@ -533,7 +538,13 @@ TEST(BaseCodingGolden, CommittedFilesDecodeToRecordedModels) {
     // The encoder is pinned too: the same model chunks (mETA names the encoder's version).
     Expected<ParsedContainer> committed = parse_container(bytes), again = parse_container(*fresh);
     ASSERT_TRUE(committed.ok() && again.ok());
-    for (std::string_view tag : {kTagHeader, kTagBase, kTagMask, kTagResidual}) {
+    // BASE is left out: the writer's choice of codes (rate-distortion rounding, issue 28) is free
+    // under the spec and changed after these files were written; the fresh file must decode
+    // within the budget instead.
+    Expected<Model> again_decoded = decode_model(*fresh);
+    ASSERT_TRUE(again_decoded.ok()) << again_decoded.status().message();
+    expect_within_budget(built, *again_decoded, g.bits);
+    for (std::string_view tag : {kTagHeader, kTagMask, kTagResidual}) {
       ASSERT_EQ(committed->find(tag) >= 0, again->find(tag) >= 0) << tag;
       if (committed->find(tag) < 0 || (tag == kTagResidual && !g.writer_pins_resd)) continue;
       EXPECT_EQ(committed->payloads[std::size_t(committed->find(tag))],

@@ -38,6 +38,7 @@ struct ReportOptions {
   std::string progress = "auto";
   bool ladder = false;    // issue 18's ladder: base, residual, lossless and baselines
   std::string truth_dir;  // noise-free tables of noisy inputs (issue 30)
+  std::string format_version = "auto";
 };
 
 // Whether a built-in sample belongs to `--builtin kind`.
@@ -102,6 +103,29 @@ int run_report(ReportOptions o, const Context& global) {
     return usage_error("report: --truth measures the ladder against the truth: add --ladder");
   }
   st.truth_dir = o.truth_dir;
+  {
+    // A comma-separated list of distinct codings: the rows' own first, then those measured beside.
+    st.codings.clear();
+    std::string item;
+    for (std::size_t i = 0; i <= o.format_version.size(); ++i) {
+      if (i < o.format_version.size() && o.format_version[i] != ',') {
+        item += o.format_version[i];
+        continue;
+      }
+      if (item != "auto" && item != "1.2" && item != "1.3") {
+        return usage_error(
+            "report: --format-version takes auto, 1.2 or 1.3, or a list of them "
+            "such as auto,1.2; not '" +
+            item + "' in '" + o.format_version + "'");
+      }
+      if (std::find(st.codings.begin(), st.codings.end(), item) != st.codings.end()) {
+        return usage_error("report: --format-version names " + item + " twice in '" +
+                           o.format_version + "'");
+      }
+      st.codings.push_back(item);
+      item.clear();
+    }
+  }
   st.jobs = o.jobs > 0 ? o.jobs : thread_limit();
   // The bar redraws one line with carriage returns: by default only for a terminal, so that logs
   // stay readable.
@@ -137,7 +161,7 @@ int run_report(ReportOptions o, const Context& global) {
   if (!ctx.quiet) {
     for (const report::TextTable& t : report::report_tables(*results, st)) {
       if (t.id == "time" || t.id == "psnr" || t.id == "sweep" || t.id == "gain" ||
-          t.id == "paper-psnr" || t.id == "paper-storage") {
+          t.id == "paper-psnr" || t.id == "paper-storage" || t.id.starts_with("coding-")) {
         std::printf("%s\n", report::to_text(t).c_str());
       }
     }
@@ -203,6 +227,12 @@ void add_report_command(CLI::App& app, const Context& ctx, Action* action) {
                   "With --ladder: a folder of noise-free tables (NAME.binary for an input "
                   "NAME.binary or NAME-noisy.binary); the ladder is measured against them too")
       ->check(CLI::ExistingDirectory);
+  cmd->add_option("--format-version", o->format_version,
+                  "Container coding of the copula rows: auto (1.3 where smaller, as `cbrdf "
+                  "encode`), 1.2 or 1.3. A list such as auto,1.2 also writes every setting's fit "
+                  "in the further codings and shows the frontiers side by side (1.2 with full "
+                  "metadata, as it was written)")
+      ->capture_default_str();
   cmd->add_option("--analytic-loss", o->analytic_loss,
                   "Loss of the analytic fits: cos (cosine-weighted L2, after Ngan et al.) or log")
       ->capture_default_str();

@@ -120,7 +120,151 @@ void for_each_component(const std::vector<Slice>& slices, F f) {
   }
 }
 
+// The cost of coding one signed value from contexts, without adapting them: within one value
+// each probability is used at most once, so this is exactly what an Encoder would spend.
+struct PeekMeter {
+  double bits = 0;
+  void bit(const rc::Prob& prob, int b) {
+    const double p0 = double(prob.p) / double(rc::kProbOne);
+    bits -= std::log2(b == 0 ? p0 : 1.0 - p0);
+  }
+};
+struct PeekSink {
+  PeekMeter* m;
+  void bit(rc::Prob& prob, int b) { m->bit(prob, b); }
+};
+
 }  // namespace
+
+namespace base_codes {
+
+Positions positions(std::span<const double> masses, int bits) {
+  Positions p;
+  p.position.assign(masses.size(), 0.0);
+  p.weight.assign(masses.size(), 0.0);
+  double sum = 0.0;
+  for (double m : masses) sum += m > 0.0 ? m : 0.0;
+  if (!(sum > 0.0) || !std::isfinite(sum)) return p;
+  // Scaled to sum 1, as the decoder renormalizes: every log mass at or below 0.
+  const double log_sum = std::log(sum);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (double m : masses) {
+    if (m > 0.0) {
+      lo = std::min(lo, std::log(m) - log_sum);
+      hi = std::max(hi, std::log(m) - log_sum);
+    }
+  }
+  lo = std::max(lo, kMinLogMass);
+  hi = std::max(hi, kMinLogMass);
+  // The smallest grid span that holds every log mass (at least one unit, unless all are equal).
+  const double units = std::ceil((hi - lo) * kRangeGridUnits);
+  const std::uint32_t smallest = std::uint32_t(std::clamp(units, 0.0, double(kMaxGridUnits)));
+  const double top = double(max_code(bits));
+  const double peak = std::exp(hi + log_sum);
+  auto fill = [&](std::uint32_t d, Positions* out) {
+    out->span_units = d;
+    const double span = double(d) / kRangeGridUnits;
+    for (std::size_t i = 0; i < masses.size(); ++i) {
+      if (!(masses[i] > 0.0)) continue;
+      const double x = std::log(masses[i]) - log_sum - hi;  // <= 0
+      out->position[i] = span > 0.0 ? std::clamp(top + x / span * (top - 1.0), 1.0, top) : top;
+      out->weight[i] = std::pow(std::min(masses[i] / peak, 1.0), kWeightPower);
+    }
+  };
+  fill(smallest, &p);
+  if (smallest == 0) return p;
+  // A slightly wider span moves every code's lattice point: take the one whose plain rounding
+  // errs least where a linear image looks (log error weighted by the mass squared: the highlight
+  // bins). A specular table's peak neighbours otherwise fall wherever the grid puts them.
+  auto linear_error = [&](const Positions& c) {
+    const double step = double(c.span_units) / kRangeGridUnits / (top - 1.0);
+    double e2 = 0;
+    for (std::size_t i = 0; i < masses.size(); ++i) {
+      if (!(masses[i] > 0.0)) continue;
+      const double r = masses[i] / peak;
+      const double e = (std::nearbyint(c.position[i]) - c.position[i]) * step;
+      e2 += r * r * e * e;
+    }
+    return e2;
+  };
+  double best = linear_error(p);
+  Positions trial = p;
+  for (std::uint32_t d = smallest + 1; d <= std::min(smallest + kSpanSearch, kMaxGridUnits); ++d) {
+    fill(d, &trial);
+    const double e = linear_error(trial);
+    if (e < best) best = e, p = trial;
+  }
+  return p;
+}
+
+std::vector<std::uint32_t> rounded(const Positions& p) {
+  std::vector<std::uint32_t> q(p.position.size(), 0);
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    q[i] = p.position[i] > 0.0 ? std::uint32_t(std::nearbyint(p.position[i])) : 0;
+  }
+  return q;
+}
+
+namespace {
+std::int64_t predicted(const Predicting& how, const std::vector<std::uint32_t>& q, std::size_t i,
+                       std::uint32_t span) {
+  const Reference ref{how.ref_codes, how.ref_span};
+  return clamp_code(predict(how.mode, q, i, ref, span, how.first), how.top);
+}
+}  // namespace
+
+double rd_cost(const Positions& p, const std::vector<std::uint32_t>& codes, const Predicting& how,
+               std::array<rc::SIntContexts, 3> contexts, double lambda) {
+  double distortion = 0;
+  for (std::size_t i = 0; i < codes.size(); ++i) {
+    const double e = double(codes[i]) - p.position[i];
+    distortion += p.weight[i] * e * e;
+  }
+  rc::CostMeter meter;
+  put_codes(meter, contexts, how.mode, codes, Reference{how.ref_codes, how.ref_span}, p.span_units,
+            how.first, how.top);
+  return distortion + lambda * meter.bits();
+}
+
+std::vector<std::uint32_t> rd_rounded(const Positions& p, const Predicting& how,
+                                      const std::array<rc::SIntContexts, 3>& contexts,
+                                      double lambda) {
+  std::vector<std::uint32_t> plain = rounded(p);
+  if (!(lambda > 0.0)) return plain;
+  std::array<rc::SIntContexts, 3> ctx = contexts;
+  std::vector<std::uint32_t> q(p.position.size(), 0);
+  int cls = 2;
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    const std::int64_t pred = predicted(how, q, i, p.span_units);
+    // A zero mass stays code 0 (an exact zero); others take a neighbour of their position.
+    std::int64_t best = 0;
+    if (p.position[i] > 0.0) {
+      double best_cost = std::numeric_limits<double>::infinity();
+      const double lo = std::floor(p.position[i]), hi = std::ceil(p.position[i]);
+      for (double c : {lo, hi}) {
+        if (c < 1.0 || c > double(how.top)) continue;
+        PeekMeter meter;
+        PeekSink sink{&meter};
+        rc::put_sint(sink, ctx[std::size_t(cls)], std::int32_t(std::int64_t(c) - pred));
+        const double e = c - p.position[i];
+        const double cost = p.weight[i] * e * e + lambda * meter.bits;
+        if (cost < best_cost) best_cost = cost, best = std::int64_t(c);
+      }
+    }
+    q[i] = std::uint32_t(best);
+    rc::CostMeter adapt;
+    rc::put_sint(adapt, ctx[std::size_t(cls)], std::int32_t(best - pred));
+    cls = residual_class(best - pred);
+  }
+  return rd_cost(p, q, how, contexts, lambda) <= rd_cost(p, plain, how, contexts, lambda) ? q
+                                                                                          : plain;
+}
+
+double writer_lambda() {
+  return kWriterLambda;
+}
+
+}  // namespace base_codes
 
 std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, int bits) {
   ByteWriter w;
@@ -151,6 +295,7 @@ std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, i
   MarginalContexts ctx;
   rc::Encoder enc;
   const std::int64_t top = max_code(bits);
+  const double lambda_log = base_codes::writer_lambda();
   std::array<std::vector<std::uint32_t>, 3> last_codes;
   std::array<GridRange, 3> last_range{};
   std::array<bool, 3> have_last{};
@@ -158,30 +303,49 @@ std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, i
     const Component& comp = model.slices[s].channel[std::size_t(c)].component(k);
     const std::vector<double>* tables[3] = {&comp.pdf_h, &comp.pdf_d, &comp.pdf_p};
     for (std::size_t a = 0; a < 3; ++a) {
+      const base_codes::Positions pos = base_codes::positions(*tables[a], bits);
+      // Only D shapes the decoded ratios (the decoder renormalizes): H costs nothing as the
+      // previous table's, moved only as far as the range must stay inside [-746, 0].
       GridRange range;
-      const QuantizedTable t = quantize_masses_on_grid(*tables[a], bits, &range);
+      range.span_units = pos.span_units;
+      range.hi_units = std::min(last_range[a].hi_units, kMaxGridUnits - pos.span_units);
       rc::put_sint(enc, ctx.hi[a],
                    std::int32_t(std::int64_t(range.hi_units) - last_range[a].hi_units));
       rc::put_sint(enc, ctx.span[a],
                    std::int32_t(std::int64_t(range.span_units) - last_range[a].span_units));
       Reference ref;
-      if (have_last[a] && last_codes[a].size() == t.codes.size()) {
+      if (have_last[a] && last_codes[a].size() == pos.position.size()) {
         ref = {&last_codes[a], last_range[a].span_units};
       }
       const std::int64_t first = first_prediction(have_last[a] ? &last_codes[a] : nullptr, top);
-      // The predictor that costs least from the current state.
+      // The predictor, and codes for it, that cost least (distortion + lambda x bits) from the
+      // current state; lambda 0 is plain rounding and the fewest bits.
       int best = kPredictPrevious;
-      double best_bits = std::numeric_limits<double>::infinity();
+      double best_cost = std::numeric_limits<double>::infinity();
+      QuantizedTable t;
+      // lambda is per squared log mass: in squared code steps of this table it grows as the
+      // step shrinks, so that fine codes are rounded towards cheap ones and coarse codes are not.
+      const double step = double(pos.span_units) / kRangeGridUnits / double(top - 1);
+      const double lambda = step > 0.0 ? lambda_log / (step * step) : 0.0;
       for (int mode = 0; mode < kPredictors; ++mode) {
         if (mode >= kPredictRefStep && ref.codes == nullptr) continue;
+        const base_codes::Predicting how{mode, ref.codes, ref.span, first, top};
+        std::vector<std::uint32_t> codes =
+            base_codes::rd_rounded(pos, how, ctx.residual[a], lambda);
         rc::CostMeter meter;
         std::array<rc::Prob, 3> p = ctx.predictor[a];
         std::array<rc::SIntContexts, 3> r = ctx.residual[a];
         put_predictor(meter, p, mode);
-        put_codes(meter, r, mode, t.codes, ref, range.span_units, first, top);
-        if (meter.bits() < best_bits) {
-          best_bits = meter.bits();
+        put_codes(meter, r, mode, codes, ref, range.span_units, first, top);
+        // lambda 0: the fewest bits, as before (every mode then has the same codes).
+        const double key =
+            lambda > 0.0
+                ? base_codes::rd_cost(pos, codes, how, ctx.residual[a], 0.0) + lambda * meter.bits()
+                : meter.bits();
+        if (key < best_cost) {
+          best_cost = key;
           best = mode;
+          t.codes = std::move(codes);
         }
       }
       put_predictor(enc, ctx.predictor[a], best);

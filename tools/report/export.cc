@@ -97,7 +97,7 @@ nlohmann::json settings_json(const Settings& st, double elapsed_s) {
   };
 }
 
-nlohmann::json row_json(const Row& r) {
+nlohmann::json row_fields(const Row& r) {
   return {{"material", r.material},
           {"model", r.model},
           {"label", r.label()},
@@ -124,6 +124,23 @@ nlohmann::json row_json(const Row& r) {
           {"render_s",
            std::isfinite(r.render_s) ? nlohmann::json(r.render_s) : nlohmann::json(nullptr)},
           {"detail", r.detail}};
+}
+
+nlohmann::json row_json(const Row& r) {
+  nlohmann::json j = row_fields(r);
+  // Only with side-by-side codings (--format-version auto,1.2): each coding's measurements.
+  if (!r.codings.empty()) {
+    nlohmann::json codings = nlohmann::json::array();
+    for (const CodingResult& c : r.codings) {
+      codings.push_back({{"coding", c.coding},
+                         {"bytes", c.bytes},
+                         {"psnr_linear_db", c.psnr_linear},
+                         {"psnr_tonemapped_db", c.psnr_tonemapped},
+                         {"encode_s", c.encode_s}});
+    }
+    j["codings"] = std::move(codings);
+  }
+  return j;
 }
 
 // The mean and per-material gains over the paper's setting at each budget factor.

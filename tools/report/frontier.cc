@@ -88,6 +88,40 @@ BudgetGain budget_gain(const std::vector<MaterialPoints>& materials, double fact
   return b;
 }
 
+CodingBudget compare_at_budget(const std::vector<std::vector<RdPoint>>& fresh,
+                               const std::vector<std::vector<RdPoint>>& old, double budget) {
+  CodingBudget c;
+  c.budget = budget;
+  c.materials = int(std::max(fresh.size(), old.size()));
+  double fp = 0, fl = 0, op = 0, ol = 0, gain = 0, lin = 0;
+  const double inf = std::numeric_limits<double>::infinity();
+  double min_gain = inf, min_lin = inf;
+  for (std::size_t m = 0; m < std::size_t(c.materials); ++m) {
+    const RdPoint* f = m < fresh.size() ? best_within(fresh[m], budget) : nullptr;
+    const RdPoint* o = m < old.size() ? best_within(old[m], budget) : nullptr;
+    if (f) fp += f->psnr, fl += f->psnr_linear, ++c.fresh_qualifying;
+    if (o) op += o->psnr, ol += o->psnr_linear, ++c.old_qualifying;
+    if (f && o) {
+      gain += f->psnr - o->psnr;
+      lin += f->psnr_linear - o->psnr_linear;
+      min_gain = std::min(min_gain, f->psnr - o->psnr);
+      min_lin = std::min(min_lin, f->psnr_linear - o->psnr_linear);
+      ++c.paired;
+    }
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto mean = [&](double sum, int n) { return n ? sum / n : nan; };
+  c.fresh_psnr = mean(fp, c.fresh_qualifying);
+  c.fresh_linear = mean(fl, c.fresh_qualifying);
+  c.old_psnr = mean(op, c.old_qualifying);
+  c.old_linear = mean(ol, c.old_qualifying);
+  c.gain_db = mean(gain, c.paired);
+  c.linear_gain_db = mean(lin, c.paired);
+  c.min_gain_db = c.paired ? min_gain : nan;
+  c.min_linear_gain_db = c.paired ? min_lin : nan;
+  return c;
+}
+
 double target_gain_db(double factor) {
   if (factor == 1.0) return 2.0;
   if (factor == 4.0) return 6.0;

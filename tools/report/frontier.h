@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@ struct RdPoint {
   double bytes = 0;
   double psnr = 0;  // tone-mapped sphere PSNR, dB
   double encode_s = 0;
+  double psnr_linear = std::numeric_limits<double>::quiet_NaN();  // linear sphere PSNR, dB
 };
 
 // Indices of the Pareto frontier of `points` (fewer bytes and higher PSNR are better), by
@@ -62,5 +64,31 @@ BudgetGain budget_gain(const std::vector<MaterialPoints>& materials, double fact
 // The budgets the report shows, and the targets for the mean gain (NaN: none).
 inline constexpr double kBudgetFactors[] = {1.0, 2.0, 4.0};
 double target_gain_db(double factor);
+
+// Two codings of the same settings side by side (`cbrdf report --format-version auto,1.2`): per
+// material, each coding's best point within an absolute byte budget (best_within), then means.
+// `fresh` and `old` hold one point list per material, in the same material order.
+struct CodingBudget {
+  double budget = 0;  // bytes
+  int materials = 0;
+  int fresh_qualifying = 0, old_qualifying = 0;  // materials with a point within the budget
+  // Means over each coding's own qualifying materials (NaN: none).
+  double fresh_psnr = 0, old_psnr = 0, fresh_linear = 0, old_linear = 0;
+  // Over the materials where both codings qualify (paired): mean and smallest of fresh - old,
+  // tone-mapped and linear (NaN: none).
+  int paired = 0;
+  double gain_db = 0, min_gain_db = 0, linear_gain_db = 0, min_linear_gain_db = 0;
+};
+CodingBudget compare_at_budget(const std::vector<std::vector<RdPoint>>& fresh,
+                               const std::vector<std::vector<RdPoint>>& old, double budget);
+
+// The budgets of the side-by-side frontier (bytes; 1 KB = 1000 bytes) and the targets: the
+// new coding at least +1.0 dB tone-mapped above the old at every budget, linear PSNR at most 0.3 dB
+// lower, and at least 38 dB at 1 KB.
+inline constexpr double kCodingBudgets[] = {1000, 1500, 2000,  3000,  4000,  5000,
+                                            6000, 8000, 10000, 12000, 15000, 20000};
+inline constexpr double kCodingTargetGainDb = 1.0;
+inline constexpr double kCodingMaxLinearLossDb = 0.3;
+inline constexpr double kCodingOneKbTargetDb = 38.0;
 
 }  // namespace cbrdf::report

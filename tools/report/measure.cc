@@ -116,8 +116,12 @@ std::vector<std::pair<CodecSetting, bool>> copula_settings(const Settings& st) {
 // The encoder's settings at a sweep setting, as `cbrdf encode` would build them from the same
 // options (so that the sizes match what it writes).
 Expected<EncoderSettings> encoder_settings_at(const CodecSetting& s, int threads,
-                                              const std::string& source_name) {
+                                              const std::string& source_name,
+                                              const std::string& coding) {
   EncoderOptions o;
+  o.format_version = coding;
+  // Every encoder before 1.3 wrote full metadata: the 1.2 coding as it was.
+  if (coding == "1.2") o.metadata = "full";
   o.slices = std::to_string(s.slices);
   o.components = components_name(s.components);
   o.family = s.family;
@@ -231,7 +235,7 @@ class MaterialRun {
     const std::string source_name =
         m_.builtin ? m_.name : std::filesystem::path(m_.path).filename().string();
     for (const auto& [s, in_sweep] : settings) {
-      auto es = encoder_settings_at(s, threads_, source_name);
+      auto es = encoder_settings_at(s, threads_, source_name, st_.codings.front());
       if (!es.ok()) return es.status().with_context(m_.name + " (" + s.label() + ")");
       if (fitted.family != s.family || fitted.slices != s.slices ||
           fitted.components != s.components) {
@@ -262,6 +266,15 @@ class MaterialRun {
       const BrdfTable decoded = decoded_model->table();
       r.decode_s = since(t0);
       set_metrics(&r, decoded);
+      if (st_.codings.size() > 1) {
+        r.codings.push_back(
+            {st_.codings.front(), r.bytes, r.psnr_linear, r.psnr_tonemapped, r.encode_s});
+        for (std::size_t c = 1; c < st_.codings.size(); ++c) {
+          auto other = other_coding(s, model, fit_s, source_name, st_.codings[c]);
+          if (!other.ok()) return other.status().with_context(m_.name + " (" + s.label() + ")");
+          r.codings.push_back(*other);
+        }
+      }
       const ModelEvaluator ev(*decoded_model);
       r.eval_ns =
           eval_ns([&](const Vec3& wi, const Vec3& wo, double* rgb) { ev.eval(wi, wo, rgb); });
@@ -278,6 +291,27 @@ class MaterialRun {
       progress_->step(m_.name + ": " + s.label());
     }
     return ok_status();
+  }
+
+  // The same fitted model written in another coding: its bytes, sphere PSNRs and encode time.
+  Expected<CodingResult> other_coding(const CodecSetting& s, const Model& model, double fit_s,
+                                      const std::string& source_name, const std::string& coding) {
+    auto es = encoder_settings_at(s, threads_, source_name, coding);
+    if (!es.ok()) return es.status();
+    Row scratch;
+    const auto t0 = Clock::now();
+    auto bytes = encode_at(table_, model, *es, &scratch);
+    CodingResult c;
+    c.coding = coding;
+    c.encode_s = fit_s + since(t0);
+    if (!bytes.ok()) return bytes.status();
+    c.bytes = double(bytes->size());
+    auto decoded = decode_model(*bytes);
+    if (!decoded.ok()) return decoded.status();
+    const ImageMetrics im = sphere_psnr(table_, decoded->table(), sphere_);
+    c.psnr_linear = im.psnr_linear;
+    c.psnr_tonemapped = im.psnr_tonemapped;
+    return c;
   }
 
   void images(const BrdfTable& decoded, const std::string& label) {

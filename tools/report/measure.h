@@ -39,6 +39,19 @@ struct Settings {
   // Time renders of the figure-4 layout (render_times.h) from the primary and paper settings'
   // models and from the measured table, at sphere_size / 256 times its 1320x240 pixels.
   bool render_times = true;
+  // `--format-version`: the container codings measured, each "auto", "1.2" or "1.3". The first is
+  // the rows' own; each further one is measured beside it at every copula setting (same fit) into
+  // Row::codings, for the report's side-by-side frontier. "1.2" is written with full metadata, as
+  // every encoder before 1.3 wrote it.
+  std::vector<std::string> codings = {"auto"};
+};
+
+// One copula setting written in one coding (Settings::codings).
+struct CodingResult {
+  std::string coding;  // "auto", "1.2" or "1.3"
+  double bytes = 0;
+  double psnr_linear = 0, psnr_tonemapped = 0;
+  double encode_s = 0;  // fit + quantize + container, as Row::encode_s
 };
 
 // Row kinds.
@@ -67,6 +80,9 @@ struct Row {
   // The figure-4 layout rendered with this model on one thread (render_times.h): the primary and
   // paper settings' models and the lossless rows (the measured table, nearest-bin); NaN otherwise.
   double render_s = std::numeric_limits<double>::quiet_NaN();
+  // Copula rows when Settings::codings holds more than one: every coding's result, in that order
+  // (the first repeats this row's own); empty otherwise.
+  std::vector<CodingResult> codings;
 
   std::string label() const;  // "frank s6 b10", "frank s6 b10 k2", "ward", ...
   double ratio() const { return bytes > 0 ? input_bytes / bytes : 0.0; }

@@ -35,6 +35,10 @@ const Row* find_row(const MaterialResult& m, const std::string& label);
 // A material's sweep rows and its paper-setting row as points for frontier.h.
 MaterialPoints material_points(const MaterialResult& m);
 std::vector<MaterialPoints> material_points(const std::vector<MaterialResult>& results);
+// Per material, its sweep and paper-setting rows as points in Settings::codings[coding] (linear
+// PSNR included); empty lists without side-by-side codings.
+std::vector<std::vector<RdPoint>> coding_points(const std::vector<MaterialResult>& results,
+                                                std::size_t coding);
 // The sweep's settings with bytes, PSNR and encode time averaged over the materials (sweep order).
 std::vector<RdPoint> mean_sweep_points(const std::vector<MaterialResult>& results,
                                        const Settings& st);
