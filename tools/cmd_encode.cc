@@ -281,8 +281,7 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
                   "Copula components per slice and channel: 1 (the paper's model) to 8, or auto "
                   "(up to 4, added while each halves the fit's error)")
       ->capture_default_str();
-  cmd->add_option("--family", o->encoder.family,
-                  "Copula family: frank, clayton, gumbel, joe, independence, auto")
+  cmd->add_option("--family", o->encoder.family, "Copula family: " + family_list(", ") + ", auto")
       ->capture_default_str();
   cmd->add_option("--mixture-copulas", o->mixture_copulas,
                   "With 2 or more components: fit each component's copula (fit, the default) or "

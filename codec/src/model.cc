@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "cbrdf/parallel_for.h"
+#include "copula/registry.h"
 #include "density/frank_grid.h"
 #include "density/grid_copula.h"
 #include "eval/interp_tables.h"
@@ -93,13 +94,11 @@ struct Term {
       nullptr;  // the copula's grid when Frank: evaluated without a virtual call
 
   explicit Term(const Component& c) : cs(&c) {
-    // FrankGrid is accurate only down to kFrankGridMinAlpha (the fitter's bound); a file may
-    // hold any parameter of the domain, which the general grid evaluates in the log domain.
+    // A family's own grid may be accurate only within the fitter's bounds (FrankGrid down to
+    // kFrankGridMinAlpha); a Model may hold any parameter of the domain, which the general grid
+    // evaluates in the log domain.
     const double theta = std::clamp(c.theta, -kMaxEvaluatedParameter, kMaxEvaluatedParameter);
-    const bool frank_beyond_grid =
-        c.family == CopulaFamily::kFrank && theta < fit::kFrankGridMinAlpha;
-    copula =
-        frank_beyond_grid ? fit::make_archimedean_grid(c.family) : fit::make_grid_copula(c.family);
+    copula = fit::make_evaluation_grid(c.family, theta);
     std::vector<double> u1, u2, u3;
     fit::midpoint_cdf(c.pdf_h, &u1);
     fit::midpoint_cdf(c.pdf_d, &u2);
@@ -460,9 +459,8 @@ std::size_t ModelEvaluator::footprint_bytes() const {
         // The grid's prepared per-axis arrays (density/): FrankGrid holds e, w, y, q and u per
         // axis, the Archimedean grid two prepared grids of psi, log psi, log |psi'| and u.
         const std::size_t bins = t.cs->pdf_h.size() + t.cs->pdf_d.size() + t.cs->pdf_p.size();
-        const std::size_t arrays = t.frank                                       ? 5
-                                   : t.cs->family == CopulaFamily::kIndependence ? 0
-                                                                                 : 8;
+        const CopulaFamilyRow* row = family_row(t.cs->family);
+        const std::size_t arrays = t.frank ? 5 : row && row->has_parameter() ? 8 : 0;
         n += arrays * bins * sizeof(double) + 128;  // 128: the grid object itself, roughly
       }
     }

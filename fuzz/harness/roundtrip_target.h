@@ -18,7 +18,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -28,40 +27,46 @@
 #include "cbrdf/model.h"
 #include "chunks.h"
 #include "common.h"
+#include "copula/registry.h"
 #include "residual_levels.h"
 
 namespace cbrdf::fuzz {
 
+// A parameter of the family's range a file may hold (its row in copula/registry.h): raw bits,
+// independence, its neighbour, the edges, log-uniform and uniform distances from independence.
 inline double pick_theta(CopulaFamily f, ByteSource& in) {
   const std::uint8_t mode = in.u8() % 8;
   const double raw = std::bit_cast<double>(in.u64());
   if (mode == 7 && copula_parameter_valid(f, raw)) return raw;
-  switch (f) {
-    case CopulaFamily::kIndependence:
-      return 0.0;
-    case CopulaFamily::kFrank: {
-      const double choices[] = {0.0,
-                                std::numbers::ln2,
-                                -in.in_range(0.0, 200.0),
-                                -std::min(200.0, std::exp(in.in_range(0.0, std::log(200.0)))),
-                                std::min(in.in_range(0.0, 0.69), std::numbers::ln2),
-                                -1e-300,
-                                -in.in_range(0.0, 5.0)};
-      return choices[std::min<std::size_t>(mode, 6)];
-    }
-    case CopulaFamily::kClayton: {
-      // Within the format's ranges (spec 4.2): Clayton to 50, Gumbel and Joe to 20.
-      const double choices[] = {0.0, std::min(50.0, std::exp(in.in_range(-30.0, std::log(50.0)))),
-                                5e-324, in.in_range(0.0, 10.0)};
-      return choices[mode % 4];
-    }
-    default: {  // Gumbel, Joe: [1, inf)
-      // min: exp(log(19)) rounds up, and 1 + it would be 20.000000000000028, outside the range.
-      const double choices[] = {1.0,
-                                std::min(20.0, 1.0 + std::exp(in.in_range(-40.0, std::log(19.0)))),
-                                std::nextafter(1.0, 2.0), in.in_range(1.0, 10.0)};
-      return choices[mode % 4];
-    }
+  const CopulaFamilyRow& row = *family_row(f);
+  const double lo = row.search_lo, hi = row.search_hi;
+  const double ind = row.copula().domain().independence;
+  if (!row.has_parameter()) return ind;
+  // The side of independence with more room (Frank's negative one) and the other.
+  const double far = hi - ind >= ind - lo ? hi : lo, near = far == hi ? lo : hi;
+  // ind +- d rounds, and can land a hair beyond an edge: clamp (the encoder rightly refuses it).
+  auto toward = [&](double edge, double d) {
+    return std::clamp(edge > ind ? ind + d : ind - d, lo, hi);
+  };
+  const double span = std::abs(far - ind);
+  switch (mode) {
+    case 0:
+      return ind;
+    case 1:
+      return toward(far, std::min(span, std::exp(in.in_range(-40.0, std::log(span)))));
+    case 2:
+      return std::nextafter(ind, far);
+    case 3:
+      return toward(far, in.in_range(0.0, std::min(span, 10.0)));
+    case 4:
+      return far;
+    case 5:
+      return near;
+    case 6:
+      return near == ind ? toward(far, 1e-300)
+                         : toward(near, in.in_range(0.0, std::abs(near - ind)));
+    default:
+      return toward(far, in.in_range(0.0, span));
   }
 }
 

@@ -1132,6 +1132,11 @@ PYBIND11_MODULE(_cbrdf, m) {
   m.attr("MERL_FILE_BYTES") = kMerlFileBytes;
   m.attr("MAX_CONTAINER_BYTES") = kMaxContainerBytes;
   {
+    py::list families;  // the library's family table, in the order the command lists them
+    for (CopulaFamily f : listed_families()) families.append(std::string(family_name(f)));
+    m.attr("COPULA_FAMILIES") = py::tuple(families);
+  }
+  {
     py::dict codes;
     for (int c = 0; c <= int(ErrorCode::kInternal); ++c) {
       codes[py::int_(c)] = error_code_name(ErrorCode(c));

@@ -107,7 +107,10 @@ std::vector<std::pair<CodecSetting, bool>> copula_settings(const Settings& st) {
   std::vector<std::string> extra;
   if (st.baselines.separable) extra.push_back("independence");
   if (st.baselines.families) {
-    for (const char* f : {"frank", "clayton", "gumbel", "joe", "auto"}) extra.push_back(f);
+    for (CopulaFamily f : listed_families()) {
+      if (family_has_parameter(f)) extra.emplace_back(family_name(f));
+    }
+    extra.push_back("auto");
   }
   for (const std::string& f : extra) add(CodecSetting{f, p.slices, p.bits, p.components});
   return out;

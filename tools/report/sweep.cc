@@ -51,8 +51,7 @@ Expected<std::vector<std::string>> parse_families(const std::string& values) {
   for (std::string v : split(values, ',')) {
     if (v == "separable") v = "independence";
     if (v != "auto" && !family_from_name(v)) {
-      return bad("family='" + v +
-                 "' is not one of frank, clayton, gumbel, joe, independence (or separable), auto");
+      return bad("family='" + v + "' is not one of " + family_list(", ") + " (or separable), auto");
     }
     if (std::find(out.begin(), out.end(), v) != out.end()) {
       return bad("family lists " + v + " twice");

@@ -24,7 +24,6 @@ const kInfoFields = [
   'residualBytes',
 ];  // cbrdf_wasm_info's order (cbrdf_wasm.c)
 const kInvalidArgument = 9, kInternal = 11;  // cbrdf_status
-const kFamilies = ['independence', 'frank', 'clayton', 'gumbel', 'joe'];
 
 // An error of the C API: code (cbrdf_status), status (its name) and the C API's message.
 export class CbrdfError extends Error {
@@ -170,7 +169,9 @@ export class Model {
             rt.check(rt.x.cbrdf_model_get_component(h, s, c, k, ints, doubles, doubles + 8));
             const family = rt.i32(ints, 1)[0];
             const [theta, scale] = rt.f64(doubles, 2);
-            components.push({ family: kFamilies[family] ?? String(family), theta, scale });
+            // The name from the library's family table (cbrdf_family_name).
+            const name = rt.string(rt.x.cbrdf_family_name(family));
+            components.push({ family: name === 'unknown' ? String(family) : name, theta, scale });
           }
           channels.push(components);
         }

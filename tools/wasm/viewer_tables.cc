@@ -40,7 +40,6 @@
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/model.h"
-#include "density/frank_grid.h"
 #include "density/grid_copula.h"
 #include "eval/product_form.h"
 
@@ -267,9 +266,7 @@ CBRDF_WASM_EXPORT int cbrdf_viewer_slice(const cbrdf_viewer* v, int slice, int c
   for (int j = 0; j < sl.width(); ++j) out[270 + j] = float(c.pdf_d[std::size_t(j)]);
   const double theta =
       std::clamp(c.theta, -eval::kMaxEvaluatedParameter, eval::kMaxEvaluatedParameter);
-  auto grid = c.family == CopulaFamily::kFrank && theta < fit::kFrankGridMinAlpha
-                  ? fit::make_archimedean_grid(c.family)
-                  : fit::make_grid_copula(c.family);
+  auto grid = fit::make_evaluation_grid(c.family, theta);
   if (!grid) {  // independence: a density of 1
     std::fill(out + 360, out + 16560, 1.0f);
     return sl.width();

@@ -55,8 +55,7 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
   } else if (auto f = family_from_name(o.family)) {
     st.fit.family = *f;
   } else {
-    return invalid("unknown --family '" + o.family +
-                   "' (frank, clayton, gumbel, joe, independence or auto)");
+    return invalid("unknown --family '" + o.family + "' (" + family_list(", ") + " or auto)");
   }
   const auto components = parse_count_or_auto(o.components, 1, kMaxComponents, true);
   if (!components) {

@@ -16,8 +16,8 @@
 // theta -> 0 is exact; when theta s overflows, log(theta s) is taken from log s directly.
 #include <cmath>
 
-#include "copula/families.h"
 #include "copula/numerics.h"
+#include "copula/registry.h"
 
 namespace cbrdf::copula_detail {
 namespace {

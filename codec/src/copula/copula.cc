@@ -7,8 +7,8 @@
 #include <cmath>
 #include <string>
 
-#include "copula/families.h"
 #include "copula/numerics.h"
+#include "copula/registry.h"
 
 namespace cbrdf {
 
@@ -183,19 +183,8 @@ double Copula::prepared_third_derivative(double s, const FastPath& p) const {
 }
 
 const Copula& copula_for(CopulaFamily family) {
-  switch (family) {
-    case CopulaFamily::kFrank:
-      return copula_detail::frank_copula();
-    case CopulaFamily::kClayton:
-      return copula_detail::clayton_copula();
-    case CopulaFamily::kGumbel:
-      return copula_detail::gumbel_copula();
-    case CopulaFamily::kJoe:
-      return copula_detail::joe_copula();
-    case CopulaFamily::kIndependence:
-      break;
-  }
-  return copula_detail::independence_copula();
+  const CopulaFamilyRow* row = family_row(family);
+  return row ? row->copula() : copula_detail::independence_copula();
 }
 
 }  // namespace cbrdf

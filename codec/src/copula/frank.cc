@@ -21,8 +21,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "copula/families.h"
 #include "copula/numerics.h"
+#include "copula/registry.h"
 
 namespace cbrdf::copula_detail {
 namespace {

@@ -14,8 +14,8 @@
 // y = s^{1/theta} <= 3 max L_i stays moderate.
 #include <cmath>
 
-#include "copula/families.h"
 #include "copula/numerics.h"
+#include "copula/registry.h"
 
 namespace cbrdf::copula_detail {
 namespace {

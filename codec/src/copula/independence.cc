@@ -2,8 +2,8 @@
 // The independence copula: c = 1, phi(u) = -log u, psi(s) = e^{-s}. Its only parameter is 0.
 #include <cmath>
 
-#include "copula/families.h"
 #include "copula/numerics.h"
+#include "copula/registry.h"
 
 namespace cbrdf::copula_detail {
 namespace {

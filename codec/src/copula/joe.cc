@@ -18,8 +18,8 @@
 // theta), and phi = x G(-x) (G = log1p(x)/x) for small x, -log(-expm1(theta log1p(-u))) otherwise.
 #include <cmath>
 
-#include "copula/families.h"
 #include "copula/numerics.h"
+#include "copula/registry.h"
 
 namespace cbrdf::copula_detail {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// GridCopula for the families without a closed product form (Clayton, Gumbel, Joe), through the
+// GridCopula for the families without a grid of their own (registry.h), through the
 // Archimedean fast path of copula.h: log c = log|psi'''(s)| + sum_i log|phi'(u_i)|, s = sum_i
 // phi(u_i). Per-axis terms are prepared once per parameter, so a bin costs two adds, one log/exp
 // and the family's third derivative. Where the fast path is not finite (phi over- or underflows at
@@ -15,9 +15,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include "cbrdf/copula.h"
+#include "copula/registry.h"
 #include "density/grid_copula.h"
 
 namespace cbrdf::fit {
@@ -91,11 +91,8 @@ class PreparedGrid {
 
 class ArchimedeanGrid final : public GridCopula {
  public:
-  ArchimedeanGrid(CopulaFamily family, double fit_lo, double fit_hi)
-      : copula_(copula_for(family)), lo_(fit_lo), hi_(fit_hi) {}
-  double fit_lo() const override { return lo_; }
-  double fit_hi() const override { return hi_; }
-  double independence() const override { return copula_.domain().independence; }
+  explicit ArchimedeanGrid(const CopulaFamilyRow& row)
+      : GridCopula(row), copula_(row.copula()), hi_(row.search_hi) {}
 
   void prepare(double theta, const std::vector<double>& u1, const std::vector<double>& u2,
                const std::vector<double>& u3) override {
@@ -123,7 +120,7 @@ class ArchimedeanGrid final : public GridCopula {
 
  private:
   const Copula& copula_;
-  double lo_, hi_;
+  double hi_;
   int n3_ = 0;
   double other_theta_ = 0, span_ = 1;
   PreparedGrid grid_, other_;
@@ -136,23 +133,10 @@ GridWorkCounters& grid_work_counters() {
   return counters;
 }
 
-// Fit ranges: beyond these the dependence is so strong that the three marginals are nearly
-// comonotone, which no BRDF slice in the MERL data approaches (the fitted Frank parameters stay
-// within |alpha| < 10); the file format accepts the whole domain.
 std::unique_ptr<GridCopula> make_archimedean_grid(CopulaFamily family) {
-  switch (family) {
-    case CopulaFamily::kFrank:  // not fitted through this grid: its range is the whole domain
-      return std::make_unique<ArchimedeanGrid>(family, -std::numeric_limits<double>::max(),
-                                               std::numbers::ln2);
-    case CopulaFamily::kClayton:
-      return std::make_unique<ArchimedeanGrid>(family, 0.0, 50.0);
-    case CopulaFamily::kGumbel:
-      return std::make_unique<ArchimedeanGrid>(family, 1.0, 20.0);
-    case CopulaFamily::kJoe:
-      return std::make_unique<ArchimedeanGrid>(family, 1.0, 20.0);
-    default:
-      return nullptr;
-  }
+  const CopulaFamilyRow* row = family_row(family);
+  if (!row || !row->has_parameter()) return nullptr;
+  return std::make_unique<ArchimedeanGrid>(*row);
 }
 
 }  // namespace cbrdf::fit

@@ -2,8 +2,8 @@
 #include "density/grid_copula.h"
 
 #include <algorithm>
-#include <numbers>
 
+#include "copula/registry.h"
 #include "density/frank_grid.h"
 
 namespace cbrdf::fit {
@@ -11,9 +11,7 @@ namespace {
 
 class IndependenceGrid final : public GridCopula {
  public:
-  double fit_lo() const override { return 0; }
-  double fit_hi() const override { return 0; }
-  double independence() const override { return 0; }
+  using GridCopula::GridCopula;
   double density(int, int, int) const override { return 1.0; }
   double density_and_derivative(int, int, int, double* d) const override {
     *d = 0;
@@ -34,9 +32,7 @@ class IndependenceGrid final : public GridCopula {
 
 class FrankGridCopula final : public GridCopula {
  public:
-  double fit_lo() const override { return kFrankGridMinAlpha; }
-  double fit_hi() const override { return std::numbers::ln2; }
-  double independence() const override { return 0; }
+  using GridCopula::GridCopula;
   void prepare(double theta, const std::vector<double>& u1, const std::vector<double>& u2,
                const std::vector<double>& u3) override {
     grid_.prepare(theta, u1, u2, u3);
@@ -54,7 +50,26 @@ class FrankGridCopula final : public GridCopula {
 
 }  // namespace
 
-std::unique_ptr<GridCopula> make_archimedean_grid(CopulaFamily family);
+CopulaFamily GridCopula::family() const {
+  return row_->id;
+}
+double GridCopula::fit_lo() const {
+  return row_->search_lo;
+}
+double GridCopula::fit_hi() const {
+  return row_->search_hi;
+}
+double GridCopula::independence() const {
+  return row_->copula().domain().independence;
+}
+
+std::unique_ptr<GridCopula> make_independence_grid(const CopulaFamilyRow& row) {
+  return std::make_unique<IndependenceGrid>(row);
+}
+
+std::unique_ptr<GridCopula> make_frank_grid(const CopulaFamilyRow& row) {
+  return std::make_unique<FrankGridCopula>(row);
+}
 
 const FrankGrid* frank_grid_of(const GridCopula& copula) {
   const auto* f = dynamic_cast<const FrankGridCopula*>(&copula);
@@ -62,14 +77,15 @@ const FrankGrid* frank_grid_of(const GridCopula& copula) {
 }
 
 std::unique_ptr<GridCopula> make_grid_copula(CopulaFamily family) {
-  switch (family) {
-    case CopulaFamily::kFrank:
-      return std::make_unique<FrankGridCopula>();
-    case CopulaFamily::kIndependence:
-      return std::make_unique<IndependenceGrid>();
-    default:
-      return make_archimedean_grid(family);
-  }
+  const CopulaFamilyRow* row = family_row(family);
+  if (!row) return nullptr;
+  return row->grid ? row->grid(*row) : make_archimedean_grid(family);
+}
+
+std::unique_ptr<GridCopula> make_evaluation_grid(CopulaFamily family, double theta) {
+  const CopulaFamilyRow* row = family_row(family);
+  if (row && theta < row->grid_lo) return make_archimedean_grid(family);
+  return make_grid_copula(family);
 }
 
 void midpoint_cdf(const std::vector<double>& f, std::vector<double>* u) {

@@ -9,29 +9,42 @@
 
 #include "cbrdf/copula_family.h"
 
+namespace cbrdf {
+struct CopulaFamilyRow;
+}  // namespace cbrdf
+
 namespace cbrdf::fit {
 
 class GridCopula {
  public:
+  explicit GridCopula(const CopulaFamilyRow& row) : row_(&row) {}
   virtual ~GridCopula() = default;
-  // The parameter range the fitter searches, and the parameter of independence.
-  virtual double fit_lo() const = 0;
-  virtual double fit_hi() const = 0;
-  virtual double independence() const = 0;
+  CopulaFamily family() const;
+  // The parameter range the fitter searches (the family's row), and the parameter of
+  // independence.
+  double fit_lo() const;
+  double fit_hi() const;
+  double independence() const;
   virtual void prepare(double theta, const std::vector<double>& u1, const std::vector<double>& u2,
                        const std::vector<double>& u3) = 0;
   virtual double density(int i, int j, int k) const = 0;
   virtual double density_and_derivative(int i, int j, int k, double* dc_dtheta) const = 0;
   // A whole phi_d row at (i, j): densities into c, derivatives into dc unless it is null.
   virtual void row(int i, int j, double* c, double* dc) const = 0;
+
+ private:
+  const CopulaFamilyRow* row_;
 };
 
+// The family's grid (its row's); null for an unknown family.
 std::unique_ptr<GridCopula> make_grid_copula(CopulaFamily family);
 // The general grid of the Archimedean fast path (log domain, log_density where it is not finite,
-// a non-finite density read as 0) for Frank, Clayton, Gumbel and Joe; null for independence.
-// ModelEvaluator uses it for Frank parameters below kFrankGridMinAlpha, where FrankGrid's terms
-// underflow and its density turns NaN, since a file may hold any parameter of the domain.
+// a non-finite density read as 0) for every family with a parameter; null for independence.
 std::unique_ptr<GridCopula> make_archimedean_grid(CopulaFamily family);
+// The grid that evaluates theta accurately: the family's own, or the general grid below its row's
+// grid_lo (Frank below kFrankGridMinAlpha, where FrankGrid's terms underflow and its density
+// turns NaN), since a Model may hold any parameter of the domain.
+std::unique_ptr<GridCopula> make_evaluation_grid(CopulaFamily family, double theta);
 
 // Bins of the calling thread that the Archimedean grid evaluated off its fast path, for tests
 // that bound the decoder's work (spec/container.md, "Resource bounds"): log_sum_paths formed log s

@@ -18,7 +18,6 @@
 #include <utility>
 #include <vector>
 
-#include "density/frank_grid.h"
 #include "density/grid_copula.h"
 #include "eval/eval_internal.h"
 #include "eval/product_form.h"
@@ -105,8 +104,7 @@ InterpTables::InterpTables(const Model& model) {
           g.channel = c;
           const double theta =
               std::clamp(comp.theta, -kMaxEvaluatedParameter, kMaxEvaluatedParameter);
-          g.copula = comp.family == CopulaFamily::kFrank ? fit::make_archimedean_grid(comp.family)
-                                                         : fit::make_grid_copula(comp.family);
+          g.copula = fit::make_evaluation_grid(comp.family, theta);
           std::vector<double> u1, u2, u3;
           fit::midpoint_cdf(comp.pdf_h, &u1);
           fit::midpoint_cdf(comp.pdf_d, &u2);

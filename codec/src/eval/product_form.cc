@@ -12,20 +12,24 @@
 #include <numbers>
 #include <vector>
 
+#include "copula/registry.h"
 #include "density/frank_grid.h"
 #include "density/grid_copula.h"
 
 namespace cbrdf::eval {
-ProductForm product_form(const Component& c) {
+
+ProductForm independence_product_form(const Component& c) {
   ProductForm f;
+  f.ok = true;
+  f.k = {c.scale, 1, 0, 0, 1, 0, 0};
+  return f;
+}
+
+ProductForm frank_product_form(const Component& c) {
   const double theta = std::clamp(c.theta, -kMaxEvaluatedParameter, kMaxEvaluatedParameter);
-  if (c.family == CopulaFamily::kIndependence ||
-      (c.family == CopulaFamily::kFrank && theta == 0.0)) {
-    f.ok = true;
-    f.k = {c.scale, 1, 0, 0, 1, 0, 0};
-    return f;
-  }
-  if (c.family != CopulaFamily::kFrank || theta < fit::kFrankGridMinAlpha) return f;
+  if (theta == 0.0) return independence_product_form(c);
+  ProductForm f;
+  if (theta < fit::kFrankGridMinAlpha) return f;
   f.ok = true;
   f.t = -theta;
   f.b = -std::expm1(-f.t);
@@ -40,6 +44,11 @@ ProductForm product_form(const Component& c) {
     f.k = {k, 1, 0, -f.b, one_plus_b, -f.b, 0};  // 1 - h = 1 - b W, 1 + h = (2 - e^{-t}) - b Y
   }
   return f;
+}
+
+ProductForm product_form(const Component& c) {
+  const CopulaFamilyRow* row = family_row(c.family);
+  return row && row->product_form ? row->product_form(c) : ProductForm{};
 }
 
 void axis_terms(const ProductForm& f, const std::vector<double>& pdf,

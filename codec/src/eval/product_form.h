@@ -22,7 +22,8 @@ struct ProductForm {
   SlotConstants<double> k{};
 };
 
-// Independence, and Frank at or above fit::kFrankGridMinAlpha, have the product form.
+// The product form of c's family (its row's product_form hook in copula/registry.h):
+// independence, and Frank at or above fit::kFrankGridMinAlpha, have one.
 ProductForm product_form(const Component& c);
 
 // Axis terms of masses `pdf` (their midpoint CDF) for a product form.

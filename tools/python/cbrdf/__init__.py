@@ -67,6 +67,9 @@ MERL_SCALE: tuple = tuple(_cbrdf.MERL_SCALE)
 SHAPE = (3, 90, 90, 180)
 #: The .cbrdf container version this library writes (major, minor of the newest).
 CONTAINER_VERSION: tuple = tuple(_cbrdf.CONTAINER_VERSION)
+#: The copula families :func:`encode` fits (``family=``, besides ``"auto"``), from the library's
+#: family table: those with a parameter first, then ``"independence"``.
+COPULA_FAMILIES: tuple = tuple(_cbrdf.COPULA_FAMILIES)
 
 
 class ErrorCode:

@@ -10,6 +10,7 @@ __version__: str
 MERL_SCALE: tuple[float, float, float]
 SHAPE: tuple[int, int, int, int]
 CONTAINER_VERSION: tuple[int, int]
+COPULA_FAMILIES: tuple[str, ...]
 
 _Path = Union[str, os.PathLike[str]]
 _Bytes = Union[bytes, bytearray, memoryview]

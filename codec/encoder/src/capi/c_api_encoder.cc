@@ -25,6 +25,7 @@
 #include "cbrdf/noise.h"
 #include "cbrdf/parallel.h"
 #include "cbrdf/status.h"
+#include "copula/registry.h"
 
 namespace cbrdf::capi {
 namespace {
@@ -77,7 +78,7 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   CBRDF_RETURN_IF_ERROR(check_range("slices", s.slices, 1, kThetaDBins));
   CBRDF_RETURN_IF_ERROR(check_range("components", s.components, 1, kMaxComponents));
   CBRDF_RETURN_IF_ERROR(
-      check_range("family", s.family, CBRDF_FAMILY_AUTO, int(CopulaFamily::kJoe)));
+      check_range("family", s.family, CBRDF_FAMILY_AUTO, int(kCopulaFamilyCount) - 1));
   CBRDF_RETURN_IF_ERROR(check_range("threads", s.threads, 0, 256));
   CBRDF_RETURN_IF_ERROR(check_range("lossless", s.lossless, 0, 1));
   CBRDF_RETURN_IF_ERROR(check_range("mixture_copulas", s.mixture_copulas, 0, 1));

@@ -8,6 +8,7 @@
 #include "cbrdf/fit.h"
 #include "cbrdf/parallel_for.h"
 #include "density/grid_copula.h"
+#include "fit/fit_families.h"
 #include "fit/fit_parameter.h"
 #include "fit/marginals.h"
 #include "fit/mixture.h"
@@ -15,9 +16,6 @@
 
 namespace cbrdf {
 namespace {
-
-constexpr CopulaFamily kAutoFamilies[] = {CopulaFamily::kFrank, CopulaFamily::kClayton,
-                                          CopulaFamily::kGumbel, CopulaFamily::kJoe};
 
 struct SliceFitResult {
   ChannelSlice cs;
@@ -70,7 +68,7 @@ constexpr double kAutoObjectiveFloor = 1e-6;
 // only when it lowers the objective by the factor auto_component_gain, and stops early once the
 // residual is negligible.
 void add_components(const fit::SliceData& s, const FitSettings& st, SliceFitResult* r) {
-  const CopulaFamily family = st.auto_family ? CopulaFamily::kFrank : st.family;
+  const CopulaFamily family = st.auto_family ? fit::kAutoMixtureFamily : st.family;
   if (!st.auto_components) {
     fit::MixtureFit m =
         fit::fit_mixture(s, r->cs, st.components, family, st.loss, st.mixture_copulas);
@@ -135,9 +133,9 @@ SliceFitResult fit_single(const fit::SliceData& s, const FitSettings& st, bool* 
     best = fit_family(s, st.family, st);
   } else {
     bool have = false;
-    for (CopulaFamily f : kAutoFamilies) {
-      if (!fit::make_grid_copula(f)) continue;
-      SliceFitResult r = fit_family(s, f, st);
+    for (const fit::FitFamilyRow& row : fit::kFitFamilies) {
+      if (!row.in_auto) continue;
+      SliceFitResult r = fit_family(s, row.id, st);
       if (!have || r.report.objective < best.report.objective) {
         best = std::move(r);
         have = true;
@@ -381,7 +379,7 @@ Expected<Model> FitLadder::fit(int components, FitReport* report) {
   std::vector<SliceFitResult> results(L.single);
   if (components > 1) {
     // add_components at a fixed count, with the factorization continued.
-    const CopulaFamily family = L.st.auto_family ? CopulaFamily::kFrank : L.st.family;
+    const CopulaFamily family = L.st.auto_family ? fit::kAutoMixtureFamily : L.st.family;
     std::vector<long long> sweeps(std::size_t(jobs), 0);
     internal::parallel_for(jobs, threads, [&](int job) {
       SliceFitResult* r = &results[std::size_t(job)];

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fit/fit_families.h"
 #include "fit/loss.h"
 #include "fit/solver_options.h"
 
@@ -160,12 +161,9 @@ ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& c
   ParameterFit best = evaluate_parameter(s, m, copula, copula.independence(), loss);
   best.objective_independence = best.objective;
   if (lo == hi || s.mv.empty() || best.scale <= 0) return best;
-  // Coarse scan for a start: the objective can have shallow local minima far from independence.
-  // Frank (independence inside the range) scans both sides; the others start at independence.
-  const double ind = copula.independence();
-  const std::vector<double> scan = lo < ind && ind < hi ? std::vector<double>{-5.0, 0.4}
-                                                        : std::vector<double>{ind + 0.5, ind + 4};
-  for (double theta : scan) {
+  // Coarse scan for a start (the family's fitter row): the objective can have shallow local
+  // minima far from independence.
+  for (double theta : fit_family_row(copula.family())->scan) {
     if (theta < lo || theta > hi) continue;
     ParameterFit r = evaluate_parameter(s, m, copula, theta, loss);
     r.objective_independence = best.objective_independence;

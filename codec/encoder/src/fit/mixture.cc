@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "density/grid_copula.h"
+#include "fit/fit_families.h"
 #include "fit/loss.h"
 #include "fit/marginals.h"
 #include "fit/solver_options.h"
@@ -665,7 +666,7 @@ MixtureFit fit_mixture_continued(const SliceData& s, const ChannelSlice& start, 
   if (f.rank() == 0) return out;
 
   auto probe = make_grid_copula(family);
-  if (!probe) family = CopulaFamily::kFrank, probe = make_grid_copula(family);
+  if (!probe) family = kAutoMixtureFamily, probe = make_grid_copula(family);
   std::vector<double> x;
   std::vector<Term> terms = terms_at_independence(f, vbar, family, &x);
   if (fit_copulas) {
