@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev
   pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest python3-matplotlib
+  python3-setuptools python3-wheel python3-venv python3-build  # pip install . (pyproject.toml)
   chromium  # headless check of the report page (tests/report_html_test.cc)
   abigail-tools  # the ABI check of the shared libraries (tools/check-abi.sh)
   doxygen  # the API reference and its check (docs/Doxyfile.in, tools/check-api-docs.sh)
