@@ -69,7 +69,7 @@ def check_cmake() -> str:
     cmake = shutil.which("cmake")
     if cmake is None:
         fail("`cmake` is not on PATH: install CMake >= 3.20 (Debian: apt install cmake ninja-build, "
-             "or run tools/install-deps.sh)")
+             "or run tools/scripts/install-deps.sh)")
     out = subprocess.run([cmake, "--version"], capture_output=True, text=True).stdout
     m = re.search(r"version ([0-9]+)\.([0-9]+)", out)
     if not m or (int(m.group(1)), int(m.group(2))) < CMAKE_MINIMUM:

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Writes the seed corpora fuzz/corpus/<target>/ and their manifest fuzz/corpus/EXPECTED.txt
-// (the outcome each seed is made to have; tests/fuzz_regression_test.cc checks it).
+// (the outcome each seed is made to have; tests/fuzz/fuzz_regression_test.cc checks it).
 //   Usage: fuzz_make_seeds OUT_DIR      (normally fuzz/corpus; the output is deterministic)
 // Seeds: the golden files and encoder outputs (container, decode; for decode also rewritten with
 // uncompressed chunks so that mutations hit payload fields), a few damaged files, MERL headers and
@@ -19,6 +19,7 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
+#include "cbrdf/container_writer.h"
 #include "harness/roundtrip_target.h"
 #include "synthetic_model.h"
 

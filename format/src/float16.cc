@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "cbrdf/float16.h"
+#include "float16.h"
 
 #include <bit>
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // What every fuzz target reports about one input: accepted or rejected (with the error), and the
 // invariants it found broken. The libFuzzer entry points abort on a broken invariant, so the
-// fuzzer records the input as a crash; tests/fuzz_regression_test.cc replays the same functions
-// and turns each broken invariant into a test failure.
+// fuzzer records the input as a crash; tests/fuzz/fuzz_regression_test.cc replays the same
+// functions and turns each broken invariant into a test failure.
 //
 // The harnesses are header-only so that the fuzz binaries and the ordinary test build compile
 // exactly the same code (tests/CMakeLists.txt builds each test from one source file).

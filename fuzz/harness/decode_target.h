@@ -14,7 +14,7 @@
 // in a release build and seconds under the sanitizers, 10-100 times the cost of a decode; doing it
 // for every input would cut the fuzzer's speed by that factor, and the per-bin code it runs (the
 // copula's row()) differs from bin_value() only in the loop around it, which the sampled comparison
-// below pins. tests/fuzz_regression_test.cc runs table() on every replayed file.
+// below pins. tests/fuzz/fuzz_regression_test.cc runs table() on every replayed file.
 #pragma once
 
 #include <cmath>
@@ -24,6 +24,7 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
+#include "cbrdf/container_writer.h"
 #include "cbrdf/coords.h"
 #include "cbrdf/model.h"
 #include "common.h"

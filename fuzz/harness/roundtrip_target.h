@@ -21,14 +21,15 @@
 #include <string>
 #include <vector>
 
+#include "bitstream/chunks.h"
+#include "bitstream/residual_levels.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
+#include "cbrdf/container_writer.h"
 #include "cbrdf/coords.h"
 #include "cbrdf/model.h"
-#include "chunks.h"
 #include "common.h"
 #include "copula/registry.h"
-#include "residual_levels.h"
 
 namespace cbrdf::fuzz {
 

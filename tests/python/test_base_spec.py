@@ -271,7 +271,7 @@ def test_spec_framing_reads_the_golden_files_and_refuses_damage():
 # ---- RESD's range-coded codes (spec 4.6, "Range-coded codes"; 4.4 for the mask) ---------------
 
 # FNV-1a (64-bit) over the decoded codes as little-endian int32, channel-major MERL order: the
-# value tests/base_coding_test.cc pins for the C++ decoder of the same golden file.
+# value tests/encoder/base_coding_test.cc pins for the C++ decoder of the same golden file.
 RANGED_GOLDEN = "v1.3-ranged-residual-frank6-b10.cbrdf"
 RANGED_CODES_FNV = 0x74BA0D728C343ABD
 

@@ -54,6 +54,28 @@ def test_mixture_copulas_at_independence_match_the_command(work, tmp_path):
         cbrdf.encode(work / "plastic.binary", mixture_copulas="some")
 
 
+def test_format_version_and_metadata_match_the_command(work, tmp_path):
+    for version, meta, want in (("1.2", "full", (1, 0)), ("1.3", "none", (1, 3)),
+                                ("auto", "short", (1, 3))):
+        out = tmp_path / f"v{version}-{meta}.cbrdf"
+        run_cli("encode", work / "plastic.binary", "-o", out, "--bits", "10",
+                "--format-version", version, "--metadata", meta, "--no-metrics")
+        data = cbrdf.encode(work / "plastic.binary", bits=10, format_version=version,
+                            metadata=meta)
+        assert data == out.read_bytes()
+        assert cbrdf.decode(data).version == want
+        tags = [c["tag"] for c in cbrdf.info(data)["chunks"]]
+        assert ("mETA" in tags) == (meta != "none")
+    # The keywords' defaults are the command's.
+    assert cbrdf.encode(work / "plastic.binary", bits=10) == (work / "plastic.cbrdf").read_bytes()
+    with pytest.raises(cbrdf.Error, match="format_version") as e:
+        cbrdf.encode(work / "plastic.binary", format_version="1.4")
+    assert e.value.exit_code == 2
+    with pytest.raises(cbrdf.Error, match="metadata") as e:
+        cbrdf.encode(work / "plastic.binary", metadata="long")
+    assert e.value.exit_code == 2
+
+
 def test_default_bits_are_chosen_from_the_data_as_the_command_does(work, tmp_path):
     out = tmp_path / "auto.cbrdf"
     run_cli("encode", work / "plastic.binary", "-o", out, "--no-metrics")

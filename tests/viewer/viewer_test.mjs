@@ -36,7 +36,7 @@ let puppeteer;
 try {
   puppeteer = (await import(join(here, 'node_modules/puppeteer-core/lib/esm/puppeteer/puppeteer-core.js'))).default;
 } catch {
-  console.error('viewer_test: puppeteer-core is not installed: run `npm ci` in tests/viewer (tools/install-deps.sh does)');
+  console.error('viewer_test: puppeteer-core is not installed: run `npm ci` in tests/viewer (tools/scripts/install-deps.sh does)');
   process.exit(1);
 }
 

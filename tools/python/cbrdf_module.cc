@@ -31,16 +31,17 @@
 #include "cbrdf/encoder.h"
 #include "cbrdf/file_io.h"
 #include "cbrdf/merl_io.h"
-#include "cbrdf/metrics.h"
 #include "cbrdf/model.h"
 #include "cbrdf/noise.h"
 #include "cbrdf/parallel.h"
-#include "cbrdf/parallel_for.h"
 #include "cbrdf/rate_control.h"
 #include "cbrdf/samples.h"
 #include "cbrdf/sampling.h"
 #include "cbrdf/version.h"
+#include "encoder_options.h"
 #include "info_json.h"
+#include "metrics.h"
+#include "parallel_for.h"
 
 namespace py = pybind11;
 
@@ -914,6 +915,8 @@ std::string keyword_names(std::string message) {
       {"--max-error", "max_error"},
       {"--lossless", "lossless"},
       {"--mixture-copulas", "mixture_copulas"},
+      {"--format-version", "format_version"},
+      {"--metadata", "metadata"},
       {"--slice-placement", "placement"},
       {"--naive-marginals", "naive_marginals"},
       {"--components", "components"},
@@ -938,10 +941,13 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
                  const py::object& level, const py::object& placement, bool naive_marginals,
                  const py::object& threads, const py::object& target_bytes,
                  const py::object& target_psnr, const py::object& max_error, bool lossless,
-                 const py::object& source_name, const py::object& mixture_copulas) {
+                 const py::object& source_name, const py::object& mixture_copulas,
+                 const py::object& format_version, const py::object& metadata) {
   t.ok();
   EncoderOptions o;
   if (!mixture_copulas.is_none()) o.mixture_copulas = str_arg(mixture_copulas, "mixture_copulas");
+  o.format_version = str_arg(format_version, "format_version");
+  o.metadata = str_arg(metadata, "metadata");
   o.slices = count_text(slices, "slices");
   o.components = count_text(components, "components");
   o.family = str_arg(family, "family");
@@ -1236,7 +1242,8 @@ PYBIND11_MODULE(_cbrdf, m) {
         py::arg("slices"), py::arg("family"), py::arg("loss"), py::arg("level"),
         py::arg("placement"), py::arg("naive_marginals"), py::arg("threads"),
         py::arg("target_bytes"), py::arg("target_psnr"), py::arg("max_error"), py::arg("lossless"),
-        py::arg("source_name"), py::arg("mixture_copulas"));
+        py::arg("source_name"), py::arg("mixture_copulas"), py::arg("format_version"),
+        py::arg("metadata"));
 
   m.def("_sphere_metrics", &sphere_metrics, py::arg("reference"), py::arg("test"), py::arg("size"),
         py::arg("light_angles"));

@@ -7,7 +7,7 @@
 #include <limits>
 #include <numbers>
 
-#include "cbrdf/parallel_for.h"
+#include "parallel_for.h"
 #include "render/lights.h"
 
 namespace cbrdf::render {

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "cbrdf/float16.h"
+#include "float16.h"
 
 namespace cbrdf::report {
 namespace {

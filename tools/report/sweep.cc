@@ -10,6 +10,7 @@
 #include "cbrdf/copula_family.h"
 #include "cbrdf/encoder.h"
 #include "cbrdf/fit.h"
+#include "encoder_options.h"
 
 namespace cbrdf::report {
 namespace {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cbrdf/status.h"
+#include "encoder_options.h"
 
 namespace cbrdf::report {
 

@@ -7,9 +7,9 @@
 #include <limits>
 #include <sstream>
 
-#include "cbrdf/analytic_fit.h"
+#include "analytic_fit.h"
 #include "cbrdf/merl_io.h"
-#include "cbrdf/metrics.h"
+#include "metrics.h"
 #include "report/paper_tables.h"
 #include "report/svg.h"
 

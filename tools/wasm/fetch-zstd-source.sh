@@ -5,7 +5,7 @@
 # deb-src entry for the system's Debian suites when apt has none (needs root or sudo then). zstd's
 # sources stay in DIR (a build tree): they are never committed. Prints the unpacked source folder.
 #   usage: tools/wasm/fetch-zstd-source.sh DIR
-#          tools/wasm/fetch-zstd-source.sh --deb-src-only   (the apt entry alone: tools/install-deps.sh)
+#          tools/wasm/fetch-zstd-source.sh --deb-src-only   (the apt entry alone: tools/scripts/install-deps.sh)
 set -euo pipefail
 
 dir=${1:?usage: fetch-zstd-source.sh DIR | --deb-src-only}
@@ -46,7 +46,7 @@ dir=$(cd "$dir" && pwd)
 
 version=$(dpkg-query -W -f='${Version}' libzstd-dev 2>/dev/null || true)
 if [[ -z $version ]]; then
-  echo "fetch-zstd-source: libzstd-dev is not installed (tools/install-deps.sh installs it)" >&2
+  echo "fetch-zstd-source: libzstd-dev is not installed (tools/scripts/install-deps.sh installs it)" >&2
   exit 1
 fi
 upstream=${version#*:}

@@ -49,18 +49,18 @@ using namespace cbrdf;
 
 constexpr int kHeader = 16;
 constexpr int kSliceDescriptor = 8;
-using eval::kGroup, eval::kGroupConstants, eval::kGroupTerms;
-using eval::ProductForm;
+using internal::kGroup, internal::kGroupConstants, internal::kGroupTerms;
+using internal::ProductForm;
 
 // Slot q's (g, w, y) per bin into rows of `row` floats at `base`, bins 0 .. bins (the last
 // repeated), as eval/interp_tables.cc's set_rows lays out its float64 rows.
 void put_axis(const ProductForm& f, const std::vector<double>& pdf, int bins, std::size_t row,
               int q, float* base) {
-  std::vector<eval::AxisTerms<double>> terms;
-  eval::axis_terms(f, pdf, &terms);
+  std::vector<internal::AxisTerms<double>> terms;
+  internal::axis_terms(f, pdf, &terms);
   const std::size_t lane = std::size_t(q / kGroup) * kGroupTerms + std::size_t(q % kGroup);
   for (int i = 0; i <= bins; ++i) {
-    const eval::AxisTerms<double>& a = terms[std::size_t(std::min(i, bins - 1))];
+    const internal::AxisTerms<double>& a = terms[std::size_t(std::min(i, bins - 1))];
     float* t = base + std::size_t(i) * row + lane;
     t[0] = float(a.g);
     t[kGroup] = float(a.w);
@@ -148,7 +148,7 @@ CBRDF_WASM_EXPORT cbrdf_viewer* cbrdf_viewer_open(const void* data, std::size_t 
       for (int r = 0; r < cs.components(); ++r) {
         const Component& comp = cs.component(r);
         const int q = c * R + r;
-        const ProductForm f = eval::product_form(comp);
+        const ProductForm f = internal::product_form(comp);
         if (!f.ok) {
           any_generic = true;
           continue;
@@ -265,16 +265,16 @@ CBRDF_WASM_EXPORT int cbrdf_viewer_slice(const cbrdf_viewer* v, int slice, int c
   for (int k = 0; k < kPhiDBins; ++k) out[90 + k] = float(c.pdf_p[std::size_t(k)]);
   for (int j = 0; j < sl.width(); ++j) out[270 + j] = float(c.pdf_d[std::size_t(j)]);
   const double theta =
-      std::clamp(c.theta, -eval::kMaxEvaluatedParameter, eval::kMaxEvaluatedParameter);
-  auto grid = fit::make_evaluation_grid(c.family, theta);
+      std::clamp(c.theta, -internal::kMaxEvaluatedParameter, internal::kMaxEvaluatedParameter);
+  auto grid = internal::make_evaluation_grid(c.family, theta);
   if (!grid) {  // independence: a density of 1
     std::fill(out + 360, out + 16560, 1.0f);
     return sl.width();
   }
   std::vector<double> u1, u2, u3;
-  fit::midpoint_cdf(c.pdf_h, &u1);
-  fit::midpoint_cdf(c.pdf_d, &u2);
-  fit::midpoint_cdf(c.pdf_p, &u3);
+  internal::midpoint_cdf(c.pdf_h, &u1);
+  internal::midpoint_cdf(c.pdf_d, &u2);
+  internal::midpoint_cdf(c.pdf_p, &u3);
   grid->prepare(theta, u1, u2, u3);
   const int jm = sl.width() / 2;
   for (int i = 0; i < kThetaHBins; ++i)

@@ -4,7 +4,7 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/encoder.h"
-#include "cbrdf/metrics.h"
+#include "metrics.h"
 
 namespace cbrdf {
 namespace {

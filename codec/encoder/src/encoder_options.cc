@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The user-facing encoder options (`cbrdf encode`, `cbrdf report`, rate control) as
 // EncoderSettings: one place for their parsing, their defaults and their error messages.
+#include "encoder_options.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
@@ -121,6 +123,11 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
     return invalid("--metadata must be none, short or full, not '" + o.metadata + "'");
   }
   return st;
+}
+
+EncoderSettings command_defaults() {
+  // The default options are valid by construction (encoder_options_test).
+  return encoder_settings(EncoderOptions{}).value();
 }
 
 }  // namespace cbrdf

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "cbrdf/parallel_for.h"
+#include "parallel_for.h"
 
 namespace cbrdf::internal {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "cbrdf/metrics.h"
+#include "metrics.h"
 
 namespace cbrdf {
 namespace {

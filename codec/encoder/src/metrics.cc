@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
 // BRDF-space error metrics (metrics.h documents the exact definitions).
-#include "cbrdf/metrics.h"
+#include "metrics.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <mutex>
 
-#include "cbrdf/parallel_for.h"
+#include "parallel_for.h"
 
 namespace cbrdf {
 namespace {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "cbrdf/metrics.h"
+#include "metrics.h"
 #include "residual_encode.h"
 
 namespace cbrdf {

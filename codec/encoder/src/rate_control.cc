@@ -9,7 +9,8 @@
 #include <string>
 #include <utility>
 
-#include "cbrdf/metrics.h"
+#include "encoder_options.h"
+#include "metrics.h"
 #include "rate/byte_predictor.h"
 #include "rate/model_search.h"
 
@@ -377,7 +378,7 @@ class Grid {
   const RateTarget& target_;
   const bool for_ladder_;
   Search search_;
-  rate::BytePredictor predictor_;
+  internal::BytePredictor predictor_;
   std::map<std::pair<int, int>, double> psnr_;  // Row::psnr per (slices, components) fitted
   std::map<int, Lane> lanes_;                   // per slice count fitted
   double floor_bytes_ = -1;  // one component at 6 bits at the smallest slice count fitted
@@ -388,10 +389,10 @@ class Grid {
 
 Expected<RateResult> encode_to_target(const BrdfTable& table, const EncoderSettings& base,
                                       const RateTarget& target) {
-  return rate::search_model(table, base, target, false);
+  return internal::search_model(table, base, target, false);
 }
 
-namespace rate {
+namespace internal {
 
 Expected<RateResult> search_model(const BrdfTable& table, const EncoderSettings& base,
                                   const RateTarget& target, bool for_ladder) {
@@ -401,6 +402,6 @@ Expected<RateResult> search_model(const BrdfTable& table, const EncoderSettings&
   return std::move(grid.result());
 }
 
-}  // namespace rate
+}  // namespace internal
 
 }  // namespace cbrdf

@@ -8,8 +8,8 @@
 #include <limits>
 #include <memory>
 
-#include "chunks.h"
-#include "residual_levels.h"
+#include "bitstream/chunks.h"
+#include "bitstream/residual_levels.h"
 
 namespace cbrdf::internal {
 namespace {

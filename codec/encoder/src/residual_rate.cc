@@ -9,9 +9,9 @@
 #include <string>
 
 #include "cbrdf/encoder.h"
-#include "cbrdf/metrics.h"
 #include "cbrdf/noise.h"
 #include "cbrdf/rate_control.h"
+#include "metrics.h"
 #include "rate/model_search.h"
 #include "rate/secant.h"
 #include "residual_encode.h"
@@ -173,7 +173,7 @@ class ResidualSearch {
 
 // The largest E reaching the PSNR: PSNR falls as log E grows.
 Status search_psnr(ResidualSearch* search, const RateTarget& target, double smallest_error) {
-  rate::Secant secant(std::log(smallest_error), std::log(kLargestError), -kDbPerLogError);
+  internal::Secant secant(std::log(smallest_error), std::log(kLargestError), -kDbPerLogError);
   // Aim a little above the target, so that a try on the curve's estimate meets it.
   const double aim = target.min_psnr + 0.5 * kPsnrTolerance;
   double x = std::log(std::max(kFirstError, smallest_error));
@@ -198,7 +198,7 @@ Status search_bytes(ResidualSearch* search, const RateTarget& target, const Rate
   const auto value = [&](double bytes) { return std::log(std::max(bytes - base_bytes, 1.0)); };
   const double aim = value(target.max_bytes * (1 - 0.5 * kBudgetTolerance));
   // The residual's bytes against E on the real materials: about E^-0.7.
-  rate::Secant secant(std::log(smallest_error), std::log(kLargestError), -0.7);
+  internal::Secant secant(std::log(smallest_error), std::log(kLargestError), -0.7);
   secant.add(std::log(kLargestError), value(cheapest.bytes), true);
   for (int k = 0; k < kMaxTries; ++k) {
     const std::optional<double> next = secant.next(aim);
@@ -263,7 +263,8 @@ Expected<RateResult> residual_within_budget(const BrdfTable& table, const Encode
   RateResult best = *search.best();
   if (best.chosen.max_error != kLargestError) model_only.tried.push_back(best.chosen);
   // On a noisy table the PSNR against the input does not tell signal from noise: the smoothed
-  // residual is kept (closer to the truth than the model alone, tests/noise_ladder_test.cc).
+  // residual is kept (closer to the truth than the model alone,
+  // tests/encoder/noise_ladder_test.cc).
   if (floor.active ? !search.adds_signal(best.chosen.max_error)
                    : best.chosen.psnr_tonemapped <= model_only.chosen.psnr_tonemapped) {
     return model_only;
@@ -278,7 +279,7 @@ Expected<RateResult> residual_within_budget(const BrdfTable& table, const Encode
 
 Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const EncoderSettings& base,
                                              const RateTarget& target) {
-  Expected<RateResult> rc = rate::search_model(table, base, target, true);
+  Expected<RateResult> rc = internal::search_model(table, base, target, true);
   if (!rc.ok()) return rc;
   const bool by_bytes = target.max_bytes > 0;
   // The model alone reaches the PSNR, or leaves no room in the budget for a better file.

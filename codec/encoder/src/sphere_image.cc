@@ -10,8 +10,8 @@
 #include <numbers>
 #include <utility>
 
-#include "cbrdf/metrics.h"
-#include "cbrdf/parallel_for.h"
+#include "metrics.h"
+#include "parallel_for.h"
 
 namespace cbrdf {
 namespace {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // fit_analytic(): a scan for a start, then Ceres on every parameter (analytic_fit.h).
-#include "cbrdf/analytic_fit.h"
+#include "analytic_fit.h"
 
 #include <ceres/ceres.h>
 
@@ -18,7 +18,7 @@
 namespace cbrdf {
 namespace {
 
-using analytic_internal::PairGeometry;
+using internal::PairGeometry;
 
 struct FitBin {
   PairGeometry g;
@@ -75,7 +75,7 @@ std::vector<FitBin> draw_bins(const BrdfTable& table, const AnalyticFitSettings&
     from_half_diff({theta_h_of(b.theta_h), 0.0, theta_d_of(b.theta_d), phi_d_of(b.phi_d)}, &wi,
                    &wo);
     FitBin fb;
-    if (!analytic_internal::pair_geometry(wi, wo, &fb.g)) continue;
+    if (!internal::pair_geometry(wi, wo, &fb.g)) continue;
     for (int c = 0; c < kChannels; ++c) fb.m[std::size_t(c)] = table.physical(c, idx);
     fb.w = st.loss == AnalyticLoss::kCosineWeighted
                ? fb.g.cos_i * fb.g.cos_o * bin_measure(b.theta_h, b.theta_d)
@@ -96,7 +96,7 @@ double loss_of(const std::vector<Lobe>& lobes, const std::vector<FitBin>& bins, 
   double sum = 0.0;
   for (const FitBin& b : bins) {
     double rgb[3] = {0, 0, 0};
-    for (const Lobe& l : lobes) analytic_internal::add_lobe(l, b.g, rgb);
+    for (const Lobe& l : lobes) internal::add_lobe(l, b.g, rgb);
     for (int c = 0; c < 3; ++c) {
       const double r = residual(loss, rgb[c], b.m[std::size_t(c)]);
       sum += b.w * r * r;
@@ -121,8 +121,8 @@ void fit_colours(std::vector<Lobe>* lobes, std::size_t count, const std::vector<
       unit.rgb = {1, 1, 1};
       zero.rgb = {0, 0, 0};
       double v1[3] = {0, 0, 0}, v0[3] = {0, 0, 0};
-      analytic_internal::add_lobe(unit, b.g, v1);
-      analytic_internal::add_lobe(zero, b.g, v0);
+      internal::add_lobe(unit, b.g, v1);
+      internal::add_lobe(zero, b.g, v0);
       a[l] = v1[0] - v0[0];
       offset += v0[0];
     }
@@ -216,7 +216,7 @@ class ChunkResidual {
     for (std::size_t i = 0; i < count_; ++i) {
       const FitBin& b = bins_[i];
       double rgb[3] = {0, 0, 0};
-      for (const Lobe& l : lobes) analytic_internal::add_lobe(l, b.g, rgb);
+      for (const Lobe& l : lobes) internal::add_lobe(l, b.g, rgb);
       const double sw = std::sqrt(b.w);
       for (int c = 0; c < 3; ++c) {
         const double r = sw * residual(loss_, rgb[c], b.m[std::size_t(c)]);

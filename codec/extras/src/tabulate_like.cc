@@ -4,9 +4,9 @@
 #include <cmath>
 #include <string>
 
-#include "cbrdf/analytic_fit.h"
+#include "analytic_fit.h"
 #include "cbrdf/coords.h"
-#include "cbrdf/parallel_for.h"
+#include "parallel_for.h"
 
 namespace cbrdf {
 

@@ -12,7 +12,7 @@
 /// refused. Nothing is fsync'ed (standard C++ has no way to): after a power loss the new content
 /// may be lost, but never half-written over the old.
 ///
-/// The `cbrdf` command has a POSIX layer of its own on top of these (tools/files/file_io.h): it
+/// The `cbrdf` command has a POSIX layer of its own on top of these (tools/cli/files/file_io.h): it
 /// also writes to /dev/stdout, devices and pipes, and removes temporaries when a signal ends it.
 #pragma once
 

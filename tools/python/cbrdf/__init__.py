@@ -301,7 +301,8 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
            target_bytes: float | None = None, target_psnr: float | None = None,
            max_error: float | None = None, lossless: bool = False,
            mask: _Any = None, source_name: str | None = None,
-           mixture_copulas: str | None = None) -> bytes:
+           mixture_copulas: str | None = None, format_version: str = "auto",
+           metadata: str = "short") -> bytes:
     """Fit the copula model to a table and return the bytes of a .cbrdf file.
 
     With the same input and options the bytes equal those ``cbrdf encode`` writes
@@ -348,6 +349,11 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
             PSNR per byte).
             ``None``: fit, except that a target searches at independence
             (``--mixture-copulas``).
+        format_version: the container's coding: ``"auto"`` (1.3 where smaller),
+            ``"1.2"`` (the 1.0-1.2 chunks, for older readers) or ``"1.3"``
+            (``--format-version``).
+        metadata: the metadata chunk: ``"none"``, ``"short"`` (source file name and
+            encoder) or ``"full"`` (also bits and zstd level) (``--metadata``).
 
     Returns:
         The .cbrdf file's bytes.
@@ -363,7 +369,8 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
     t = _to_table(table, mask)
     return _cbrdf._encode(t, bits, components, slices, family, loss, level, placement,
                           bool(naive_marginals), threads, target_bytes, target_psnr, max_error,
-                          bool(lossless), source_name, mixture_copulas)
+                          bool(lossless), source_name, mixture_copulas, format_version,
+                          metadata)
 
 
 class Component:

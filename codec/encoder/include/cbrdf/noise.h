@@ -72,7 +72,7 @@ BrdfTable smooth_residual_target(const BrdfTable& table, const BrdfTable& base, 
 
 /// The rate control's residual on a noisy table (--target-psnr, --target-bytes, the report's
 /// noise-floor point) is smooth_residual_target with this radius and the residual's knee.
-/// Measured on the 20 materials of ../shared at 3% (tools/bench-noisy.py).
+/// Measured on the 20 materials of ../shared at 3% (tools/scripts/bench-noisy.py).
 inline constexpr double kDenoiseRadius = 2.0;
 /// The residual's bounds E are no smaller than this times the largest channel sigma (the noise
 /// floor).

@@ -76,9 +76,9 @@ struct RateResult {
 /// or the component before did not raise its row's PSNR. The forecasts, the gain bound and the end
 /// of the slice search are heuristics, not proofs (they matched the full search of the previous
 /// version on the real materials measured, and an exhaustive search on a small grid in
-/// tests/rate_control_test.cc); they are what keeps a search within a few default encodes. When no
-/// setting reaches the PSNR, the closest row is also measured at fewer bits while its PSNR stays
-/// saturated (within 0.05 dB of the best), since the last bits can cost a hair of PSNR there.
+/// tests/encoder/rate_control_test.cc); they are what keeps a search within a few default encodes.
+/// When no setting reaches the PSNR, the closest row is also measured at fewer bits while its PSNR
+/// stays saturated (within 0.05 dB of the best), since the last bits can cost a hair of PSNR there.
 /// Exactly one of max_bytes, min_psnr must be > 0 (kInvalidArgument otherwise).
 Expected<RateResult> encode_to_target(const BrdfTable& table, const EncoderSettings& base,
                                       const RateTarget& target);

@@ -78,9 +78,9 @@ Lobe ashikhmin_shirley(const std::array<double, 3>& rs, double exponent) {
 
 void AnalyticBrdf::eval(const Vec3& wi, const Vec3& wo, double rgb[3]) const {
   rgb[0] = rgb[1] = rgb[2] = 0.0;
-  analytic_internal::PairGeometry g;
-  if (!analytic_internal::pair_geometry(wi, wo, &g)) return;
-  for (const Lobe& lobe : lobes) analytic_internal::add_lobe(lobe, g, rgb);
+  internal::PairGeometry g;
+  if (!internal::pair_geometry(wi, wo, &g)) return;
+  for (const Lobe& lobe : lobes) internal::add_lobe(lobe, g, rgb);
 }
 
 int AnalyticBrdf::num_params() const {

@@ -5,7 +5,7 @@
 #include "cbrdf/analytic.h"
 #include "cbrdf/coords.h"
 
-namespace cbrdf::analytic_internal {
+namespace cbrdf::internal {
 
 // Everything the lobes need about (wi, wo), computed once per pair and symmetric in wi and wo so
 // that every lobe is reciprocal to rounding.
@@ -23,4 +23,4 @@ bool pair_geometry(const Vec3& wi, const Vec3& wo, PairGeometry* g);
 // Adds the lobe's value to rgb.
 void add_lobe(const Lobe& lobe, const PairGeometry& g, double rgb[3]);
 
-}  // namespace cbrdf::analytic_internal
+}  // namespace cbrdf::internal

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-namespace cbrdf::microfacet {
+namespace cbrdf::internal {
 
 // GGX (Trowbridge-Reitz) normal distribution at a half vector with cos(theta_h) = cos_h and
 // tan^2(theta_h) = tan2_h; normalized so that the integral of D cos(theta_h) over the hemisphere
@@ -50,4 +50,4 @@ inline double schlick(double f0, double cos_d) {
   return f0 + (1.0 - f0) * m2 * m2 * m;
 }
 
-}  // namespace cbrdf::microfacet
+}  // namespace cbrdf::internal

@@ -27,7 +27,7 @@
 #include "cbrdf/status.h"
 #include "copula/registry.h"
 
-namespace cbrdf::capi {
+namespace cbrdf::internal {
 namespace {
 
 static_assert(CBRDF_NOISE_BANDS == kNoiseBands, "the C API's bands are the library's");
@@ -46,8 +46,13 @@ cbrdf_encode_settings default_settings() {
   s.family = int(d.fit.family);
   s.threads = d.fit.threads;
   s.mixture_copulas = d.fit.mixture_copulas ? 1 : 0;
+  s.format_version = CBRDF_FORMAT_AUTO;  // as `cbrdf encode`
+  s.metadata = CBRDF_METADATA_SHORT;
   return s;
 }
+
+// A struct from before 2.2 ends before these fields; its callers keep the coding they had.
+constexpr std::size_t kSettingsSize22 = offsetof(cbrdf_encode_settings, metadata) + sizeof(int);
 
 Status check_range(const char* field, int value, int lo, int hi) {
   if (value >= lo && value <= hi) return ok_status();
@@ -68,6 +73,10 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
     }
     // A newer caller's struct may be longer: read what this version knows.
     std::memcpy(&s, in, std::min<std::size_t>(in->struct_size, sizeof s));
+    if (in->struct_size < kSettingsSize22) {
+      s.format_version = CBRDF_FORMAT_1_2;
+      s.metadata = CBRDF_METADATA_FULL;
+    }
   }
   if (s.bits != CBRDF_BITS_AUTO && (s.bits < 6 || s.bits > 16)) {
     return invalid_argument(
@@ -82,6 +91,15 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   CBRDF_RETURN_IF_ERROR(check_range("threads", s.threads, 0, 256));
   CBRDF_RETURN_IF_ERROR(check_range("lossless", s.lossless, 0, 1));
   CBRDF_RETURN_IF_ERROR(check_range("mixture_copulas", s.mixture_copulas, 0, 1));
+  if (s.format_version != CBRDF_FORMAT_AUTO && s.format_version != CBRDF_FORMAT_1_2 &&
+      s.format_version != CBRDF_FORMAT_1_3) {
+    return invalid_argument(
+        "cbrdf_encode_settings.format_version must be CBRDF_FORMAT_AUTO (0), CBRDF_FORMAT_1_2 "
+        "(12) or CBRDF_FORMAT_1_3 (13), not " +
+        std::to_string(s.format_version));
+  }
+  CBRDF_RETURN_IF_ERROR(
+      check_range("metadata", s.metadata, CBRDF_METADATA_NONE, CBRDF_METADATA_FULL));
   if (s.max_error != 0 && !(s.max_error >= 1e-6 && s.max_error <= 16)) {
     char text[32];
     std::snprintf(text, sizeof text, "%g", s.max_error);
@@ -111,6 +129,12 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   out.residual.max_error = s.max_error;
   out.residual.lossless = s.lossless != 0;
   out.fit.mixture_copulas = s.mixture_copulas != 0;
+  out.container.format = s.format_version == CBRDF_FORMAT_1_2   ? ContainerSettings::Format::kV12
+                         : s.format_version == CBRDF_FORMAT_1_3 ? ContainerSettings::Format::kV13
+                                                                : ContainerSettings::Format::kAuto;
+  out.container.write_metadata = s.metadata != CBRDF_METADATA_NONE;
+  out.container.metadata = s.metadata == CBRDF_METADATA_FULL ? ContainerSettings::Metadata::kFull
+                                                             : ContainerSettings::Metadata::kShort;
   return out;
 }
 
@@ -132,16 +156,16 @@ Status check_no_positive_infinity(const BrdfTable& table) {
 }
 
 }  // namespace
-}  // namespace cbrdf::capi
+}  // namespace cbrdf::internal
 
 extern "C" {
 
 cbrdf_status cbrdf_encode_settings_init(cbrdf_encode_settings* settings) {
-  return cbrdf::capi::guarded([&]() -> cbrdf::Status {
+  return cbrdf::internal::guarded([&]() -> cbrdf::Status {
     if (settings == nullptr) {
-      return cbrdf::capi::invalid_argument("cbrdf_encode_settings_init: settings is NULL");
+      return cbrdf::internal::invalid_argument("cbrdf_encode_settings_init: settings is NULL");
     }
-    *settings = cbrdf::capi::default_settings();
+    *settings = cbrdf::internal::default_settings();
     return cbrdf::ok_status();
   });
 }
@@ -151,8 +175,8 @@ cbrdf_status cbrdf_encode_table(const double* stored_values, size_t count,
                                 size_t* out_size) {
   if (out_bytes != nullptr) *out_bytes = nullptr;
   if (out_size != nullptr) *out_size = 0;
-  return cbrdf::capi::guarded([&]() -> cbrdf::Status {
-    using cbrdf::capi::invalid_argument;
+  return cbrdf::internal::guarded([&]() -> cbrdf::Status {
+    using cbrdf::internal::invalid_argument;
     if (stored_values == nullptr || out_bytes == nullptr || out_size == nullptr) {
       return invalid_argument("cbrdf_encode_table: stored_values, out_bytes or out_size is NULL");
     }
@@ -161,11 +185,11 @@ cbrdf_status cbrdf_encode_table(const double* stored_values, size_t count,
           "cbrdf_encode_table: count is " + std::to_string(count) +
           ", not cbrdf_merl_table_size() = " + std::to_string(cbrdf_merl_table_size()));
     }
-    auto st = cbrdf::capi::to_encoder_settings(settings);
+    auto st = cbrdf::internal::to_encoder_settings(settings);
     if (!st.ok()) return st.status();
     cbrdf::BrdfTable table;
     std::memcpy(table.stored_values().data(), stored_values, count * sizeof(double));
-    CBRDF_RETURN_IF_ERROR(cbrdf::capi::check_no_positive_infinity(table));
+    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_no_positive_infinity(table));
     auto encoded = cbrdf::encode_table(table, *st);
     if (!encoded.ok()) return encoded.status();
     const std::vector<std::uint8_t>& bytes = encoded->bytes;
@@ -180,11 +204,12 @@ cbrdf_status cbrdf_encode_table(const double* stored_values, size_t count,
 
 cbrdf_status cbrdf_encode_merl_file(const char* in_path, const char* out_path,
                                     const cbrdf_encode_settings* settings) {
-  return cbrdf::capi::guarded([&]() -> cbrdf::Status {
+  return cbrdf::internal::guarded([&]() -> cbrdf::Status {
     if (in_path == nullptr || out_path == nullptr) {
-      return cbrdf::capi::invalid_argument("cbrdf_encode_merl_file: in_path or out_path is NULL");
+      return cbrdf::internal::invalid_argument(
+          "cbrdf_encode_merl_file: in_path or out_path is NULL");
     }
-    auto st = cbrdf::capi::to_encoder_settings(settings);
+    auto st = cbrdf::internal::to_encoder_settings(settings);
     if (!st.ok()) return st.status();
     st->container.source_name = std::filesystem::path(in_path).filename().string();
     auto table = cbrdf::read_merl(in_path);
@@ -197,8 +222,8 @@ cbrdf_status cbrdf_encode_merl_file(const char* in_path, const char* out_path,
 
 cbrdf_status cbrdf_estimate_noise(const double* stored_values, size_t count,
                                   cbrdf_noise_estimate* out) {
-  return cbrdf::capi::guarded([&]() -> cbrdf::Status {
-    using cbrdf::capi::invalid_argument;
+  return cbrdf::internal::guarded([&]() -> cbrdf::Status {
+    using cbrdf::internal::invalid_argument;
     if (stored_values == nullptr || out == nullptr) {
       return invalid_argument("cbrdf_estimate_noise: stored_values or out is NULL");
     }

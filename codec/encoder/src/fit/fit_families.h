@@ -11,7 +11,7 @@
 #include "cbrdf/copula_family.h"
 #include "copula/registry.h"
 
-namespace cbrdf::fit {
+namespace cbrdf::internal {
 
 struct FitFamilyRow {
   CopulaFamily id;
@@ -52,4 +52,4 @@ constexpr const FitFamilyRow* fit_family_row(CopulaFamily family) {
 // The family of a mixture's added components under `--family auto` (the paper's).
 inline constexpr CopulaFamily kAutoMixtureFamily = CopulaFamily::kFrank;
 
-}  // namespace cbrdf::fit
+}  // namespace cbrdf::internal

@@ -6,13 +6,13 @@
 #include <string>
 
 #include "cbrdf/fit.h"
-#include "cbrdf/parallel_for.h"
 #include "density/grid_copula.h"
 #include "fit/fit_families.h"
 #include "fit/fit_parameter.h"
 #include "fit/marginals.h"
 #include "fit/mixture.h"
 #include "fit/slice_data.h"
+#include "parallel_for.h"
 
 namespace cbrdf {
 namespace {
@@ -23,24 +23,25 @@ struct SliceFitResult {
 };
 
 // Marginals (imputed or naive) and parameter for one family.
-SliceFitResult fit_family(const fit::SliceData& s, CopulaFamily family, const FitSettings& st) {
+SliceFitResult fit_family(const internal::SliceData& s, CopulaFamily family,
+                          const FitSettings& st) {
   SliceFitResult r;
-  auto copula = fit::make_grid_copula(family);
-  fit::Marginals m = fit::naive_marginals(s);
-  auto independence = fit::make_grid_copula(CopulaFamily::kIndependence);
+  auto copula = internal::make_grid_copula(family);
+  internal::Marginals m = internal::naive_marginals(s);
+  auto independence = internal::make_grid_copula(CopulaFamily::kIndependence);
   if (st.impute_missing) {
-    r.report.impute_rounds +=
-        fit::impute_marginals(s, *independence, 0.0, st.impute_iterations, st.impute_tolerance, &m);
+    r.report.impute_rounds += internal::impute_marginals(
+        s, *independence, 0.0, st.impute_iterations, st.impute_tolerance, &m);
   }
-  fit::ParameterFit p = fit::fit_parameter(s, m, *copula, st.loss);
+  internal::ParameterFit p = internal::fit_parameter(s, m, *copula, st.loss);
   r.report.solver_iterations += p.iterations;
   // The marginals were imputed under independence: once the parameter is known, impute under the
   // fitted copula and refit (one more round gains nothing measurable).
   if (st.impute_missing && st.impute_with_copula && p.theta != copula->independence()) {
-    fit::Marginals m2 = m;
-    r.report.impute_rounds +=
-        fit::impute_marginals(s, *copula, p.theta, st.impute_iterations, st.impute_tolerance, &m2);
-    fit::ParameterFit p2 = fit::fit_parameter(s, m2, *copula, st.loss);
+    internal::Marginals m2 = m;
+    r.report.impute_rounds += internal::impute_marginals(s, *copula, p.theta, st.impute_iterations,
+                                                         st.impute_tolerance, &m2);
+    internal::ParameterFit p2 = internal::fit_parameter(s, m2, *copula, st.loss);
     r.report.solver_iterations += p2.iterations;
     if (p2.objective <= p.objective) {
       m = std::move(m2);
@@ -67,11 +68,11 @@ constexpr double kAutoObjectiveFloor = 1e-6;
 // components one at a time; `auto_components` adds them one call at a time and keeps a component
 // only when it lowers the objective by the factor auto_component_gain, and stops early once the
 // residual is negligible.
-void add_components(const fit::SliceData& s, const FitSettings& st, SliceFitResult* r) {
-  const CopulaFamily family = st.auto_family ? fit::kAutoMixtureFamily : st.family;
+void add_components(const internal::SliceData& s, const FitSettings& st, SliceFitResult* r) {
+  const CopulaFamily family = st.auto_family ? internal::kAutoMixtureFamily : st.family;
   if (!st.auto_components) {
-    fit::MixtureFit m =
-        fit::fit_mixture(s, r->cs, st.components, family, st.loss, st.mixture_copulas);
+    internal::MixtureFit m =
+        internal::fit_mixture(s, r->cs, st.components, family, st.loss, st.mixture_copulas);
     if (m.objective < r->report.objective) {
       r->cs = std::move(m.cs);
       r->report.objective = m.objective;
@@ -84,7 +85,8 @@ void add_components(const fit::SliceData& s, const FitSettings& st, SliceFitResu
   for (int k = r->cs.components() + 1; k <= st.components; ++k) {
     // Already within kAutoObjectiveFloor: nothing visible left to gain.
     if (r->report.objective < kAutoObjectiveFloor) break;
-    fit::MixtureFit m = fit::fit_mixture(s, r->cs, k, family, st.loss, st.mixture_copulas);
+    internal::MixtureFit m =
+        internal::fit_mixture(s, r->cs, k, family, st.loss, st.mixture_copulas);
     r->report.hals_sweeps += m.sweeps;
     r->report.hals_unconverged += m.unconverged;
     r->report.solver_iterations += m.solver_iterations;
@@ -96,10 +98,11 @@ void add_components(const fit::SliceData& s, const FitSettings& st, SliceFitResu
   }
 }
 
-fit::SliceData slice_for_fit(const BrdfTable& table, int channel, int begin, int end,
-                             const FitSettings& st) {
-  fit::SliceData s = fit::extract_slice(table, channel, begin, end, st.loss == FitLoss::kCosine);
-  fit::normalize_slice(&s);  // the fit in units of s.unit; K back to physical units at the end
+internal::SliceData slice_for_fit(const BrdfTable& table, int channel, int begin, int end,
+                                  const FitSettings& st) {
+  internal::SliceData s =
+      internal::extract_slice(table, channel, begin, end, st.loss == FitLoss::kCosine);
+  internal::normalize_slice(&s);  // the fit in units of s.unit; K back to physical units at the end
   return s;
 }
 
@@ -111,7 +114,7 @@ void to_physical(double unit, SliceFitResult* r) {
 
 // The one-component fit of a slice (in units of s.unit); `zero` is set when nothing is measured
 // or all is zero, and the result is then final (the model is 0 there).
-SliceFitResult fit_single(const fit::SliceData& s, const FitSettings& st, bool* zero) {
+SliceFitResult fit_single(const internal::SliceData& s, const FitSettings& st, bool* zero) {
   double sum = 0;
   for (double v : s.mv) sum += v;
   if (!(sum > 0)) {
@@ -133,7 +136,7 @@ SliceFitResult fit_single(const fit::SliceData& s, const FitSettings& st, bool* 
     best = fit_family(s, st.family, st);
   } else {
     bool have = false;
-    for (const fit::FitFamilyRow& row : fit::kFitFamilies) {
+    for (const internal::FitFamilyRow& row : internal::kFitFamilies) {
       if (!row.in_auto) continue;
       SliceFitResult r = fit_family(s, row.id, st);
       if (!have || r.report.objective < best.report.objective) {
@@ -147,7 +150,7 @@ SliceFitResult fit_single(const fit::SliceData& s, const FitSettings& st, bool* 
 
 SliceFitResult fit_slice_channel(const BrdfTable& table, int channel, int begin, int end,
                                  const FitSettings& st) {
-  const fit::SliceData s = slice_for_fit(table, channel, begin, end, st);
+  const internal::SliceData s = slice_for_fit(table, channel, begin, end, st);
   bool zero = false;
   SliceFitResult best = fit_single(s, st, &zero);
   if (zero) return best;
@@ -221,7 +224,7 @@ Expected<FitSettings> resolve(const BrdfTable& table, const FitSettings& setting
   }
   auto bounds = slice_bounds(st);
   if (!bounds.ok()) return bounds.status();
-  if (!fit::make_grid_copula(st.family)) {
+  if (!internal::make_grid_copula(st.family)) {
     return error(ErrorCode::kInvalidArgument,
                  "copula family '" + std::string(family_name(st.family)) + "' cannot be fitted");
   }
@@ -280,7 +283,7 @@ struct FitLadder::State {
   std::vector<SliceFitResult> single;
   std::vector<double> unit;
   std::vector<char> zero;
-  std::vector<fit::MixtureState> mixture;
+  std::vector<internal::MixtureState> mixture;
   int top = 0;  // the highest count whose factorization `mixture` holds
   std::map<int, std::pair<Model, FitReport>> done;
   int fits = 0;
@@ -304,7 +307,7 @@ struct FitLadder::State {
     return model;
   }
 
-  fit::SliceData slice(int job) const {
+  internal::SliceData slice(int job) const {
     const int s = job / kChannels, c = job % kChannels;
     return slice_for_fit(*table, c, bounds[std::size_t(s)], bounds[std::size_t(s) + 1], st);
   }
@@ -367,7 +370,7 @@ Expected<Model> FitLadder::fit(int components, FitReport* report) {
     L.zero.assign(std::size_t(jobs), 0);
     L.mixture.assign(std::size_t(jobs), {});
     internal::parallel_for(jobs, threads, [&](int job) {
-      const fit::SliceData s = L.slice(job);
+      const internal::SliceData s = L.slice(job);
       bool zero = false;
       L.single[std::size_t(job)] = fit_single(s, L.st, &zero);
       L.unit[std::size_t(job)] = s.unit;
@@ -379,16 +382,16 @@ Expected<Model> FitLadder::fit(int components, FitReport* report) {
   std::vector<SliceFitResult> results(L.single);
   if (components > 1) {
     // add_components at a fixed count, with the factorization continued.
-    const CopulaFamily family = L.st.auto_family ? fit::kAutoMixtureFamily : L.st.family;
+    const CopulaFamily family = L.st.auto_family ? internal::kAutoMixtureFamily : L.st.family;
     std::vector<long long> sweeps(std::size_t(jobs), 0);
     internal::parallel_for(jobs, threads, [&](int job) {
       SliceFitResult* r = &results[std::size_t(job)];
       if (L.zero[std::size_t(job)] || !(r->cs.scale > 0)) return;
-      const fit::SliceData s = L.slice(job);
-      fit::MixtureState& state = L.mixture[std::size_t(job)];
+      const internal::SliceData s = L.slice(job);
+      internal::MixtureState& state = L.mixture[std::size_t(job)];
       const int before = state.sweeps;
-      fit::MixtureFit m = fit::fit_mixture_continued(s, r->cs, components, family, L.st.loss,
-                                                     &state, L.st.mixture_copulas);
+      internal::MixtureFit m = internal::fit_mixture_continued(
+          s, r->cs, components, family, L.st.loss, &state, L.st.mixture_copulas);
       sweeps[std::size_t(job)] = state.started ? state.sweeps - before : 0;
       if (m.objective < r->report.objective) {
         r->cs = std::move(m.cs);

@@ -8,7 +8,7 @@
 #include "fit/loss.h"
 #include "fit/solver_options.h"
 
-namespace cbrdf::fit {
+namespace cbrdf::internal {
 namespace {
 
 // The least-squares problem of Eq. 17 over the measured bins, r_q = v_q / vbar - K c_q f_q with
@@ -196,4 +196,4 @@ ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& c
   return r;
 }
 
-}  // namespace cbrdf::fit
+}  // namespace cbrdf::internal

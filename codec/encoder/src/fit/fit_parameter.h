@@ -7,7 +7,7 @@
 #include "fit/marginals.h"
 #include "fit/slice_data.h"
 
-namespace cbrdf::fit {
+namespace cbrdf::internal {
 
 struct ParameterFit {
   double theta = 0;
@@ -30,4 +30,4 @@ ParameterFit evaluate_parameter(const SliceData& s, const Marginals& m, GridCopu
 ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& copula,
                            FitLoss loss = FitLoss::kLinear);
 
-}  // namespace cbrdf::fit
+}  // namespace cbrdf::internal

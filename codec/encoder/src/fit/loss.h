@@ -9,7 +9,7 @@
 #include "cbrdf/fit.h"
 #include "fit/slice_data.h"
 
-namespace cbrdf::fit {
+namespace cbrdf::internal {
 
 struct LossResidual {
   double r;      // the residual
@@ -29,4 +29,4 @@ inline LossResidual loss_residual(FitLoss loss, const SliceData& s, std::size_t 
   return {w * (s.mv[q] * inv_vbar - model), -w};
 }
 
-}  // namespace cbrdf::fit
+}  // namespace cbrdf::internal

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace cbrdf::fit {
+namespace cbrdf::internal {
 namespace {
 
 void normalize(std::vector<double>* f) {
@@ -178,4 +178,4 @@ int impute_marginals(const SliceData& s, GridCopula& copula, double theta, int m
   return rounds;
 }
 
-}  // namespace cbrdf::fit
+}  // namespace cbrdf::internal

@@ -7,7 +7,7 @@
 #include "density/grid_copula.h"
 #include "fit/slice_data.h"
 
-namespace cbrdf::fit {
+namespace cbrdf::internal {
 
 struct Marginals {
   std::vector<double> pdf_h, pdf_d, pdf_p;  // masses over theta_h, theta_d, phi_d; each sums to 1
@@ -28,4 +28,4 @@ int impute_marginals(const SliceData& s, GridCopula& copula, double theta, int m
 // Prepares `copula` at theta over m's CDFs.
 void prepare(GridCopula& copula, double theta, const Marginals& m);
 
-}  // namespace cbrdf::fit
+}  // namespace cbrdf::internal

@@ -14,7 +14,7 @@
 #include "fit/marginals.h"
 #include "fit/solver_options.h"
 
-namespace cbrdf::fit {
+namespace cbrdf::internal {
 namespace {
 
 // Stop when a sweep lowers the measured objective by less than this fraction. Plain HALS (before
@@ -679,4 +679,4 @@ MixtureFit fit_mixture_continued(const SliceData& s, const ChannelSlice& start, 
   return out;
 }
 
-}  // namespace cbrdf::fit
+}  // namespace cbrdf::internal

@@ -19,7 +19,7 @@
 #include "cbrdf/model.h"
 #include "fit/slice_data.h"
 
-namespace cbrdf::fit {
+namespace cbrdf::internal {
 
 inline constexpr int kMaxSweeps = 400;  // HALS sweeps per added component, at most
 
@@ -63,4 +63,4 @@ MixtureFit fit_mixture_continued(const SliceData& s, const ChannelSlice& start, 
                                  CopulaFamily family, FitLoss loss, MixtureState* state,
                                  bool fit_copulas = true);
 
-}  // namespace cbrdf::fit
+}  // namespace cbrdf::internal

@@ -6,7 +6,7 @@
 
 #include "cbrdf/coords.h"
 
-namespace cbrdf::fit {
+namespace cbrdf::internal {
 
 namespace {
 
@@ -86,4 +86,4 @@ void normalize_slice(SliceData* s) {
   s->unit = std::ldexp(s->unit, e3);
 }
 
-}  // namespace cbrdf::fit
+}  // namespace cbrdf::internal

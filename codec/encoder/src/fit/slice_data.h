@@ -8,7 +8,7 @@
 
 #include "cbrdf/brdf_table.h"
 
-namespace cbrdf::fit {
+namespace cbrdf::internal {
 
 struct SliceData {
   int nh = kThetaHBins, nd = 0, np = kPhiDBins;
@@ -45,4 +45,4 @@ SliceData extract_slice(const BrdfTable& table, int channel, int theta_d_begin, 
 // overflow or underflow (1e300 or 1e-100 times a material took 400 sweeps per component).
 void normalize_slice(SliceData* s);
 
-}  // namespace cbrdf::fit
+}  // namespace cbrdf::internal

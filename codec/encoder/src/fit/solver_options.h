@@ -6,7 +6,7 @@
 
 #include <ceres/ceres.h>
 
-namespace cbrdf::fit {
+namespace cbrdf::internal {
 
 inline ceres::Solver::Options small_problem_options() {
   ceres::Solver::Options options;
@@ -21,4 +21,4 @@ inline ceres::Solver::Options small_problem_options() {
   return options;
 }
 
-}  // namespace cbrdf::fit
+}  // namespace cbrdf::internal

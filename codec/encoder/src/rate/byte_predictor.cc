@@ -3,7 +3,7 @@
 
 #include <iterator>
 
-namespace cbrdf::rate {
+namespace cbrdf::internal {
 
 void BytePredictor::add(int slices, int components, double bytes) {
   bytes_[{slices, components}] = bytes;
@@ -46,4 +46,4 @@ std::optional<double> BytePredictor::predict(int slices, int components) const {
   return b[0] + (b[0] - b[1]) / (s[0] - s[1]) * (slices - s[0]);
 }
 
-}  // namespace cbrdf::rate
+}  // namespace cbrdf::internal

@@ -9,7 +9,7 @@
 #include <optional>
 #include <utility>
 
-namespace cbrdf::rate {
+namespace cbrdf::internal {
 
 class BytePredictor {
  public:
@@ -24,4 +24,4 @@ class BytePredictor {
   std::map<std::pair<int, int>, double> bytes_;  // (slices, components) -> bytes
 };
 
-}  // namespace cbrdf::rate
+}  // namespace cbrdf::internal

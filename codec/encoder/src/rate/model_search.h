@@ -4,7 +4,7 @@
 
 #include "cbrdf/rate_control.h"
 
-namespace cbrdf::rate {
+namespace cbrdf::internal {
 
 // encode_to_target; with for_ladder, a PSNR target that the one-component rows leave more than any
 // mixture gains out of reach ends the search there: no mixture is fitted, met is false, and the
@@ -13,4 +13,4 @@ namespace cbrdf::rate {
 Expected<RateResult> search_model(const BrdfTable& table, const EncoderSettings& base,
                                   const RateTarget& target, bool for_ladder);
 
-}  // namespace cbrdf::rate
+}  // namespace cbrdf::internal

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-namespace cbrdf::rate {
+namespace cbrdf::internal {
 
 Secant::Secant(double x_min, double x_max, double slope)
     : x_min_(x_min), x_max_(x_max), slope_(slope) {}
@@ -56,4 +56,4 @@ std::optional<double> Secant::next(double aim) const {
   return x;
 }
 
-}  // namespace cbrdf::rate
+}  // namespace cbrdf::internal

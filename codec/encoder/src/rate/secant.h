@@ -9,7 +9,7 @@
 #include <optional>
 #include <vector>
 
-namespace cbrdf::rate {
+namespace cbrdf::internal {
 
 class Secant {
  public:
@@ -36,4 +36,4 @@ class Secant {
   std::vector<Point> points_;
 };
 
-}  // namespace cbrdf::rate
+}  // namespace cbrdf::internal

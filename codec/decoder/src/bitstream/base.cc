@@ -1,0 +1,518 @@
+// SPDX-License-Identifier: MIT
+// BASE (spec 4.7, container version 1.3): MODL and MARG in one chunk, the parameters as binary32
+// and the marginal tables predicted and range coded (range_coder.h). Reader and writer.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "byte_reader.h"
+#include "byte_writer.h"
+#include "chunks.h"
+#include "range_coder.h"
+
+namespace cbrdf {
+namespace {
+
+const char* const kAxisNames[3] = {"theta_h", "theta_d", "phi_d"};
+
+// Predictors of a table's codes (spec 4.7): from the bin before, by linear extrapolation, from the
+// bin before plus the reference table's step, and the same step rescaled to this table's range.
+constexpr int kPredictors = 4;
+constexpr int kPredictPrevious = 0, kPredictLinear = 1, kPredictRefStep = 2, kPredictRefScaled = 3;
+
+// All adaptive state of the marginal stream.
+struct MarginalContexts {
+  std::array<internal::SIntContexts, 3> hi{}, span{};  // range deltas, per axis
+  std::array<std::array<internal::Prob, 3>, 3> predictor{};
+  std::array<std::array<internal::SIntContexts, 3>, 3>
+      residual{};  // [axis][class of the last residual]
+};
+
+// The reference of a table: the table before it in the stream with the same axis (for G and B
+// the previous channel's, for R the previous slice's B), usable for steps when of the same size.
+struct Reference {
+  const std::vector<std::uint32_t>* codes = nullptr;
+  std::uint32_t span = 0;
+};
+
+int residual_class(std::int64_t e) {
+  const std::int64_t a = e < 0 ? -e : e;
+  return a == 0 ? 0 : a <= 2 ? 1 : 2;
+}
+
+std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
+  const std::int64_t q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+// The prediction of code i (before clamping): spec 4.7's table, integer arithmetic only.
+std::int64_t predict(int mode, const std::vector<std::uint32_t>& q, std::size_t i,
+                     const Reference& ref, std::uint32_t span, std::int64_t first) {
+  if (i == 0) return first;
+  const std::int64_t prev = q[i - 1];
+  switch (mode) {
+    case kPredictLinear:
+      return i >= 2 ? 2 * prev - std::int64_t(q[i - 2]) : prev;
+    case kPredictRefStep:
+      return prev + std::int64_t((*ref.codes)[i]) - std::int64_t((*ref.codes)[i - 1]);
+    case kPredictRefScaled: {
+      if (span == 0) return prev;
+      const std::int64_t d = std::int64_t((*ref.codes)[i]) - std::int64_t((*ref.codes)[i - 1]);
+      // round(d x span_ref / span), halves up
+      return prev + floor_div(2 * d * std::int64_t(ref.span) + span, 2 * std::int64_t(span));
+    }
+    default:
+      return prev;
+  }
+}
+
+std::int64_t clamp_code(std::int64_t p, std::int64_t top) {
+  return std::clamp<std::int64_t>(p, 0, top);
+}
+
+template <class Sink>
+void put_predictor(Sink& s, std::array<internal::Prob, 3>& p, int mode) {
+  s.bit(p[0], mode >> 1);
+  s.bit(p[1 + (mode >> 1)], mode & 1);
+}
+
+// The codes of one table with one predictor, into any sink (encoder or cost meter).
+template <class Sink>
+void put_codes(Sink& s, std::array<internal::SIntContexts, 3>& ctx, int mode,
+               const std::vector<std::uint32_t>& q, const Reference& ref, std::uint32_t span,
+               std::int64_t first, std::int64_t top) {
+  int cls = 2;
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    const std::int64_t e =
+        std::int64_t(q[i]) - clamp_code(predict(mode, q, i, ref, span, first), top);
+    internal::put_sint(s, ctx[std::size_t(cls)], std::int32_t(e));
+    cls = residual_class(e);
+  }
+}
+
+// The first code's prediction: the reference's first code, or the top code (the peak) without one.
+std::int64_t first_prediction(const std::vector<std::uint32_t>* previous_same_axis,
+                              std::int64_t top) {
+  return previous_same_axis && !previous_same_axis->empty() ? (*previous_same_axis)[0] : top;
+}
+
+// Binary32 of a parameter inside the format's range: the nearest, or its neighbour towards the
+// inside when the nearest falls outside (Frank's upper end ln 2 is not a binary32).
+std::optional<float> parameter_f32(std::uint8_t family, double theta, double scale) {
+  const float f = float(theta);
+  for (float g : {f, std::nextafter(f, -std::numeric_limits<float>::infinity()),
+                  std::nextafter(f, std::numeric_limits<float>::infinity())}) {
+    if (std::isfinite(g) && check_channel_params(family, double(g), double(float(scale))).ok()) {
+      return g;
+    }
+  }
+  return std::nullopt;
+}
+
+template <class F>
+void for_each_component(const std::vector<Slice>& slices, F f) {
+  for (std::size_t s = 0; s < slices.size(); ++s) {
+    for (int c = 0; c < kChannels; ++c) {
+      const ChannelSlice& ch = slices[s].channel[std::size_t(c)];
+      for (int k = 0; k < ch.components(); ++k) f(s, c, k);
+    }
+  }
+}
+
+// The cost of coding one signed value from contexts, without adapting them: within one value
+// each probability is used at most once, so this is exactly what an Encoder would spend.
+struct PeekMeter {
+  double bits = 0;
+  void bit(const internal::Prob& prob, int b) {
+    const double p0 = double(prob.p) / double(internal::kProbOne);
+    bits -= std::log2(b == 0 ? p0 : 1.0 - p0);
+  }
+};
+struct PeekSink {
+  PeekMeter* m;
+  void bit(internal::Prob& prob, int b) { m->bit(prob, b); }
+};
+
+}  // namespace
+
+namespace base_codes {
+
+Positions positions(std::span<const double> masses, int bits) {
+  Positions p;
+  p.position.assign(masses.size(), 0.0);
+  p.weight.assign(masses.size(), 0.0);
+  double sum = 0.0;
+  for (double m : masses) sum += m > 0.0 ? m : 0.0;
+  if (!(sum > 0.0) || !std::isfinite(sum)) return p;
+  // Scaled to sum 1, as the decoder renormalizes: every log mass at or below 0.
+  const double log_sum = std::log(sum);
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (double m : masses) {
+    if (m > 0.0) {
+      lo = std::min(lo, std::log(m) - log_sum);
+      hi = std::max(hi, std::log(m) - log_sum);
+    }
+  }
+  lo = std::max(lo, kMinLogMass);
+  hi = std::max(hi, kMinLogMass);
+  // The smallest grid span that holds every log mass (at least one unit, unless all are equal).
+  const double units = std::ceil((hi - lo) * kRangeGridUnits);
+  const std::uint32_t smallest = std::uint32_t(std::clamp(units, 0.0, double(kMaxGridUnits)));
+  const double top = double(max_code(bits));
+  const double peak = std::exp(hi + log_sum);
+  auto fill = [&](std::uint32_t d, Positions* out) {
+    out->span_units = d;
+    const double span = double(d) / kRangeGridUnits;
+    for (std::size_t i = 0; i < masses.size(); ++i) {
+      if (!(masses[i] > 0.0)) continue;
+      const double x = std::log(masses[i]) - log_sum - hi;  // <= 0
+      out->position[i] = span > 0.0 ? std::clamp(top + x / span * (top - 1.0), 1.0, top) : top;
+      out->weight[i] = std::pow(std::min(masses[i] / peak, 1.0), kWeightPower);
+    }
+  };
+  fill(smallest, &p);
+  if (smallest == 0) return p;
+  // A slightly wider span moves every code's lattice point: take the one whose plain rounding
+  // errs least where a linear image looks (log error weighted by the mass squared: the highlight
+  // bins). A specular table's peak neighbours otherwise fall wherever the grid puts them.
+  auto linear_error = [&](const Positions& c) {
+    const double step = double(c.span_units) / kRangeGridUnits / (top - 1.0);
+    double e2 = 0;
+    for (std::size_t i = 0; i < masses.size(); ++i) {
+      if (!(masses[i] > 0.0)) continue;
+      const double r = masses[i] / peak;
+      const double e = (std::nearbyint(c.position[i]) - c.position[i]) * step;
+      e2 += r * r * e * e;
+    }
+    return e2;
+  };
+  double best = linear_error(p);
+  Positions trial = p;
+  for (std::uint32_t d = smallest + 1; d <= std::min(smallest + kSpanSearch, kMaxGridUnits); ++d) {
+    fill(d, &trial);
+    const double e = linear_error(trial);
+    if (e < best) best = e, p = trial;
+  }
+  return p;
+}
+
+std::vector<std::uint32_t> rounded(const Positions& p) {
+  std::vector<std::uint32_t> q(p.position.size(), 0);
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    q[i] = p.position[i] > 0.0 ? std::uint32_t(std::nearbyint(p.position[i])) : 0;
+  }
+  return q;
+}
+
+namespace {
+std::int64_t predicted(const Predicting& how, const std::vector<std::uint32_t>& q, std::size_t i,
+                       std::uint32_t span) {
+  const Reference ref{how.ref_codes, how.ref_span};
+  return clamp_code(predict(how.mode, q, i, ref, span, how.first), how.top);
+}
+}  // namespace
+
+double rd_cost(const Positions& p, const std::vector<std::uint32_t>& codes, const Predicting& how,
+               std::array<internal::SIntContexts, 3> contexts, double lambda) {
+  double distortion = 0;
+  for (std::size_t i = 0; i < codes.size(); ++i) {
+    const double e = double(codes[i]) - p.position[i];
+    distortion += p.weight[i] * e * e;
+  }
+  internal::CostMeter meter;
+  put_codes(meter, contexts, how.mode, codes, Reference{how.ref_codes, how.ref_span}, p.span_units,
+            how.first, how.top);
+  return distortion + lambda * meter.bits();
+}
+
+std::vector<std::uint32_t> rd_rounded(const Positions& p, const Predicting& how,
+                                      const std::array<internal::SIntContexts, 3>& contexts,
+                                      double lambda) {
+  std::vector<std::uint32_t> plain = rounded(p);
+  if (!(lambda > 0.0)) return plain;
+  std::array<internal::SIntContexts, 3> ctx = contexts;
+  std::vector<std::uint32_t> q(p.position.size(), 0);
+  int cls = 2;
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    const std::int64_t pred = predicted(how, q, i, p.span_units);
+    // A zero mass stays code 0 (an exact zero); others take a neighbour of their position.
+    std::int64_t best = 0;
+    if (p.position[i] > 0.0) {
+      double best_cost = std::numeric_limits<double>::infinity();
+      const double lo = std::floor(p.position[i]), hi = std::ceil(p.position[i]);
+      for (double c : {lo, hi}) {
+        if (c < 1.0 || c > double(how.top)) continue;
+        PeekMeter meter;
+        PeekSink sink{&meter};
+        internal::put_sint(sink, ctx[std::size_t(cls)], std::int32_t(std::int64_t(c) - pred));
+        const double e = c - p.position[i];
+        const double cost = p.weight[i] * e * e + lambda * meter.bits;
+        if (cost < best_cost) best_cost = cost, best = std::int64_t(c);
+      }
+    }
+    q[i] = std::uint32_t(best);
+    internal::CostMeter adapt;
+    internal::put_sint(adapt, ctx[std::size_t(cls)], std::int32_t(best - pred));
+    cls = residual_class(best - pred);
+  }
+  return rd_cost(p, q, how, contexts, lambda) <= rd_cost(p, plain, how, contexts, lambda) ? q
+                                                                                          : plain;
+}
+
+double writer_lambda() {
+  return kWriterLambda;
+}
+
+}  // namespace base_codes
+
+std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, int bits) {
+  ByteWriter w;
+  w.u8(std::uint8_t(bits));
+  const bool mixtures = has_mixtures(model);
+  w.u8(mixtures ? kBaseFlagComponents : 0);
+  for (const Slice& s : model.slices) w.u8(std::uint8_t(s.theta_d_end));
+  if (mixtures) {
+    for (const Slice& s : model.slices) {
+      for (const ChannelSlice& c : s.channel) w.u8(std::uint8_t(c.extra.size()));
+    }
+  }
+  bool representable = true;
+  for_each_component(model.slices, [&](std::size_t s, int c, int k) {
+    const Component& comp = model.slices[s].channel[std::size_t(c)].component(k);
+    const std::optional<float> theta =
+        parameter_f32(std::uint8_t(comp.family), comp.theta, comp.scale);
+    if (!theta) {
+      representable = false;
+      return;
+    }
+    w.u8(std::uint8_t(comp.family));
+    w.f32(*theta);
+    w.f32(float(comp.scale));
+  });
+  if (!representable) return std::nullopt;
+
+  MarginalContexts ctx;
+  internal::Encoder enc;
+  const std::int64_t top = max_code(bits);
+  const double lambda_log = base_codes::writer_lambda();
+  std::array<std::vector<std::uint32_t>, 3> last_codes;
+  std::array<GridRange, 3> last_range{};
+  std::array<bool, 3> have_last{};
+  for_each_component(model.slices, [&](std::size_t s, int c, int k) {
+    const Component& comp = model.slices[s].channel[std::size_t(c)].component(k);
+    const std::vector<double>* tables[3] = {&comp.pdf_h, &comp.pdf_d, &comp.pdf_p};
+    for (std::size_t a = 0; a < 3; ++a) {
+      const base_codes::Positions pos = base_codes::positions(*tables[a], bits);
+      // Only D shapes the decoded ratios (the decoder renormalizes): H costs nothing as the
+      // previous table's, moved only as far as the range must stay inside [-746, 0].
+      GridRange range;
+      range.span_units = pos.span_units;
+      range.hi_units = std::min(last_range[a].hi_units, kMaxGridUnits - pos.span_units);
+      internal::put_sint(enc, ctx.hi[a],
+                         std::int32_t(std::int64_t(range.hi_units) - last_range[a].hi_units));
+      internal::put_sint(enc, ctx.span[a],
+                         std::int32_t(std::int64_t(range.span_units) - last_range[a].span_units));
+      Reference ref;
+      if (have_last[a] && last_codes[a].size() == pos.position.size()) {
+        ref = {&last_codes[a], last_range[a].span_units};
+      }
+      const std::int64_t first = first_prediction(have_last[a] ? &last_codes[a] : nullptr, top);
+      // The predictor, and codes for it, that cost least (distortion + lambda x bits) from the
+      // current state; lambda 0 is plain rounding and the fewest bits.
+      int best = kPredictPrevious;
+      double best_cost = std::numeric_limits<double>::infinity();
+      QuantizedTable t;
+      // lambda is per squared log mass: in squared code steps of this table it grows as the
+      // step shrinks, so that fine codes are rounded towards cheap ones and coarse codes are not.
+      const double step = double(pos.span_units) / kRangeGridUnits / double(top - 1);
+      const double lambda = step > 0.0 ? lambda_log / (step * step) : 0.0;
+      for (int mode = 0; mode < kPredictors; ++mode) {
+        if (mode >= kPredictRefStep && ref.codes == nullptr) continue;
+        const base_codes::Predicting how{mode, ref.codes, ref.span, first, top};
+        std::vector<std::uint32_t> codes =
+            base_codes::rd_rounded(pos, how, ctx.residual[a], lambda);
+        internal::CostMeter meter;
+        std::array<internal::Prob, 3> p = ctx.predictor[a];
+        std::array<internal::SIntContexts, 3> r = ctx.residual[a];
+        put_predictor(meter, p, mode);
+        put_codes(meter, r, mode, codes, ref, range.span_units, first, top);
+        // lambda 0: the fewest bits, as before (every mode then has the same codes).
+        const double key =
+            lambda > 0.0
+                ? base_codes::rd_cost(pos, codes, how, ctx.residual[a], 0.0) + lambda * meter.bits()
+                : meter.bits();
+        if (key < best_cost) {
+          best_cost = key;
+          best = mode;
+          t.codes = std::move(codes);
+        }
+      }
+      put_predictor(enc, ctx.predictor[a], best);
+      put_codes(enc, ctx.residual[a], best, t.codes, ref, range.span_units, first, top);
+      last_codes[a] = t.codes;
+      last_range[a] = range;
+      have_last[a] = true;
+    }
+  });
+  const std::vector<std::uint8_t> coded = enc.finish();
+  std::vector<std::uint8_t> out = w.take();
+  out.insert(out.end(), coded.begin(), coded.end());
+  return out;
+}
+
+Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
+                         std::vector<Slice>* slices, int* bits_out) {
+  ByteReader r = payload_reader(payload);
+  std::uint8_t bits = 0, flags = 0;
+  CBRDF_RETURN_IF_ERROR(r.u8(&bits, "bits per code"));
+  CBRDF_RETURN_IF_ERROR(r.u8(&flags, "flags"));
+  if (bits < kMinMarginalBits || bits > kMaxMarginalBits) {
+    return error(ErrorCode::kCorrupt, "bits per code " + std::to_string(bits) + " is outside " +
+                                          std::to_string(kMinMarginalBits) + ".." +
+                                          std::to_string(kMaxMarginalBits));
+  }
+  if ((flags & ~kBaseFlagComponents) != 0) {
+    return error(ErrorCode::kCorrupt, "flags byte at payload offset 1 is " + std::to_string(flags) +
+                                          "; only bit 0 (further components) is defined");
+  }
+  slices->assign(std::size_t(slice_count), Slice{});
+  int begin = 0;
+  for (int s = 0; s < slice_count; ++s) {
+    std::uint8_t end = 0;
+    CBRDF_RETURN_IF_ERROR(r.u8(&end, "slice end"));
+    if (end <= begin || end > kThetaDBins || (s + 1 == slice_count && end != kThetaDBins)) {
+      return error(ErrorCode::kCorrupt, "slice " + std::to_string(s) + " ends at theta_d bin " +
+                                            std::to_string(end) + " after starting at " +
+                                            std::to_string(begin) +
+                                            "; slices must be non-empty, contiguous and end at 90");
+    }
+    (*slices)[std::size_t(s)].theta_d_begin = begin;
+    (*slices)[std::size_t(s)].theta_d_end = end;
+    begin = end;
+  }
+  if (flags & kBaseFlagComponents) {
+    for (int s = 0; s < slice_count; ++s) {
+      for (int c = 0; c < kChannels; ++c) {
+        std::uint8_t count = 0;
+        CBRDF_RETURN_IF_ERROR(r.u8(&count, "further component count"));
+        if (count > kMaxExtraComponents) {
+          return error(ErrorCode::kCorrupt,
+                       "slice " + std::to_string(s) + " channel " + kChannelNames[c] + " has " +
+                           std::to_string(count) + " further components; at most " +
+                           std::to_string(kMaxExtraComponents) + " are allowed");
+        }
+        (*slices)[std::size_t(s)].channel[std::size_t(c)].extra.resize(count);
+      }
+    }
+  }
+  Status st;
+  auto name = [](std::size_t s, int c, int k) {
+    return "slice " + std::to_string(s) + " channel " + kChannelNames[c] +
+           (k > 0 ? " component " + std::to_string(k) : std::string());
+  };
+  for_each_component(*slices, [&](std::size_t s, int c, int k) {
+    if (!st.ok()) return;
+    std::uint8_t family = 0;
+    float theta = 0.0f, scale = 0.0f;
+    st = r.u8(&family, "copula family");
+    if (st.ok()) st = r.f32(&theta, "copula parameter");
+    if (st.ok()) st = r.f32(&scale, "scale K");
+    if (st.ok()) st = check_channel_params(family, double(theta), double(scale));
+    if (!st.ok()) {
+      st = st.with_context(name(s, c, k));
+      return;
+    }
+    Component& comp = (*slices)[s].channel[std::size_t(c)].component(k);
+    comp.family = CopulaFamily(family);
+    comp.theta = double(theta);
+    comp.scale = double(scale);
+  });
+  CBRDF_RETURN_IF_ERROR(st);
+
+  std::span<const std::uint8_t> rest;
+  CBRDF_RETURN_IF_ERROR(r.bytes(r.remaining(), &rest, "coded marginal tables"));
+  internal::Decoder dec(rest);
+  MarginalContexts ctx;
+  const std::int64_t top = max_code(bits);
+  std::array<std::vector<std::uint32_t>, 3> last_codes;
+  std::array<GridRange, 3> last_range{};
+  std::array<bool, 3> have_last{};
+  for_each_component(*slices, [&](std::size_t s, int c, int k) {
+    Component& comp = (*slices)[s].channel[std::size_t(c)].component(k);
+    std::vector<double>* axes[3] = {&comp.pdf_h, &comp.pdf_d, &comp.pdf_p};
+    const std::size_t sizes[3] = {std::size_t(kThetaHBins), std::size_t((*slices)[s].width()),
+                                  std::size_t(kPhiDBins)};
+    for (std::size_t a = 0; a < 3 && st.ok(); ++a) {
+      // Built only for a message: the decoder's loop does not pay for it.
+      auto where = [&] { return name(s, c, k) + " " + kAxisNames[a] + " table"; };
+      std::int32_t dh = 0, dspan = 0, mode_hi = 0;
+      st = internal::get_sint(dec, ctx.hi[a], &dh);
+      if (st.ok()) st = internal::get_sint(dec, ctx.span[a], &dspan);
+      if (!st.ok()) {
+        st = st.with_context(where());
+        return;
+      }
+      const std::int64_t h = std::int64_t(last_range[a].hi_units) + dh;
+      const std::int64_t d = std::int64_t(last_range[a].span_units) + dspan;
+      if (h < 0 || d < 0 || h + d > std::int64_t(kMaxGridUnits)) {
+        st = error(ErrorCode::kCorrupt,
+                   where() + ": log-mass range units H " + std::to_string(h) + " and D " +
+                       std::to_string(d) +
+                       " must be >= 0 with H + D <= " + std::to_string(kMaxGridUnits));
+        return;
+      }
+      GridRange range{std::uint32_t(h), std::uint32_t(d)};
+      mode_hi = dec.bit(ctx.predictor[a][0]);
+      const int mode = 2 * mode_hi + dec.bit(ctx.predictor[a][std::size_t(1 + mode_hi)]);
+      Reference ref;
+      if (have_last[a] && last_codes[a].size() == sizes[a]) {
+        ref = {&last_codes[a], last_range[a].span_units};
+      }
+      if (mode >= kPredictRefStep && ref.codes == nullptr) {
+        st = error(ErrorCode::kCorrupt, where() + ": predictor " + std::to_string(mode) +
+                                            " needs a previous " + kAxisNames[a] +
+                                            " table of the same size, and there is none");
+        return;
+      }
+      const std::int64_t first = first_prediction(have_last[a] ? &last_codes[a] : nullptr, top);
+      QuantizedTable t = grid_table(range);
+      t.codes.assign(sizes[a], 0);
+      int cls = 2;
+      for (std::size_t i = 0; i < sizes[a]; ++i) {
+        std::int32_t e = 0;
+        st = internal::get_sint(dec, ctx.residual[a][std::size_t(cls)], &e);
+        if (!st.ok()) {
+          st = st.with_context(where());
+          return;
+        }
+        const std::int64_t q =
+            clamp_code(predict(mode, t.codes, i, ref, range.span_units, first), top) + e;
+        if (q < 0 || q > top) {
+          st = error(ErrorCode::kCorrupt, where() + ": code " + std::to_string(i) + " is " +
+                                              std::to_string(q) + ", outside 0.." +
+                                              std::to_string(top));
+          return;
+        }
+        t.codes[i] = std::uint32_t(q);
+        cls = residual_class(e);
+      }
+      Expected<std::vector<double>> m = dequantize_masses(t, bits);
+      if (!m.ok()) {
+        st = m.status().with_context(where());
+        return;
+      }
+      *axes[a] = std::move(m.value());
+      last_codes[a] = std::move(t.codes);
+      last_range[a] = range;
+      have_last[a] = true;
+    }
+  });
+  CBRDF_RETURN_IF_ERROR(st);
+  CBRDF_RETURN_IF_ERROR(dec.finish());
+  *bits_out = bits;
+  return ok_status();
+}
+
+}  // namespace cbrdf

@@ -1,0 +1,218 @@
+// SPDX-License-Identifier: MIT
+// The payloads of the version-1 chunks (spec/container.md section 4): one file per chunk with its
+// reader and writer side by side (head.cc, modl.cc, marg.cc, mask.cc, meta.cc), the constants and
+// rules they share (params.cc), and the model-level reader and writer (read_model.cc,
+// write_model.cc). Readers' messages carry no location: read_model.cc prefixes the chunk tag and
+// offset. Writers assume a model that encode_model has validated.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "byte_reader.h"
+#include "cbrdf/codec.h"
+#include "cbrdf/model.h"
+#include "cbrdf/status.h"
+#include "quantize.h"
+#include "range_coder.h"
+
+namespace cbrdf {
+
+inline constexpr std::uint8_t kThetaHMappingMerlSqrt = 0;
+// Version 1.3's HEAD names the grid by number: 0 is MERL's (90x90x180, square-root theta_h
+// mapping, RGB with MERL's scales), the only one version 1 holds.
+inline constexpr std::uint8_t kGridMerl = 0;
+// BASE's flags: bit 0, the further-component counts follow the slice ends.
+inline constexpr std::uint8_t kBaseFlagComponents = 1;
+inline constexpr const char* kChannelNames[kChannels] = {"R", "G", "B"};
+inline constexpr std::size_t kMaskBits = std::size_t{kChannels} * kBinsPerChannel;
+inline constexpr std::size_t kMaskBytes = kMaskBits / 8;  // 4,374,000 bits: no padding
+static_assert(kMaskBits % 8 == 0);
+
+// Metadata limits keep the key=value parser bounded.
+inline constexpr std::size_t kMaxMetadataEntries = 64;
+inline constexpr std::size_t kMaxMetadataKeyBytes = 32;
+inline constexpr std::size_t kMaxMetadataValueBytes = 1024;
+
+struct HeaderFields {
+  std::array<double, kChannels> colour_scale{};
+  int slice_count = 0;
+};
+
+enum class MaskReference : std::uint8_t { kNone = 0, kBelowHorizon = 1 };
+enum class MaskForm : std::uint8_t { kBitmap = 0, kRuns = 1 };
+enum class MaskValues : std::uint8_t { kSingle = 0, kPerBin = 1 };
+
+struct MaskFields {
+  MaskReference reference = MaskReference::kNone;
+  MaskForm form = MaskForm::kBitmap;
+  MaskValues values = MaskValues::kSingle;
+};
+
+// MARG's second byte: reserved (0) in version 1.0; in 1.1 the table layout, 1 when the model has
+// further components (their tables follow each slice channel's first component's).
+inline constexpr std::uint8_t kMarginalLayoutSingle = 0;
+inline constexpr std::uint8_t kMarginalLayoutComponents = 1;
+// At most this many further components per slice and channel (kMaxComponents - 1 in fit.h).
+inline constexpr int kMaxExtraComponents = 7;
+
+// RESD (spec 4.6, version 1.2): the residual layer's modes, predictor and limits.
+inline constexpr std::uint8_t kResidualModeLog = 0;     // bounded log1p residual
+inline constexpr std::uint8_t kResidualModeExact = 1;   // the exact table (lossless)
+inline constexpr std::uint8_t kResidualModeRows = 2;    // mode 0 with a step per row
+inline constexpr std::uint8_t kResidualModeInterp = 3;  // mode 2, interpolated levels
+inline constexpr int kMaxResidualLevels = 4;  // coarsest spacing 16: phi_d + h stays <= 180
+inline constexpr int kMaxFineMultiplier = 64;
+inline constexpr std::uint8_t kResidualPredictorNone = 0;  // codes as they are
+inline constexpr std::uint8_t kResidualPredictorPhi = 1;   // from the previous phi_d bin
+// Version 1.3: the codes range coded with contexts (residual_codes.h), in files of minor >= 3.
+inline constexpr std::uint8_t kResidualPredictorRange = 2;
+inline constexpr double kMinResidualError = 1e-6;
+inline constexpr double kMaxResidualError = 16.0;
+// Down to 1e-300 so that a table at any scale has a knee below its values (issue 31: a table
+// scaled by 1e-30 had every value below a 1e-12 knee, so its bound was absolute, not relative).
+inline constexpr double kMinResidualKnee = 1e-300;
+inline constexpr double kMaxResidualKnee = 1e12;
+// The reference encoder's knee, stored units (about 6.7e-8 physical): measured on real materials,
+// a relative bound down to there gains 15 dB tone-mapped PSNR on chrome-steel at the same bytes
+// over the knee 1 (log1p of stored values), and nothing is lost on diffuse materials.
+inline constexpr double kResidualKnee = 1e-4;
+inline constexpr std::int64_t kMaxResidualCode = std::int64_t{1} << 28;
+// The largest residual a bin may carry, |code x step'| (modes 0, 2) or |R| (mode 3, every bin), in
+// log1p units: a decoded value is then at most e^64 (base + knee), so every accepted file
+// evaluates and samples finite. The reference writer clamps its targets to +-(64 - 16) and stores
+// bins beyond that exactly (escapes); real materials stay within about +-30.
+inline constexpr double kMaxResidualValue = 64.0;
+inline constexpr std::uint32_t kMaxResidualEscapes = 65536;
+// Mode 2: rows (90 theta_h + theta_d) and the largest shift of a row's step (x 2^24).
+inline constexpr std::size_t kResidualRows = std::size_t{kThetaHBins} * kThetaDBins;
+inline constexpr std::uint8_t kMaxResidualShift = 24;
+// Up to 4.4 million varints: zstd's top levels cost seconds there for little (measured).
+inline constexpr int kResidualZstdLevel = 19;
+
+// Whether any slice channel has further components (a version 1.1 file).
+bool has_mixtures(const Model& model);
+// The lowest minor version that holds the model: 2 with a residual layer, 1 with mixtures, else 0.
+std::uint16_t container_minor(const Model& model);
+
+// Bit b of a mask held as 64-bit words, least significant bit first.
+inline bool mask_bit(const std::vector<std::uint64_t>& bits, std::size_t b) {
+  return (bits[b >> 6] >> (b & 63)) & 1u;
+}
+
+// Set bits of a mask. The bit trick, not std::popcount: without a popcount instruction in the
+// target (the default x86-64 build, Emscripten) std::popcount is a library call per word, which
+// made counting the mask's 68,344 words about a fifth of decode_model's time (measured); this
+// loop vectorizes.
+inline std::size_t count_set_bits(std::span<const std::uint64_t> words) {
+  std::uint64_t n = 0;
+  for (std::uint64_t x : words) {
+    x = x - ((x >> 1) & 0x5555555555555555ull);
+    x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+    x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+    n += (x * 0x0101010101010101ull) >> 56;
+  }
+  return std::size_t(n);
+}
+
+// Payload offsets are named as such in messages.
+inline ByteReader payload_reader(std::span<const std::uint8_t> payload) {
+  return ByteReader(payload, 0, "payload offset");
+}
+
+// Trailing bytes after the known fields are allowed only in a file of a newer minor version
+// (which may append fields); otherwise they are corruption.
+Status check_trailing(std::size_t trailing, std::uint16_t file_minor);
+
+// %.17g: every double in a message round-trips.
+std::string number_text(double v);
+
+// The parameter rules shared by encoder and decoder; the message names the problem.
+Status check_channel_params(std::uint8_t family, double theta, double scale);
+
+// compact: the 2-byte form of a file that holds BASE (version 1.3), else the 34-byte one.
+Status decode_header_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                           bool compact, HeaderFields* out);
+// Fills slices' bounds, families, parameters and scales.
+Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                          int slice_count, std::vector<Slice>* slices);
+// Fills the marginal tables of slices whose bounds are already known.
+Status decode_marginals_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                              std::vector<Slice>* slices, int* bits);
+// Version 1.3: the BASE chunk, MODL's and MARG's content (slices' bounds, parameters, tables).
+Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
+                         std::vector<Slice>* slices, int* bits);
+Status decode_mask_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                         NotMeasured* out, MaskFields* fields);
+// Needs the mask (decoded before): codes are stored for measured bins only.
+Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                             const NotMeasured& mask, Residual* out);
+Status decode_metadata_chunk(std::span<const std::uint8_t> payload,
+                             std::vector<std::pair<std::string, std::string>>* out);
+
+std::vector<std::uint8_t> encode_header_chunk(const Model& model, bool compact);
+// Version 1.3: MODL and MARG in one chunk; nullopt when a parameter has no binary32 inside its
+// family's range (the writer then uses the 1.2 chunks).
+std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, int bits);
+
+// How the BASE writer chooses a marginal table's codes (encoder only: the decoder reads any codes
+// and its ratios depend on D alone, spec 4.7). Exposed for the tests.
+namespace base_codes {
+// A table's exact code positions: D the grid span holding its log masses (the smallest, or up to
+// kSpanSearch units more where plain rounding then errs least on the mass-squared-weighted log
+// masses: what a linear image sees), the largest
+// mass at the top code (exact, as 1.2's range made it), position[i] in [1, top] (0 for a zero
+// mass), weight[i] the mass over the largest raised to kWeightPower (what a rendered image sees
+// of a relative error in bin i, between the tone-mapped and the linear image's view).
+struct Positions {
+  std::uint32_t span_units = 0;
+  std::vector<double> position, weight;
+};
+inline constexpr double kWeightPower = 1.0;
+inline constexpr std::uint32_t kSpanSearch = 8;
+Positions positions(std::span<const double> masses, int bits);
+// Plain rounding of every position.
+std::vector<std::uint32_t> rounded(const Positions& p);
+// Rate-distortion cost of codes under a predictor from the given contexts: sum of weight x (code -
+// position)^2 (in code steps) plus lambda x the range coder's bits.
+struct Predicting {
+  int mode = 0;
+  const std::vector<std::uint32_t>* ref_codes = nullptr;
+  std::uint32_t ref_span = 0;
+  std::int64_t first = 0, top = 0;
+};
+double rd_cost(const Positions& p, const std::vector<std::uint32_t>& codes, const Predicting& how,
+               std::array<internal::SIntContexts, 3> contexts, double lambda);
+// Each code the neighbour of its position (floor or ceiling) with the least weighted error plus
+// lambda x its bits from the contexts as they adapt, in coding order; then whichever of these
+// codes and the plain rounding costs less (rd_cost): never more than plain rounding.
+std::vector<std::uint32_t> rd_rounded(const Positions& p, const Predicting& how,
+                                      const std::array<internal::SIntContexts, 3>& contexts,
+                                      double lambda);
+// The writer's lambda, per squared log mass per bit (a table's lambda in squared code steps is
+// this over its step squared): measured on 6 real materials at 8 to 12 bits, 12 to 17% fewer
+// marginal bytes for 0.00 to 0.16 dB tone-mapped, about 0.1 dB more at equal bytes; at 6 bits it
+// is nearly plain rounding. docs/benchmarks.md has the figures.
+inline constexpr double kWriterLambda = 3e-5;
+double writer_lambda();
+}  // namespace base_codes
+std::vector<std::uint8_t> encode_model_chunk(const Model& model);
+std::vector<std::uint8_t> encode_marginals_chunk(const Model& model, int bits);
+std::vector<std::uint8_t> encode_mask_chunk(const NotMeasured& mask);
+// range_coding: the file is version 1.3 or later, so the codes may be range coded (the writer
+// takes that or the 1.2 coding, whichever is smaller after zstd).
+std::vector<std::uint8_t> encode_residual_chunk(const Model& model, bool range_coding);
+std::vector<std::uint8_t> encode_metadata_chunk(
+    const std::vector<std::pair<std::string, std::string>>& entries);
+
+// The below-horizon mask of one channel (bit i = bin_below_horizon(merl_bin(i))), computed once.
+const std::vector<std::uint64_t>& below_horizon_bits();
+// XXH64 of the mask's 4,374,000 bits as LSB-first bytes (the words' little-endian bytes).
+std::uint64_t mask_hash(const std::vector<std::uint64_t>& bits);
+
+}  // namespace cbrdf

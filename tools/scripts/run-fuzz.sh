@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Builds the fuzz targets with clang (libFuzzer + ASan + UBSan), replays the committed seed corpus
+# and regression inputs, then fuzzes each target for SECONDS_PER_TARGET seconds, two at a time.
+# Fails (exit 1) on any crash, broken invariant, leak, timeout, out-of-memory or sanitizer report;
+# prints executions per second, coverage (libFuzzer's edge count, "cov:") and corpus size per
+# target. New corpus entries and crash inputs go to a scratch directory, never into the repo.
+#   Usage: tools/scripts/run-fuzz.sh [SECONDS_PER_TARGET]        (default 60; 0 = replay only)
+# Environment: CBRDF_FUZZ_BUILD_DIR (default <repo>/build-fuzz, reused when present),
+#   CBRDF_FUZZ_WORK_DIR (scratch, default a new directory under /tmp), CBRDF_FUZZ_JOBS (default 2).
+# A crash input found here is reproduced with `<build>/fuzz/<target> FILE`; keep it under
+# fuzz/regressions/<target>/ with its expected outcome in fuzz/regressions/EXPECTED.txt.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+seconds=${1:-60}
+build=${CBRDF_FUZZ_BUILD_DIR:-$root/build-fuzz}
+work=${CBRDF_FUZZ_WORK_DIR:-$(mktemp -d /tmp/cbrdf-fuzz.XXXXXX)}
+jobs=${CBRDF_FUZZ_JOBS:-2}
+targets=(fuzz_container fuzz_decode fuzz_merl fuzz_roundtrip fuzz_capi)
+# Largest input each target mutates: decode's seeds include a 549 KB uncompressed mask bitmap.
+declare -A max_len=([fuzz_container]=65536 [fuzz_decode]=600000 [fuzz_merl]=4096
+                    [fuzz_roundtrip]=4096 [fuzz_capi]=600000)
+
+if ! command -v clang++ > /dev/null; then
+  echo "run-fuzz: clang++ is needed for libFuzzer (apt-get install clang)" >&2
+  exit 1
+fi
+if [ ! -f "$build/CMakeCache.txt" ]; then
+  # -O2 -g without NDEBUG: fast, with line numbers in reports and assertions on.
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g" \
+    -DCBRDF_FUZZ=ON -DCBRDF_SANITIZE=ON -DCBRDF_TESTS=OFF > /dev/null
+fi
+cmake --build "$build" --target "${targets[@]}" -j "$(nproc)"
+
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+mkdir -p "$work"
+echo "run-fuzz: scratch directory $work"
+
+# 1. Replay: every committed seed and regression input, once each.
+status=0
+for t in "${targets[@]}"; do
+  files=()
+  for dir in "$root/fuzz/corpus/$t" "$root/fuzz/regressions/$t"; do
+    [ -d "$dir" ] && while IFS= read -r -d '' f; do files+=("$f"); done \
+      < <(find "$dir" -type f -print0 | sort -z)
+  done
+  if ! "$build/fuzz/$t" -rss_limit_mb=2048 -timeout=60 "${files[@]}" > "$work/$t.replay.log" 2>&1
+  then
+    echo "run-fuzz: $t FAILED replaying the committed inputs (log: $work/$t.replay.log)" >&2
+    tail -n 30 "$work/$t.replay.log" >&2
+    status=1
+  else
+    echo "run-fuzz: $t replayed ${#files[@]} committed inputs"
+  fi
+done
+[ "$status" = 0 ] || exit 1
+
+if [ "$seconds" = 0 ]; then
+  echo "run-fuzz: 0 seconds per target: replay only"
+  exit 0
+fi
+
+# 2. Fuzz each target for the given time, $jobs at a time. The 25 s per-input timeout is set from
+# measurements (spec/container.md, "Resource bounds"): the worst valid file reconstructs in about
+# 10.6 s here, a return of the slow per-bin path would take about 47 s.
+fuzz_one() {
+  local t=$1
+  mkdir -p "$work/$t/corpus" "$work/$t/artifacts"
+  local code=0
+  "$build/fuzz/$t" "$work/$t/corpus" "$root/fuzz/corpus/$t" -dict="$root/fuzz/cbrdf.dict" \
+    -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=25 -max_len="${max_len[$t]}" \
+    -print_final_stats=1 -artifact_prefix="$work/$t/artifacts/" > "$work/$t/log.txt" 2>&1 \
+    || code=$?
+  echo "$code" > "$work/$t/exit"
+}
+running=0
+for t in "${targets[@]}"; do
+  fuzz_one "$t" &
+  running=$((running + 1))
+  if [ "$running" -ge "$jobs" ]; then
+    wait -n || true
+    running=$((running - 1))
+  fi
+done
+wait || true
+
+printf '%-16s %6s %10s %8s %12s  %s\n' target exit exec/s cov corpus findings
+for t in "${targets[@]}"; do
+  log="$work/$t/log.txt"
+  code=$(cat "$work/$t/exit" 2> /dev/null || echo "?")
+  eps=$(grep -o 'stat::average_exec_per_sec: *[0-9]*' "$log" | grep -o '[0-9]*$' || true)
+  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 | grep -o '[0-9]*' || true)
+  corp=$(grep -o 'corp: [0-9]*/[0-9]*[a-zA-Z]*' "$log" | tail -n 1 | cut -d' ' -f2 || true)
+  found=$(find "$work/$t/artifacts" -type f | wc -l)
+  printf '%-16s %6s %10s %8s %12s  %s\n' "$t" "$code" "${eps:-?}" "${cov:-?}" "${corp:-?}" \
+    "$found"
+  if [ "$code" != 0 ] || [ "$found" != 0 ] || grep -qE 'ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|runtime error:' "$log"; then
+    echo "run-fuzz: $t FAILED; log $log, inputs in $work/$t/artifacts/" >&2
+    grep -E -A 20 'ERROR:|runtime error:|fuzz_[a-z]*: ' "$log" | head -n 40 >&2 || true
+    status=1
+  fi
+done
+exit "$status"
