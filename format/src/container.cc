@@ -118,11 +118,9 @@ Status read_preamble(std::span<const std::uint8_t> bytes, ByteReader& r, Contain
   return ok_status();
 }
 
-// One chunk's framing: header, stored bytes (into `stored`) and checksum, each checked against
-// what is left of the file. `chunks_so_far` enforces the chunk count limit.
-Status read_chunk_frame(std::span<const std::uint8_t> bytes, ByteReader& r,
-                        std::size_t chunks_so_far, ChunkInfo* info,
-                        std::span<const std::uint8_t>* stored) {
+// What both framings check where a chunk should start: the file has not ended before 'CEND', and
+// the chunk count stays within kMaxChunks.
+Status check_chunk_start(const ByteReader& r, std::size_t chunks_so_far) {
   const std::uint64_t offset = r.offset();
   if (r.at_end()) {
     return error(ErrorCode::kTruncated, "file ends at offset " + std::to_string(offset) +
@@ -134,6 +132,16 @@ Status read_chunk_frame(std::span<const std::uint8_t> bytes, ByteReader& r,
                                         ", above the limit of " + std::to_string(kMaxChunks) +
                                         " chunks per file");
   }
+  return ok_status();
+}
+
+// One chunk's framing: header, stored bytes (into `stored`) and checksum, each checked against
+// what is left of the file. `chunks_so_far` enforces the chunk count limit.
+Status read_chunk_frame(std::span<const std::uint8_t> bytes, ByteReader& r,
+                        std::size_t chunks_so_far, ChunkInfo* info,
+                        std::span<const std::uint8_t>* stored) {
+  const std::uint64_t offset = r.offset();
+  CBRDF_RETURN_IF_ERROR(check_chunk_start(r, chunks_so_far));
   if (r.remaining() < kChunkHeaderBytes) {
     return error(ErrorCode::kTruncated, "chunk header at offset " + std::to_string(offset) +
                                             " needs " + std::to_string(kChunkHeaderBytes) +
@@ -192,16 +200,7 @@ Status read_chunk_frame(std::span<const std::uint8_t> bytes, ByteReader& r,
 Status read_compact_frame(ByteReader& r, std::size_t chunks_so_far, ChunkInfo* info,
                           std::span<const std::uint8_t>* stored) {
   const std::uint64_t offset = r.offset();
-  if (r.at_end()) {
-    return error(ErrorCode::kTruncated, "file ends at offset " + std::to_string(offset) +
-                                            " without the end chunk 'CEND' (truncated?)");
-  }
-  if (chunks_so_far == kMaxChunks) {
-    return error(ErrorCode::kLimit, "chunk at offset " + std::to_string(offset) +
-                                        " would be chunk number " + std::to_string(kMaxChunks + 1) +
-                                        ", above the limit of " + std::to_string(kMaxChunks) +
-                                        " chunks per file");
-  }
+  CBRDF_RETURN_IF_ERROR(check_chunk_start(r, chunks_so_far));
   if (r.remaining() < kCompactFrameMinBytes) {
     return error(ErrorCode::kTruncated,
                  "chunk header at offset " + std::to_string(offset) + " needs at least " +
