@@ -377,21 +377,7 @@ Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
     return error(ErrorCode::kCorrupt, "flags byte at payload offset 1 is " + std::to_string(flags) +
                                           "; only bit 0 (further components) is defined");
   }
-  slices->assign(std::size_t(slice_count), Slice{});
-  int begin = 0;
-  for (int s = 0; s < slice_count; ++s) {
-    std::uint8_t end = 0;
-    CBRDF_RETURN_IF_ERROR(r.u8(&end, "slice end"));
-    if (end <= begin || end > kThetaDBins || (s + 1 == slice_count && end != kThetaDBins)) {
-      return error(ErrorCode::kCorrupt, "slice " + std::to_string(s) + " ends at theta_d bin " +
-                                            std::to_string(end) + " after starting at " +
-                                            std::to_string(begin) +
-                                            "; slices must be non-empty, contiguous and end at 90");
-    }
-    (*slices)[std::size_t(s)].theta_d_begin = begin;
-    (*slices)[std::size_t(s)].theta_d_end = end;
-    begin = end;
-  }
+  CBRDF_RETURN_IF_ERROR(read_slice_bounds(r, slice_count, slices));
   if (flags & kBaseFlagComponents) {
     for (int s = 0; s < slice_count; ++s) {
       for (int c = 0; c < kChannels; ++c) {

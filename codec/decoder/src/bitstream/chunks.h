@@ -135,6 +135,10 @@ std::string number_text(double v);
 // The parameter rules shared by encoder and decoder; the message names the problem.
 Status check_channel_params(std::uint8_t family, double theta, double scale);
 
+// The slice ends (one u8 each) that MODL and BASE both hold: slice_count slices, non-empty,
+// contiguous from theta_d bin 0 to 90; sets each slice's bounds in `slices` (resized).
+Status read_slice_bounds(ByteReader& r, int slice_count, std::vector<Slice>* slices);
+
 // compact: the 2-byte form of a file that holds BASE (version 1.3), else the 34-byte one.
 Status decode_header_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
                            bool compact, HeaderFields* out);

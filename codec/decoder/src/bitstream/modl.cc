@@ -41,9 +41,7 @@ std::uint16_t container_minor(const Model& model) {
   return model.residual.present() ? 2 : has_mixtures(model) ? 1 : 0;
 }
 
-Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
-                          int slice_count, std::vector<Slice>* slices) {
-  ByteReader r = payload_reader(payload);
+Status read_slice_bounds(ByteReader& r, int slice_count, std::vector<Slice>* slices) {
   slices->assign(std::size_t(slice_count), Slice{});
   int begin = 0;
   for (int s = 0; s < slice_count; ++s) {
@@ -59,6 +57,13 @@ Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t f
     (*slices)[std::size_t(s)].theta_d_end = end;
     begin = end;
   }
+  return ok_status();
+}
+
+Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
+                          int slice_count, std::vector<Slice>* slices) {
+  ByteReader r = payload_reader(payload);
+  CBRDF_RETURN_IF_ERROR(read_slice_bounds(r, slice_count, slices));
   for (int s = 0; s < slice_count; ++s) {
     for (int c = 0; c < kChannels; ++c) {
       ChannelSlice& cs = (*slices)[std::size_t(s)].channel[std::size_t(c)];
