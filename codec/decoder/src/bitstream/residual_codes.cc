@@ -78,22 +78,24 @@ inline int sign_class(std::int32_t v) {
 struct Neighbours {
   const std::int32_t* q;
   int magnitude_context(int c, int h, int d, int p, std::size_t i) const {
+    // Indices are formed before the pointer: own + i - kBinsPerChannel would step outside the
+    // array on the way (undefined, and UBSan's pointer-overflow check says so).
     const std::int32_t* own = q + std::size_t(c) * kBinsPerChannel;
     std::uint64_t s = 0;
     if (h > 0) {
-      const std::int32_t* row = own + i - std::size_t(p) - kSlab;
+      const std::int32_t* row = own + (i - std::size_t(p) - kSlab);
       const int before = p == 0 ? kPhiDBins - 1 : p - 1;
       const int after = p == kPhiDBins - 1 ? 0 : p + 1;
       s += 2 * magnitude(row[p]) + magnitude(row[before]) + magnitude(row[after]);
     }
-    if (c > 0) s += 2 * magnitude(own[i - kBinsPerChannel]);
+    if (c > 0) s += 2 * magnitude(q[std::size_t(c - 1) * kBinsPerChannel + i]);
     const int cls = kClassOf[std::size_t((d & 7) * 8 + (p & 7))];
     return (cls * kBuckets + bucket(s)) * 2 + (c > 0 ? 1 : 0);
   }
   int sign_context(int c, int h, std::size_t i) const {
     const std::int32_t* own = q + std::size_t(c) * kBinsPerChannel;
     const int a = h > 0 ? sign_class(own[i - kSlab]) : 0;
-    const int b = c > 0 ? sign_class(own[i - kBinsPerChannel]) : 0;
+    const int b = c > 0 ? sign_class(q[std::size_t(c - 1) * kBinsPerChannel + i]) : 0;
     const int e = h > 1 ? sign_class(own[i - 2 * kSlab]) : 0;
     return 9 * a + 3 * b + e;
   }
