@@ -17,16 +17,22 @@
 # - the claims measured over the 20 real materials (RealDataModel.*, Residual.BoundHeldOnEvery-
 #   RealMaterial, CodecIoMeasure.BytesAndErrorPerBitRealMaterials, NoiseLadder.RealFabric...): the
 #   same fit, residual and codec code runs here on synthetic tables;
-# - two of Slicing's seven tests, one of SphereScorer's two and Sampling's chi-square over several
+# - three of Slicing's seven tests, one of SphereScorer's two and Sampling's chi-square over several
 #   materials (its batch-path twin runs here);
-# - the report's end-to-end runs (ReportRun.*, ReportHtml.*, ReportNoise.LadderAgainstTheTruth...,
+# - the command's mixture and data-chosen slice options (Cli.MixturesAndDataChosenSlices: the fits
+#   are Mixture.*'s and Slicing.*'s here, the command's paths Cli.SampleEncodeInfoDecode...'s), the
+#   network tabulated twice to compare (Nbrdf.TableIsBitForBit...; once in Nbrdf.TableHolds...), and
+#   the noise estimate at 1% and 5% (NoiseReal at 3% runs here);
+# - the report's end-to-end runs (ReportRun.*, ReportResidual.*, ReportHtml.*,
+#   ReportNoise.LadderAgainstTheTruth...,
 #   Ladder.MeasuresEveryMethod..., ReportLossless.*), which repeat encodes and decodes the
 #   library's own tests run here (the report's other tests, and its option checks, run here);
 # - the WebAssembly tests (wasm_build, wasm_node), which compare cbrdf.wasm with the native library.
 # Those of them that ran here before took 828 of the suite's 2,063 test-seconds under the
 # sanitizers, and the six added in 2.1 (the auto-family fit, the rate-control ladder, the report's
 # noise ladder and lossless baselines, the real fabric's noise ladder) 238 of 1,434; the time pays
-# for the decoder-only build, the browser tests, the ABI check and the layer tests.
+# for the decoder-only build, the browser tests, the ABI check and the layer tests. The four added
+# last took 115 of 1,306 (the whole of CI had reached about 53 minutes of its 50).
 # The viewer's browser test (viewer_browser) runs here, so that `cbrdf view`'s HTTP server is
 # checked under ASan: it needs a cbrdf.wasm build, CBRDF_WASM_BUILD_DIR (tools/scripts/run-tests.sh passes
 # the release suite's); without one it is left out, with a message.
@@ -54,7 +60,12 @@ excluded+='|Slicing\.NotMeasuredBinsDoNotMoveBoundaries'
 excluded+='|Slicing\.SeparableTableGetsNearUniformSlices'
 excluded+='|SphereScorer\.ScoresEqualSpherePsnrOnTheDecodedTable'
 excluded+='|Sampling\.ChiSquareAgainstPdfForSeveralMaterialsAndDirections'
+excluded+='|Slicing\.BoundariesConcentrateWhereTheShapeChanges'
+excluded+='|Cli\.MixturesAndDataChosenSlices'
+excluded+='|Nbrdf\.TableIsBitForBitDeterministic'
+excluded+='|Sigmas/NoiseReal\.EstimateWithinAQuarterOfTheInjectedNoise/"0\.0[15]"'
 excluded+='|ReportRun\..*'
+excluded+='|ReportResidual\..*'
 excluded+='|ReportHtml\..*'
 excluded+='|ReportNoise\.LadderAgainstTheTruthMarksTheNoiseFloor'
 excluded+='|Ladder\.MeasuresEveryMethodOnASmallSetting'
