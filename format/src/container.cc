@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 #include "byte_reader.h"
 #include "zstd_util.h"
@@ -135,6 +136,23 @@ Status check_chunk_start(const ByteReader& r, std::size_t chunks_so_far) {
   return ok_status();
 }
 
+// A chunk's tag (both framings): four ASCII letters or digits, and what its case says.
+Status read_chunk_tag(ByteReader& r, std::uint64_t offset, ChunkInfo* info) {
+  std::span<const std::uint8_t> raw_tag;
+  CBRDF_RETURN_IF_ERROR(r.bytes(4, &raw_tag, "chunk tag"));
+  std::string tag(raw_tag.begin(), raw_tag.end());
+  if (!chunk_tag_valid(tag)) {
+    return error(ErrorCode::kCorrupt, "chunk at offset " + std::to_string(offset) +
+                                          " has an invalid tag '" + printable_tag(raw_tag) +
+                                          "' (expected four ASCII letters or digits)");
+  }
+  info->critical = chunk_tag_critical(tag);
+  info->known = chunk_tag_known(tag);
+  info->tag = std::move(tag);
+  info->offset = offset;
+  return ok_status();
+}
+
 // One chunk's framing: header, stored bytes (into `stored`) and checksum, each checked against
 // what is left of the file. `chunks_so_far` enforces the chunk count limit.
 Status read_chunk_frame(std::span<const std::uint8_t> bytes, ByteReader& r,
@@ -148,18 +166,8 @@ Status read_chunk_frame(std::span<const std::uint8_t> bytes, ByteReader& r,
                                             " bytes but only " + std::to_string(r.remaining()) +
                                             " are left (truncated?)");
   }
-  std::span<const std::uint8_t> raw_tag;
-  CBRDF_RETURN_IF_ERROR(r.bytes(4, &raw_tag, "chunk tag"));
-  const std::string tag(raw_tag.begin(), raw_tag.end());
-  if (!chunk_tag_valid(tag)) {
-    return error(ErrorCode::kCorrupt, "chunk at offset " + std::to_string(offset) +
-                                          " has an invalid tag '" + printable_tag(raw_tag) +
-                                          "' (expected four ASCII letters or digits)");
-  }
-  info->tag = tag;
-  info->offset = offset;
-  info->critical = chunk_tag_critical(tag);
-  info->known = chunk_tag_known(tag);
+  CBRDF_RETURN_IF_ERROR(read_chunk_tag(r, offset, info));
+  const std::string& tag = info->tag;
   CBRDF_RETURN_IF_ERROR(r.u32(&info->stored_bytes, "chunk length"));
   CBRDF_RETURN_IF_ERROR(r.u32(&info->flags, "chunk flags"));
   CBRDF_RETURN_IF_ERROR(r.u32(&info->payload_bytes, "chunk payload length"));
@@ -207,18 +215,8 @@ Status read_compact_frame(ByteReader& r, std::size_t chunks_so_far, ChunkInfo* i
                      std::to_string(kCompactFrameMinBytes) + " bytes but only " +
                      std::to_string(r.remaining()) + " are left (truncated?)");
   }
-  std::span<const std::uint8_t> raw_tag;
-  CBRDF_RETURN_IF_ERROR(r.bytes(4, &raw_tag, "chunk tag"));
-  const std::string tag(raw_tag.begin(), raw_tag.end());
-  if (!chunk_tag_valid(tag)) {
-    return error(ErrorCode::kCorrupt, "chunk at offset " + std::to_string(offset) +
-                                          " has an invalid tag '" + printable_tag(raw_tag) +
-                                          "' (expected four ASCII letters or digits)");
-  }
-  info->tag = tag;
-  info->offset = offset;
-  info->critical = chunk_tag_critical(tag);
-  info->known = chunk_tag_known(tag);
+  CBRDF_RETURN_IF_ERROR(read_chunk_tag(r, offset, info));
+  const std::string& tag = info->tag;
   // Built only for an error message: parsing a small file is mostly this function.
   auto where = [&] { return at(tag, offset); };
   std::uint32_t field = 0;

@@ -378,21 +378,7 @@ Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
                                           "; only bit 0 (further components) is defined");
   }
   CBRDF_RETURN_IF_ERROR(read_slice_bounds(r, slice_count, slices));
-  if (flags & kBaseFlagComponents) {
-    for (int s = 0; s < slice_count; ++s) {
-      for (int c = 0; c < kChannels; ++c) {
-        std::uint8_t count = 0;
-        CBRDF_RETURN_IF_ERROR(r.u8(&count, "further component count"));
-        if (count > kMaxExtraComponents) {
-          return error(ErrorCode::kCorrupt,
-                       "slice " + std::to_string(s) + " channel " + kChannelNames[c] + " has " +
-                           std::to_string(count) + " further components; at most " +
-                           std::to_string(kMaxExtraComponents) + " are allowed");
-        }
-        (*slices)[std::size_t(s)].channel[std::size_t(c)].extra.resize(count);
-      }
-    }
-  }
+  if (flags & kBaseFlagComponents) CBRDF_RETURN_IF_ERROR(read_component_counts(r, slices));
   Status st;
   auto name = [](std::size_t s, int c, int k) {
     return "slice " + std::to_string(s) + " channel " + kChannelNames[c] +

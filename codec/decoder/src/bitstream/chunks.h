@@ -139,6 +139,10 @@ Status check_channel_params(std::uint8_t family, double theta, double scale);
 // contiguous from theta_d bin 0 to 90; sets each slice's bounds in `slices` (resized).
 Status read_slice_bounds(ByteReader& r, int slice_count, std::vector<Slice>* slices);
 
+// The further-component counts (one u8 per slice and channel, at most kMaxExtraComponents) that
+// MODL 1.1+ and BASE with its components flag both hold; sizes each channel's `extra`.
+Status read_component_counts(ByteReader& r, std::vector<Slice>* slices);
+
 // compact: the 2-byte form of a file that holds BASE (version 1.3), else the 34-byte one.
 Status decode_header_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
                            bool compact, HeaderFields* out);

@@ -60,6 +60,23 @@ Status read_slice_bounds(ByteReader& r, int slice_count, std::vector<Slice>* sli
   return ok_status();
 }
 
+Status read_component_counts(ByteReader& r, std::vector<Slice>* slices) {
+  for (int s = 0; s < int(slices->size()); ++s) {
+    for (int c = 0; c < kChannels; ++c) {
+      std::uint8_t count = 0;
+      CBRDF_RETURN_IF_ERROR(r.u8(&count, "further component count"));
+      if (count > kMaxExtraComponents) {
+        return error(ErrorCode::kCorrupt, "slice " + std::to_string(s) + " channel " +
+                                              kChannelNames[c] + " has " + std::to_string(count) +
+                                              " further components; at most " +
+                                              std::to_string(kMaxExtraComponents) + " are allowed");
+      }
+      (*slices)[std::size_t(s)].channel[std::size_t(c)].extra.resize(count);
+    }
+  }
+  return ok_status();
+}
+
 Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
                           int slice_count, std::vector<Slice>* slices) {
   ByteReader r = payload_reader(payload);
@@ -73,19 +90,7 @@ Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t f
   }
   if (file_minor >= 1) {
     // Version 1.1: further components per slice and channel, counts first.
-    for (int s = 0; s < slice_count; ++s) {
-      for (int c = 0; c < kChannels; ++c) {
-        std::uint8_t count = 0;
-        CBRDF_RETURN_IF_ERROR(r.u8(&count, "further component count"));
-        if (count > kMaxExtraComponents) {
-          return error(ErrorCode::kCorrupt,
-                       "slice " + std::to_string(s) + " channel " + kChannelNames[c] + " has " +
-                           std::to_string(count) + " further components; at most " +
-                           std::to_string(kMaxExtraComponents) + " are allowed");
-        }
-        (*slices)[std::size_t(s)].channel[std::size_t(c)].extra.resize(count);
-      }
-    }
+    CBRDF_RETURN_IF_ERROR(read_component_counts(r, slices));
     for (int s = 0; s < slice_count; ++s) {
       for (int c = 0; c < kChannels; ++c) {
         auto& extra = (*slices)[std::size_t(s)].channel[std::size_t(c)].extra;
