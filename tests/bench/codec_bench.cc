@@ -128,6 +128,36 @@ void BM_DecodeTableFormat(benchmark::State& state) {
 }
 BENCHMARK(BM_DecodeTableFormat)->Arg(12)->Arg(13)->Unit(benchmark::kMillisecond);
 
+// A file with the residual layer at bound 10^-exponent (as --target-psnr writes it: steps by
+// visibility, interpolated levels) in the 1.2 coding (zstd'd varint codes) and the 1.3 one
+// (range-coded codes, spec 4.6): the decode time the coding costs, side by side.
+const std::vector<std::uint8_t>& residual_file(std::int64_t version, std::int64_t exponent) {
+  static std::vector<std::uint8_t> files[2][4];
+  std::vector<std::uint8_t>& f = files[version == 13 ? 1 : 0][exponent];
+  if (f.empty()) {
+    cbrdf::EncoderSettings st;
+    st.container.format = version == 13 ? cbrdf::ContainerSettings::Format::kV13
+                                        : cbrdf::ContainerSettings::Format::kV12;
+    st.container.bits = 10;
+    st.residual = cbrdf::target_residual_settings(std::pow(10.0, -double(exponent)));
+    f = cbrdf::encode_table(table(), st)->bytes;
+  }
+  return f;
+}
+
+void BM_DecodeResidualFormat(benchmark::State& state) {
+  const std::vector<std::uint8_t>& b = residual_file(state.range(0), state.range(1));
+  for (auto _ : state) benchmark::DoNotOptimize(cbrdf::decode_table(b));
+  state.counters["bytes"] = double(b.size());
+}
+BENCHMARK(BM_DecodeResidualFormat)
+    ->ArgNames({"version", "E10^-"})
+    ->Args({12, 2})
+    ->Args({13, 2})
+    ->Args({12, 3})
+    ->Args({13, 3})
+    ->Unit(benchmark::kMillisecond);
+
 constexpr int kPairs = 1 << 16;
 
 // The bench material fitted with a 4-component mixture (fit_model, one core): what a mixture
