@@ -272,3 +272,23 @@ def test_metrics_reproduce_the_command(work, tmp_path):
     assert 0 < bm["rel_rmse"] < 0.1 and bm["bins"][0] == int((~np.isnan(ref[0])).sum())
     img = cbrdf.render_sphere(dec, 45, size=32)
     assert img.shape == (32, 32, 3) and img.dtype == np.float32 and img.max() > 0
+
+
+def test_residual_steps_visibility_matches_the_command(work, tmp_path):
+    out = tmp_path / "v.cbrdf"
+    run_cli("encode", work / "plastic.binary", "-o", out, "--bits", "8", "--max-error", "0.05",
+            "--residual-steps", "visibility", "--no-metrics")
+    data = cbrdf.encode(work / "plastic.binary", bits=8, max_error=0.05,
+                        residual_steps="visibility")
+    assert data == out.read_bytes()
+    one = cbrdf.encode(work / "plastic.binary", bits=8, max_error=0.05, residual_steps="one")
+    assert one == cbrdf.encode(work / "plastic.binary", bits=8, max_error=0.05)
+    assert len(data) < len(one)  # coarser steps where bins count less in images
+    for kwargs, words in (({"residual_steps": "visibility"}, "give max_error too"),
+                          ({"residual_steps": "visibility", "target_psnr": 50.0},
+                           "residual_steps and a target"),
+                          ({"residual_steps": "rows", "max_error": 0.05},
+                           "residual_steps must be one or visibility, not 'rows'")):
+        with pytest.raises(cbrdf.Error) as e:
+            cbrdf.encode(work / "plastic.binary", bits=8, **kwargs)
+        assert e.value.exit_code == 2 and words in str(e.value), str(e.value)

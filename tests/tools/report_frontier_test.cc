@@ -170,6 +170,27 @@ TEST(Sweep, ComponentsKeyAndLabels) {
   EXPECT_EQ(components_name(3), "3");
 }
 
+TEST(Sweep, ResidualBoundsSitOnThePrimarySetting) {
+  auto s = parse_sweep({"bits=8,10 residual=0.1,0.03"});
+  ASSERT_TRUE(s.ok()) << s.status().message();
+  EXPECT_EQ(s->residual, (std::vector<double>{0.1, 0.03}));
+  std::vector<std::string> labels;
+  for (const CodecSetting& c : s->settings()) labels.push_back(c.label());
+  // Without the default setting the primary is the first model; the layer's settings follow the
+  // models, whose labels stay as they were.
+  EXPECT_EQ(labels, (std::vector<std::string>{"frank s6 b8", "frank s6 b10", "frank s6 b8 E0.1",
+                                              "frank s6 b8 E0.03"}));
+  EXPECT_EQ(s->primary().label(), "frank s6 b8");
+  EXPECT_EQ(s->settings()[3].max_error, 0.03);
+  // With the default setting in the sweep, the layer sits on it.
+  s = parse_sweep({"residual=0.05 components=1,2"});
+  ASSERT_TRUE(s.ok());
+  EXPECT_EQ(s->settings().back(), (CodecSetting{default_setting().family, default_setting().slices,
+                                                default_setting().bits, 1, 0.05}));
+  EXPECT_TRUE(parse_sweep({"slices=3"})->residual.empty());  // the models alone
+  EXPECT_EQ((CodecSetting{"frank", 6, 10, 2, 1e-3}).label(), "frank s6 b10 k2 E0.001");
+}
+
 TEST(Sweep, BadComponentsNameTheKeyAndTheValidValues) {
   const std::string range =
       " is not an integer from 1 to " + std::to_string(kMaxComponents) + " or auto";
@@ -183,7 +204,13 @@ TEST(Sweep, BadComponentsNameTheKeyAndTheValidValues) {
       {"components=2,2", "components lists 2 twice"},
       {"components=auto,auto", "components lists auto twice"},
       {"components=1 components=2", "'components' is given twice"},
-      {"colour=1", "(keys: slices, bits, family, components)"},
+      {"colour=1", "(keys: slices, bits, family, components, residual)"},
+      {"residual=0", "residual='0' is not a bound from 1e-06 to 16"},
+      {"residual=none", "residual='none' is not a bound"},
+      {"residual=17", "residual='17' is not a bound"},
+      {"residual=0.1x", "residual='0.1x' is not a bound"},
+      {"residual=", "'residual=' has no values"},
+      {"residual=0.1,0.1", "residual lists 0.1 twice"},
   };
   for (const auto& [item, expect] : cases) {
     const auto s = parse_sweep({item});

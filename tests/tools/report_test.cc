@@ -266,6 +266,73 @@ TEST(ReportLossless, ZstdAndXzOfTheBinary) {
   EXPECT_NE(md.find("| zstd-19 | xz-6 |"), std::string::npos) << md;
 }
 
+// `--sweep residual=...`: the model plus the residual layer, the same bytes as the command that
+// the setting names, and more accurate than the model alone.
+TEST(ReportResidual, ResidualSettingsAreWhatEncodeWritesWithVisibilitySteps) {
+  TempDir tmp;
+  const fs::path input = tmp / "plastic.binary", out = tmp / "report";
+  ASSERT_EQ(run_cli("-q sample plastic -o '" + input.string() + "'").exit_code, 0);
+  const auto r = run_cli("-q report '" + input.string() +
+                         "' --jobs 1 --sweep slices=3 bits=8 residual=0.05 --baselines none "
+                         "-o '" +
+                         out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto json = nlohmann::json::parse(testing::read_text(out / "report.json"));
+  EXPECT_EQ(json["settings"]["residual"], nlohmann::json::parse("[0.05]"));
+  const auto& rows = json["rows"];
+  ASSERT_GE(rows.size(), 2u);
+  EXPECT_EQ(rows[0]["label"], "frank s3 b8");
+  EXPECT_EQ(rows[1]["label"], "frank s3 b8 E0.05");
+  EXPECT_EQ(rows[0]["max_error"].get<double>(), 0.0);
+  EXPECT_EQ(rows[1]["max_error"].get<double>(), 0.05);
+
+  const fs::path visible = tmp / "v.cbrdf", one = tmp / "o.cbrdf";
+  const std::string encode = "-q encode '" + input.string() + "' --slices 3 --bits 8 --no-metrics ";
+  ASSERT_EQ(
+      run_cli(encode + "--max-error 0.05 --residual-steps visibility -o '" + visible.string() + "'")
+          .exit_code,
+      0);
+  ASSERT_EQ(run_cli(encode + "--max-error 0.05 -o '" + one.string() + "'").exit_code, 0);
+  EXPECT_EQ(rows[1]["bytes"].get<double>(), double(fs::file_size(visible)));
+  // Coarser steps where bins count less: fewer bytes than one bound everywhere.
+  EXPECT_LT(fs::file_size(visible), fs::file_size(one));
+  const auto info = run_cli("info --json '" + visible.string() + "'");
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const auto residual = nlohmann::json::parse(info.out)["residual"];
+  EXPECT_EQ(residual["mode"], 3) << residual;
+  // E bounds the most visible rows; the file's bound is the coarsest row's (cbrdf info).
+  EXPECT_EQ(residual["min_error"].get<double>(), 0.05);
+  EXPECT_GT(residual["max_error"].get<double>(), 0.05);
+
+  // The layer buys accuracy for bytes.
+  EXPECT_GT(rows[1]["bytes"].get<double>(), rows[0]["bytes"].get<double>());
+  EXPECT_GT(rows[1]["psnr_tonemapped_db"].get<double>(),
+            rows[0]["psnr_tonemapped_db"].get<double>() + 1.0);
+  const std::string csv = testing::read_text(out / "report.csv");
+  EXPECT_NE(csv.find(",detail,max_error\n"), std::string::npos);
+  EXPECT_NE(csv.find(",0.05\n"), std::string::npos) << csv;
+}
+
+TEST(EncodeResidualSteps, ErrorsNameWhatToGive) {
+  TempDir tmp;
+  const fs::path input = tmp / "plastic.binary", out = tmp / "o.cbrdf";
+  ASSERT_EQ(run_cli("-q sample plastic -o '" + input.string() + "'").exit_code, 0);
+  const std::string encode = "encode '" + input.string() + "' -o '" + out.string() + "' ";
+  auto r = run_cli(encode + "--residual-steps visibility");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--residual-steps shapes the layer --max-error E adds; give --max-error"),
+            std::string::npos)
+      << r.err;
+  r = run_cli(encode + "--residual-steps visibility --target-psnr 50");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--residual-steps and a target"), std::string::npos) << r.err;
+  r = run_cli(encode + "--max-error 0.05 --residual-steps rows");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--residual-steps must be one or visibility, not 'rows'"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 // Points on no other point's dominated side: an independent, quadratic frontier.
 std::vector<std::string> slow_frontier(
     const std::vector<std::tuple<std::string, double, double>>& p) {

@@ -34,6 +34,7 @@ struct EncodeOptions {
   const CLI::Option* target_bytes_option = nullptr;
   const CLI::Option* target_psnr_option = nullptr;
   const CLI::Option* max_error_option = nullptr;
+  const CLI::Option* residual_steps_option = nullptr;
   bool given(const CLI::Option* option) const { return option && option->count() > 0; }
 };
 
@@ -73,6 +74,15 @@ std::optional<std::string> parse_rate_target(const EncodeOptions& o, RateTarget*
     return std::string("encode: ") + (o.lossless ? "--lossless" : "--max-error") +
            " and a target (--target-bytes, --target-psnr) exclude each other: the target "
            "chooses the residual layer itself; give one of them";
+  }
+  if (o.given(o.residual_steps_option) && targeted) {
+    return std::string(
+        "encode: --residual-steps and a target (--target-bytes, --target-psnr) exclude each "
+        "other: a target's residual layer always steps by visibility");
+  }
+  if (o.given(o.residual_steps_option) && !o.given(o.max_error_option)) {
+    return std::string(
+        "encode: --residual-steps shapes the layer --max-error E adds; give --max-error too");
   }
   if (targeted && o.encoder.slices == "auto") {
     return std::string(
@@ -334,6 +344,13 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
                            "Add the residual layer that decodes to the source bit for bit");
   me->excludes(ll);
   o->max_error_option = me;
+  o->residual_steps_option =
+      cmd->add_option("--residual-steps", o->encoder.residual_steps,
+                      "How --max-error E bounds the layer: one (every measured bin within E) or "
+                      "visibility (E bounds the most visible rows, coarser steps where bins count "
+                      "less in rendered images, as --target-psnr writes: fewer bytes for the "
+                      "same picture)")
+          ->capture_default_str();
   cmd->callback([o, &ctx, action] { *action = [o, &ctx] { return run_encode(*o, ctx); }; });
 }
 

@@ -913,6 +913,7 @@ std::string keyword_names(std::string message) {
       {"--target-bytes", "target_bytes"},
       {"--target-psnr", "target_psnr"},
       {"--max-error", "max_error"},
+      {"--residual-steps", "residual_steps"},
       {"--lossless", "lossless"},
       {"--mixture-copulas", "mixture_copulas"},
       {"--format-version", "format_version"},
@@ -942,7 +943,8 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
                  const py::object& threads, const py::object& target_bytes,
                  const py::object& target_psnr, const py::object& max_error, bool lossless,
                  const py::object& source_name, const py::object& mixture_copulas,
-                 const py::object& format_version, const py::object& metadata) {
+                 const py::object& format_version, const py::object& metadata,
+                 const py::object& residual_steps) {
   t.ok();
   EncoderOptions o;
   if (!mixture_copulas.is_none()) o.mixture_copulas = str_arg(mixture_copulas, "mixture_copulas");
@@ -983,6 +985,18 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
                       " and a target (target_bytes, target_psnr) exclude each other: the target "
                       "chooses the residual layer itself; give one of them",
                   2);
+  }
+  if (!residual_steps.is_none()) {
+    if (targeted) {
+      raise_invalid(
+          "residual_steps and a target (target_bytes, target_psnr) exclude each other: a "
+          "target's residual layer always steps by visibility",
+          2);
+    }
+    if (max_error.is_none()) {
+      raise_invalid("residual_steps shapes the layer max_error adds; give max_error too", 2);
+    }
+    o.residual_steps = str_arg(residual_steps, "residual_steps");
   }
   if (lossless && t.folded_from_360) {
     raise_invalid(t.name +
@@ -1243,7 +1257,7 @@ PYBIND11_MODULE(_cbrdf, m) {
         py::arg("placement"), py::arg("naive_marginals"), py::arg("threads"),
         py::arg("target_bytes"), py::arg("target_psnr"), py::arg("max_error"), py::arg("lossless"),
         py::arg("source_name"), py::arg("mixture_copulas"), py::arg("format_version"),
-        py::arg("metadata"));
+        py::arg("metadata"), py::arg("residual_steps"));
 
   m.def("_sphere_metrics", &sphere_metrics, py::arg("reference"), py::arg("test"), py::arg("size"),
         py::arg("light_angles"));

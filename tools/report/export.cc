@@ -44,7 +44,7 @@ std::string to_csv(const std::vector<MaterialResult>& results) {
   std::ostringstream out;
   out << "material,model,kind,slices,bits,in_sweep,primary,input_bytes,bytes,ratio,rel_rmse,"
          "log_rmse,cos_rmse,psnr_linear_db,psnr_tonemapped_db,encode_s,decode_s,eval_ns,"
-         "components,paper,detail\n";
+         "components,paper,detail,max_error\n";
   for (const MaterialResult& m : results) {
     for (const Row& r : m.rows) {
       out << csv_field(r.material) << ',' << csv_field(r.model) << ',' << r.kind << ',' << r.slices
@@ -54,7 +54,7 @@ std::string to_csv(const std::vector<MaterialResult>& results) {
           << g(r.psnr_tonemapped) << ',' << g(r.encode_s) << ',' << g(r.decode_s) << ','
           << g(r.eval_ns) << ','
           << (r.kind == std::string(kKindCopula) ? components_name(r.components) : "") << ','
-          << int(r.paper) << ',' << csv_field(r.detail) << '\n';
+          << int(r.paper) << ',' << csv_field(r.detail) << ',' << g(r.max_error) << '\n';
     }
   }
   return out.str();
@@ -77,6 +77,7 @@ nlohmann::json settings_json(const Settings& st, double elapsed_s) {
       {"slices", st.sweep.slices},
       {"bits", st.sweep.bits},
       {"components", components},
+      {"residual", st.sweep.residual},
       {"primary", st.sweep.primary().label()},
       {"paper", paper_setting().label()},
       {"baselines",
@@ -107,6 +108,7 @@ nlohmann::json row_fields(const Row& r) {
           {"components", r.kind == std::string(kKindCopula)
                              ? nlohmann::json(components_name(r.components))
                              : nlohmann::json(nullptr)},
+          {"max_error", r.max_error},
           {"in_sweep", r.in_sweep},
           {"paper", r.paper},
           {"primary", r.primary},

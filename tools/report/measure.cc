@@ -130,19 +130,35 @@ Expected<EncoderSettings> encoder_settings_at(const CodecSetting& s, int threads
   o.components = components_name(s.components);
   o.family = s.family;
   o.bits = s.bits;
+  if (s.max_error > 0) {
+    o.max_error = s.max_error;
+    o.residual_steps = "visibility";
+  }
   o.threads = threads;
   o.source_name = source_name;
   return encoder_settings(o);
 }
 
-// The file at the setting's bits, or at the bits `--bits auto` chooses (named in the row's detail).
+// The file at the setting's bits, or at the bits `--bits auto` chooses (named in the row's
+// detail), plus the setting's residual layer, as `cbrdf encode` writes it.
 Expected<std::vector<std::uint8_t>> encode_at(const BrdfTable& table, const Model& model,
                                               const EncoderSettings& es, Row* r) {
-  if (!es.auto_bits.enabled) return encode_model(model, es.container);
-  auto choice = choose_bits(table, model, es.container, es.auto_bits);
-  if (!choice.ok()) return choice.status();
-  r->detail = "chose " + std::to_string(choice->bits) + " bits";
-  return std::move(choice->bytes);
+  EncodeResult file;
+  file.model = model;
+  file.bits = es.container.bits;
+  if (!es.auto_bits.enabled) {
+    auto bytes = encode_model(model, es.container);
+    if (!bytes.ok()) return bytes.status();
+    file.bytes = std::move(bytes).value();
+  } else {
+    auto choice = choose_bits(table, model, es.container, es.auto_bits);
+    if (!choice.ok()) return choice.status();
+    r->detail = "chose " + std::to_string(choice->bits) + " bits";
+    file.bits = choice->bits;
+    file.bytes = std::move(choice->bytes);
+  }
+  if (es.residual.max_error > 0) CBRDF_RETURN_IF_ERROR(add_residual_layer(table, es, &file));
+  return std::move(file.bytes);
 }
 
 class MaterialRun {
@@ -231,29 +247,36 @@ class MaterialRun {
   Status copula_rows() {
     const auto settings = copula_settings(st_);
     const CodecSetting primary = st_.sweep.primary();
-    // Settings that differ only in bits share one fit (adjacent in the sweep's order).
-    Model model;
-    double fit_s = 0;
-    CodecSetting fitted{"", 0, 0, 0};
+    // Settings that differ only in bits or the residual bound share one fit.
+    struct Fit {
+      CodecSetting key;  // bits 0, no residual
+      Model model;
+      double fit_s = 0;
+    };
+    std::vector<Fit> fits;
     // As `cbrdf encode` records it.
     const std::string source_name =
         m_.builtin ? m_.name : std::filesystem::path(m_.path).filename().string();
     for (const auto& [s, in_sweep] : settings) {
       auto es = encoder_settings_at(s, threads_, source_name, st_.codings.front());
       if (!es.ok()) return es.status().with_context(m_.name + " (" + s.label() + ")");
-      if (fitted.family != s.family || fitted.slices != s.slices ||
-          fitted.components != s.components) {
+      const CodecSetting key{s.family, s.slices, 0, s.components};
+      auto fit = std::find_if(fits.begin(), fits.end(), [&](const Fit& f) { return f.key == key; });
+      if (fit == fits.end()) {
         const auto t0 = Clock::now();
         auto m = fit_model(table_, es->fit);
-        fit_s = since(t0);
+        const double seconds = since(t0);
         if (!m.ok()) return m.status().with_context(m_.name + " (" + s.label() + ")");
-        model = std::move(m).value();
-        fitted = s;
+        fits.push_back(Fit{key, std::move(m).value(), seconds});
+        fit = fits.end() - 1;
       }
+      const Model& model = fit->model;
+      const double fit_s = fit->fit_s;
       Row r = base_row(s.model_name(), kKindCopula);
       r.slices = s.slices;
       r.bits = s.bits;
       r.components = s.components;
+      r.max_error = s.max_error;
       r.in_sweep = in_sweep;
       r.primary = s == primary;
       r.paper = s == paper_setting();
@@ -462,7 +485,9 @@ std::size_t steps_per_material(const Settings& st) {
 }  // namespace
 
 std::string Row::label() const {
-  if (kind == std::string(kKindCopula)) return copula_label(model, slices, bits, components);
+  if (kind == std::string(kKindCopula)) {
+    return copula_label(model, slices, bits, components, max_error);
+  }
   return model;
 }
 

@@ -66,6 +66,7 @@ struct Row {
   std::string kind;          // one of the kinds above
   int slices = 0, bits = 0;  // copula rows
   int components = 1;        // copula rows: 1 to kMaxComponents, or kAutoComponents
+  double max_error = 0;      // copula rows: the residual layer's bound (CodecSetting), 0: none
   bool in_sweep = false;     // a copula row of the sweep (not only a baseline)
   bool primary = false;      // the sweep's primary setting
   bool paper = false;        // the paper's setting (paper_setting()), measured in every report
@@ -84,7 +85,7 @@ struct Row {
   // (the first repeats this row's own); empty otherwise.
   std::vector<CodingResult> codings;
 
-  std::string label() const;  // "frank s6 b10", "frank s6 b10 k2", "ward", ...
+  std::string label() const;  // "frank s6 b10", "frank s6 b10 k2", "frank s6 b10 E0.03", "ward"
   double ratio() const { return bytes > 0 ? input_bytes / bytes : 0.0; }
 };
 

@@ -71,6 +71,11 @@ std::string encode_command(const std::string& label, const Settings& st) {
     if (s.family != "frank") cmd += " --family " + s.family;
     cmd += " --slices " + std::to_string(s.slices) + " --bits " + bits_name(s.bits);
     if (s.components != 1) cmd += " --components " + components_name(s.components);
+    if (s.max_error > 0) {
+      char text[64];
+      std::snprintf(text, sizeof text, " --max-error %g --residual-steps visibility", s.max_error);
+      cmd += text;
+    }
     return cmd;
   }
   return "";

@@ -3,8 +3,11 @@
 #include "report/sweep.h"
 
 #include <algorithm>
+#include <charconv>
+#include <cstdio>
 #include <optional>
 #include <sstream>
+#include <system_error>
 
 #include "cbrdf/codec.h"
 #include "cbrdf/copula_family.h"
@@ -47,6 +50,24 @@ Expected<std::vector<int>> parse_counts(const std::string& key, const std::strin
   return out;
 }
 
+// Bounds 1e-06 to 16, as --max-error takes them.
+Expected<std::vector<double>> parse_bounds(const std::string& values) {
+  std::vector<double> out;
+  for (const std::string& v : split(values, ',')) {
+    double x = 0;
+    const char* end = v.data() + v.size();
+    const auto [ptr, ec] = std::from_chars(v.data(), end, x);
+    if (v.empty() || ec != std::errc() || ptr != end || !(x >= 1e-6 && x <= 16)) {
+      return bad("residual='" + v + "' is not a bound from 1e-06 to 16 (as --max-error takes)");
+    }
+    if (std::find(out.begin(), out.end(), x) != out.end()) {
+      return bad("residual lists " + v + " twice");
+    }
+    out.push_back(x);
+  }
+  return out;
+}
+
 Expected<std::vector<std::string>> parse_families(const std::string& values) {
   std::vector<std::string> out;
   for (std::string v : split(values, ',')) {
@@ -62,6 +83,13 @@ Expected<std::vector<std::string>> parse_families(const std::string& values) {
   return out;
 }
 
+// The default setting when the models measured hold it, otherwise the first of them.
+CodecSetting primary_of(const std::vector<CodecSetting>& models) {
+  const CodecSetting def = default_setting();
+  if (std::find(models.begin(), models.end(), def) != models.end()) return def;
+  return models.front();
+}
+
 }  // namespace
 
 std::string components_name(int components) {
@@ -72,10 +100,16 @@ std::string bits_name(int bits) {
   return bits == kAutoBits ? "auto" : std::to_string(bits);
 }
 
-std::string copula_label(const std::string& model_name, int slices, int bits, int components) {
+std::string copula_label(const std::string& model_name, int slices, int bits, int components,
+                         double max_error) {
   std::string label = model_name + " s" + std::to_string(slices) + " b" + bits_name(bits);
-  if (components == kAutoComponents) return label + " k-auto";
-  if (components != 1) return label + " k" + std::to_string(components);
+  if (components == kAutoComponents) label += " k-auto";
+  if (components != 1 && components != kAutoComponents) label += " k" + std::to_string(components);
+  if (max_error > 0) {
+    char text[32];
+    std::snprintf(text, sizeof text, " E%g", max_error);
+    label += text;
+  }
   return label;
 }
 
@@ -84,7 +118,7 @@ std::string CodecSetting::model_name() const {
 }
 
 std::string CodecSetting::label() const {
-  return copula_label(model_name(), slices, bits, components);
+  return copula_label(model_name(), slices, bits, components, max_error);
 }
 
 CodecSetting default_setting() {
@@ -115,14 +149,18 @@ std::vector<CodecSetting> Sweep::settings() const {
       }
     }
   }
+  if (!residual.empty()) {
+    CodecSetting base = primary_of(out);
+    for (double e : residual) {
+      base.max_error = e;
+      out.push_back(base);
+    }
+  }
   return out;
 }
 
 CodecSetting Sweep::primary() const {
-  const std::vector<CodecSetting> all = settings();
-  const CodecSetting def = default_setting();
-  if (std::find(all.begin(), all.end(), def) != all.end()) return def;
-  return all.front();
+  return primary_of(settings());
 }
 
 Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
@@ -139,8 +177,8 @@ Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
       const std::size_t eq = word.find('=');
       if (eq == std::string::npos || eq == 0) {
         return bad("'" + word +
-                   "' is not KEY=VALUES (keys: slices, bits, family, components; give input files "
-                   "before --sweep)");
+                   "' is not KEY=VALUES (keys: slices, bits, family, components, residual; give "
+                   "input files before --sweep)");
       }
       const std::string key = word.substr(0, eq), values = word.substr(eq + 1);
       if (std::find(seen.begin(), seen.end(), key) != seen.end()) {
@@ -164,8 +202,12 @@ Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
         auto v = parse_counts(key, values, 1, kMaxComponents, true);
         if (!v) return v.status();
         sweep.components = *v;
+      } else if (key == "residual") {
+        auto v = parse_bounds(values);
+        if (!v) return v.status();
+        sweep.residual = *v;
       } else {
-        return bad("unknown key '" + key + "' (keys: slices, bits, family, components)");
+        return bad("unknown key '" + key + "' (keys: slices, bits, family, components, residual)");
       }
     }
   }

@@ -20,8 +20,9 @@ std::string components_name(int components);
 std::string bits_name(int bits);
 
 // "frank s6 b10", with " k2" (or " k-auto") appended for mixtures: K = 1 labels are the paper's
-// model and read as they did before mixtures existed.
-std::string copula_label(const std::string& model_name, int slices, int bits, int components);
+// model and read as they did before mixtures existed; " E0.03" for a residual layer.
+std::string copula_label(const std::string& model_name, int slices, int bits, int components,
+                         double max_error = 0);
 
 // One codec setting: a point of the sweep.
 struct CodecSetting {
@@ -29,9 +30,12 @@ struct CodecSetting {
   int slices = 6;
   int bits = 10;
   int components = 1;  // 1 to kMaxComponents, or kAutoComponents
+  // > 0: the model plus the residual layer whose bound E this is, stepped by visibility
+  // (`cbrdf encode --max-error E --residual-steps visibility`, what rate control writes).
+  double max_error = 0;
   bool operator==(const CodecSetting&) const = default;
-  // "frank s6 b10", "frank s6 b10 k2"; the independence family is called "separable", as in the
-  // paper.
+  // "frank s6 b10", "frank s6 b10 k2", "frank s6 b10 E0.03"; the independence family is called
+  // "separable", as in the paper.
   std::string label() const;
   std::string model_name() const;  // "frank", ..., "separable", "auto"
 };
@@ -48,8 +52,12 @@ struct Sweep {
   std::vector<int> slices = {6};
   std::vector<int> bits = {10};
   std::vector<int> components = {1};  // kAutoComponents for auto
+  // Residual bounds E: each adds the primary setting plus the residual layer at E (none by
+  // default). Not a product axis: a layer costs seconds per setting and per coding, and over tens
+  // of KB it is the layer, not the model under it, that sets the picture.
+  std::vector<double> residual;
   // The cartesian product: family, slices, components, bits (innermost), so that settings that
-  // share a fit are adjacent.
+  // share a fit are adjacent; then the primary setting at each residual bound.
   std::vector<CodecSetting> settings() const;
   // The setting the per-material images and the baseline comparison use: the default setting
   // when the sweep holds it, otherwise the first one.
@@ -61,8 +69,9 @@ struct Sweep {
 // A sweep to suggest when there is nothing to compare with the paper's setting.
 inline constexpr const char* kFrontierSweepExample = "--sweep components=1,2,4 bits=8,12";
 
-// Parses items "slices=1,2,3", "bits=6,8", "family=frank,auto", "components=1,2,auto" (keys in
-// any order, each at most once; an item may also hold several, separated by spaces). Errors
+// Parses items "slices=1,2,3", "bits=6,8", "family=frank,auto", "components=1,2,auto",
+// "residual=0.1,0.03" (keys in any order, each at most once; an item may also hold several,
+// separated by spaces). Errors
 // (kInvalidArgument) are one line naming the item and what would be valid.
 Expected<Sweep> parse_sweep(const std::vector<std::string>& items);
 

@@ -97,6 +97,16 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
     return invalid(std::string("--max-error must be 1e-06 to 16 (or 0: no residual layer), not ") +
                    text);
   }
+  if (o.residual_steps != "one" && o.residual_steps != "visibility") {
+    return invalid("--residual-steps must be one or visibility, not '" + o.residual_steps + "'");
+  }
+  if (o.residual_steps == "visibility") {
+    if (o.max_error == 0) {
+      return invalid(
+          "--residual-steps visibility needs --max-error E (the bound of the most visible rows)");
+    }
+    st.residual = target_residual_settings(o.max_error);
+  }
   st.residual.max_error = o.max_error;
   st.residual.lossless = o.lossless;
   st.fit.impute_missing = !o.naive_marginals;

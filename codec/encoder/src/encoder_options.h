@@ -43,6 +43,9 @@ struct EncoderOptions {
   std::string source_name;                     //< recorded in the container's metadata
   double max_error = 0;   //< the residual layer's bound (ResidualSettings); 0: none
   bool lossless = false;  //< the residual layer makes the decoded table exact
+  // How max_error bounds the layer: "one" (every bin within it) or "visibility" (it bounds the
+  // most visible rows; target_residual_settings, what --target-psnr writes).
+  std::string residual_steps = "one";
   // auto (1.3 where smaller), 1.2 (the 1.0-1.2 chunks only) or 1.3 (ContainerSettings::Format)
   std::string format_version = "auto";
   std::string metadata = "short";  //< none, short (source, encoder) or full (and bits, zstd level)

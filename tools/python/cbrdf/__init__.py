@@ -302,7 +302,7 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
            max_error: float | None = None, lossless: bool = False,
            mask: _Any = None, source_name: str | None = None,
            mixture_copulas: str | None = None, format_version: str = "auto",
-           metadata: str = "short") -> bytes:
+           metadata: str = "short", residual_steps: str | None = None) -> bytes:
     """Fit the copula model to a table and return the bytes of a .cbrdf file.
 
     With the same input and options the bytes equal those ``cbrdf encode`` writes
@@ -338,6 +338,11 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
             stored values with k = 1e-4 (scaled down with a table whose values are
             all below 1; a relative bound, 1e-6 to 16;
             ``--max-error``).
+        residual_steps: how ``max_error`` bounds the layer: ``"one"`` (every
+            measured bin within it, the default) or ``"visibility"`` (it bounds the
+            most visible rows, with coarser steps where bins count less in rendered
+            images, as a target writes: fewer bytes for the same picture)
+            (``--residual-steps``; needs ``max_error``).
         lossless: add the residual layer that makes the decoded table equal to the
             source bit for bit (``--lossless``; excludes ``max_error``).
         mask: with an array, True where a bin was not measured.
@@ -370,7 +375,7 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
     return _cbrdf._encode(t, bits, components, slices, family, loss, level, placement,
                           bool(naive_marginals), threads, target_bytes, target_psnr, max_error,
                           bool(lossless), source_name, mixture_copulas, format_version,
-                          metadata)
+                          metadata, residual_steps)
 
 
 class Component:
