@@ -170,7 +170,7 @@ TEST(Sweep, ComponentsKeyAndLabels) {
   EXPECT_EQ(components_name(3), "3");
 }
 
-TEST(Sweep, ResidualBoundsSitOnThePrimarySetting) {
+TEST(Sweep, ResidualBoundsSitOnThePrimarySettingAtEachComponentCount) {
   auto s = parse_sweep({"bits=8,10 residual=0.1,0.03"});
   ASSERT_TRUE(s.ok()) << s.status().message();
   EXPECT_EQ(s->residual, (std::vector<double>{0.1, 0.03}));
@@ -182,11 +182,14 @@ TEST(Sweep, ResidualBoundsSitOnThePrimarySetting) {
                                               "frank s6 b8 E0.03"}));
   EXPECT_EQ(s->primary().label(), "frank s6 b8");
   EXPECT_EQ(s->settings()[3].max_error, 0.03);
-  // With the default setting in the sweep, the layer sits on it.
+  // With the default setting in the sweep, the layer sits on it, at each component count.
   s = parse_sweep({"residual=0.05 components=1,2"});
   ASSERT_TRUE(s.ok());
-  EXPECT_EQ(s->settings().back(), (CodecSetting{default_setting().family, default_setting().slices,
-                                                default_setting().bits, 1, 0.05}));
+  const std::vector<CodecSetting> all = s->settings();
+  ASSERT_EQ(all.size(), 4u);
+  const CodecSetting d = default_setting();
+  EXPECT_EQ(all[2], (CodecSetting{d.family, d.slices, d.bits, 1, 0.05}));
+  EXPECT_EQ(all[3], (CodecSetting{d.family, d.slices, d.bits, 2, 0.05}));
   EXPECT_TRUE(parse_sweep({"slices=3"})->residual.empty());  // the models alone
   EXPECT_EQ((CodecSetting{"frank", 6, 10, 2, 1e-3}).label(), "frank s6 b10 k2 E0.001");
 }

@@ -208,8 +208,9 @@ void add_report_command(CLI::App& app, const Context& ctx, Action* action) {
              "slices=1..90, bits=6..16, family=frank,clayton,gumbel,joe,independence,auto, "
              "components=1.." +
              std::to_string(kMaxComponents) +
-             ",auto, residual=E,... (the primary setting plus the residual layer at bound E, "
-             "as --max-error E --residual-steps visibility writes) (default: family=" +
+             ",auto, residual=E,... (the primary setting, at each of the components, plus the "
+             "residual layer at bound E, as --max-error E --residual-steps visibility writes) "
+             "(default: family=" +
              report::default_setting().family +
              " slices=" + std::to_string(report::default_setting().slices) +
              " bits=" + std::to_string(report::default_setting().bits) +

@@ -149,9 +149,13 @@ std::vector<CodecSetting> Sweep::settings() const {
       }
     }
   }
-  if (!residual.empty()) {
-    CodecSetting base = primary_of(out);
+  // The layer on the primary setting at each component count: at coarse bounds a mixture carries
+  // shape the layer would pay for, at fine ones one component under it costs less (docs).
+  const CodecSetting primary = primary_of(out);
+  for (int k : components) {
     for (double e : residual) {
+      CodecSetting base = primary;
+      base.components = k;
       base.max_error = e;
       out.push_back(base);
     }

@@ -52,12 +52,12 @@ struct Sweep {
   std::vector<int> slices = {6};
   std::vector<int> bits = {10};
   std::vector<int> components = {1};  // kAutoComponents for auto
-  // Residual bounds E: each adds the primary setting plus the residual layer at E (none by
-  // default). Not a product axis: a layer costs seconds per setting and per coding, and over tens
-  // of KB it is the layer, not the model under it, that sets the picture.
+  // Residual bounds E: each adds the primary setting at each component count plus the residual
+  // layer at E (none by default). Not a full product axis: a layer costs seconds per setting and
+  // per coding, and over tens of KB it is the layer, not the model's bits, that sets the picture.
   std::vector<double> residual;
   // The cartesian product: family, slices, components, bits (innermost), so that settings that
-  // share a fit are adjacent; then the primary setting at each residual bound.
+  // share a fit are adjacent; then the primary setting at each component count and residual bound.
   std::vector<CodecSetting> settings() const;
   // The setting the per-material images and the baseline comparison use: the default setting
   // when the sweep holds it, otherwise the first one.
