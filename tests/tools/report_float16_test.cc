@@ -45,6 +45,9 @@ TEST(Float16, KnownValues) {
   EXPECT_EQ(float_to_half(1.0f + 3 * std::ldexp(1.0f, -11)), 0x3C02u);
 }
 
+// Where the compiler has _Float16 (GCC on x86-64, which the release suite uses; clang 14, which
+// the sanitizer suite uses, has not).
+#ifdef __FLT16_MAX__
 TEST(Float16, MatchesTheCompilersConversion) {
   // Every 97th float bit pattern (44 million of them), both signs, all exponents.
   for (std::uint64_t u = 0; u <= 0xFFFFFFFFull; u += 97) {
@@ -58,6 +61,7 @@ TEST(Float16, MatchesTheCompilersConversion) {
     ASSERT_EQ(got, want) << "float bits 0x" << std::hex << u;
   }
 }
+#endif
 
 }  // namespace
 }  // namespace cbrdf

@@ -16,7 +16,10 @@
 // puppeteer-core (`npm ci` in tests/viewer) it fails.
 //
 //   node viewer_test.mjs --cbrdf BIN --reference BIN --wasm DIR --chromium BIN --golden DIR
-//                        --out DIR [--screenshot docs/viewer.png]
+//                        --out DIR [--screenshot docs/viewer.png] [--encoder BIN]
+// --encoder: the cbrdf that makes the nickel files (default --cbrdf). The sanitizer suite passes
+// the release build's, so that its time goes to the server under test, not to encodes that the
+// encoder's own tests check under the sanitizers.
 import { spawn, execFileSync } from 'node:child_process';
 import { mkdtempSync, mkdirSync, readFileSync, readdirSync, writeFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -51,14 +54,15 @@ const work = mkdtempSync(join(tmpdir(), 'cbrdf-viewer-'));
 
 // Files: the golden files, and the sample nickel encoded with the defaults (and its table).
 const golden = readdirSync(args.golden).filter((f) => f.endsWith('.cbrdf')).sort().map((f) => join(args.golden, f));
+const encoder = args.encoder ?? args.cbrdf;
 const nickelBinary = join(work, 'nickel.binary'), nickel = join(work, 'nickel.cbrdf');
-execFileSync(args.cbrdf, ['-q', 'sample', 'nickel', '-o', nickelBinary]);
-execFileSync(args.cbrdf, ['-q', 'encode', nickelBinary, '-o', nickel]);
+execFileSync(encoder, ['-q', 'sample', 'nickel', '-o', nickelBinary]);
+execFileSync(encoder, ['-q', 'encode', nickelBinary, '-o', nickel]);
 // And two paths the golden files do not take on a real material: Clayton everywhere (the generic
 // terms' volume) and the lossless residual (the exact table replaces the model).
 const nickelClayton = join(work, 'nickel-clayton.cbrdf'), nickelLossless = join(work, 'nickel-lossless.cbrdf');
-execFileSync(args.cbrdf, ['-q', 'encode', nickelBinary, '--family', 'clayton', '-o', nickelClayton]);
-execFileSync(args.cbrdf, ['-q', 'encode', nickelBinary, '--lossless', '-o', nickelLossless]);
+execFileSync(encoder, ['-q', 'encode', nickelBinary, '--family', 'clayton', '-o', nickelClayton]);
+execFileSync(encoder, ['-q', 'encode', nickelBinary, '--lossless', '-o', nickelLossless]);
 const files = [...golden, nickelClayton, nickelLossless, nickel, nickelBinary];
 
 // A PNG's pixels (8-bit RGB or RGBA, non-interlaced: what chromium writes).

@@ -20,6 +20,7 @@
 #include <numbers>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -279,7 +280,11 @@ int cbrdf_thread_limit(void) {
 }
 
 const char* cbrdf_status_name(cbrdf_status status) {
-  const int code = int(status);
+  // A C caller may pass any int as the enum; reading one outside its values as the enum is
+  // undefined in C++ (clang's UBSan reports it), so its bytes are read as the underlying integer.
+  std::underlying_type_t<cbrdf_status> raw;
+  std::memcpy(&raw, &status, sizeof raw);
+  const long long code = static_cast<long long>(raw);
   if (code < CBRDF_OK || code > CBRDF_ERROR_INTERNAL) return "unknown";
   return cbrdf::error_code_name(cbrdf::ErrorCode(code));
 }
