@@ -1525,7 +1525,7 @@ static void test_residual(const double* table) {
   cbrdf_model_info info;
   cbrdf_model* m;
   void* bytes = NULL;
-  size_t size = 0;
+  size_t size = 0, bounded_size = 0;
   double worst;
   CHECK(decoded != NULL);
   if (decoded == NULL) return;
@@ -1548,6 +1548,16 @@ static void test_residual(const double* table) {
   s.lossless = 2;
   CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_MESSAGE_HAS("lossless");
+  s.lossless = 0;
+  CHECK(s.residual_steps == CBRDF_RESIDUAL_STEPS_ONE);
+  s.residual_steps = 2;
+  s.max_error = 0.01;
+  CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("residual_steps must be CBRDF_RESIDUAL_STEPS_ONE (0) or");
+  s.residual_steps = CBRDF_RESIDUAL_STEPS_VISIBILITY;
+  s.max_error = 0;
+  CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("needs max_error > 0");
   CHECK(bytes == NULL && size == 0);
 
   /* A bound: every measured bin within it, the not-measured ones exact. */
@@ -1568,6 +1578,36 @@ static void test_residual(const double* table) {
     CHECK(worst >= 0 && worst <= 0.01 * (1 + 1e-9));
     cbrdf_model_free(m);
   }
+  bounded_size = size;
+
+  /* Visibility steps: the most visible rows within the bound, the others within a coarser one
+   * (the file records both), for fewer bytes. */
+  s.residual_steps = CBRDF_RESIDUAL_STEPS_VISIBILITY;
+  m = encode_and_open(table, &s, &info, &size);
+  if (m != NULL) {
+    CHECK(info.residual_mode == CBRDF_RESIDUAL_ROW_BOUNDED ||
+          info.residual_mode == CBRDF_RESIDUAL_INTERPOLATED);
+    CHECK(info.residual_min_error == 0.01);
+    CHECK(info.residual_max_error > 0.01 && info.residual_max_error <= 16);
+    CHECK_STATUS(cbrdf_model_table(m, decoded, count), CBRDF_OK);
+    worst = residual_error(table, decoded, count);
+    printf(
+        "max_error 0.01, visibility steps: %lu bytes (one step: %lu), largest error %.6f of "
+        "at most %.4f\n",
+        (unsigned long)size, (unsigned long)bounded_size, worst, info.residual_max_error);
+    CHECK(worst >= 0 && worst <= info.residual_max_error * (1 + 1e-9));
+    CHECK(size < bounded_size);
+    cbrdf_model_free(m);
+  }
+  /* A caller built against the struct before residual_steps: the field past its struct_size is
+   * not read (here it would be refused without a max_error). */
+  s.struct_size = (uint32_t)offsetof(cbrdf_encode_settings, residual_steps);
+  s.max_error = 0;
+  CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_OK);
+  cbrdf_free(bytes);
+  bytes = NULL;
+  s.struct_size = (uint32_t)sizeof s;
+  s.residual_steps = CBRDF_RESIDUAL_STEPS_ONE;
 
   /* Lossless: the table bit for bit. */
   s.max_error = 0;

@@ -147,7 +147,8 @@ typedef enum cbrdf_residual_mode {
   CBRDF_RESIDUAL_BOUNDED = 0,  /**< one error bound for every measured bin */
   CBRDF_RESIDUAL_LOSSLESS = 1, /**< the decoded table equals the source bit for bit */
   /** A bound per (theta_h, theta_d) row, coarser where a bin weighs less in rendering (written by
-   * the rate control: cbrdf_encode_settings.max_error always writes _BOUNDED). */
+   * the rate control; cbrdf_encode_settings.max_error writes _BOUNDED, or with residual_steps
+   * CBRDF_RESIDUAL_STEPS_VISIBILITY row bounds). */
   CBRDF_RESIDUAL_ROW_BOUNDED = 2,
   /** Since 1.5: row bounds, the codes correcting an interpolation of coarser bins; the finest level
    * (odd theta_d or phi_d) has a multiple of its row's bound (written by the rate control). */

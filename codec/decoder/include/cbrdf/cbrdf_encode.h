@@ -33,6 +33,12 @@ extern "C" {
 /** cbrdf_encode_settings.metadata: also the bits and the zstd level. */
 #define CBRDF_METADATA_FULL 2
 
+/** cbrdf_encode_settings.residual_steps: every measured bin within max_error (the default). */
+#define CBRDF_RESIDUAL_STEPS_ONE 0
+/** cbrdf_encode_settings.residual_steps: max_error bounds the most visible rows; rows that count
+ * less in rendered images get coarser steps (as `cbrdf encode --residual-steps visibility`). */
+#define CBRDF_RESIDUAL_STEPS_VISIBILITY 1
+
 /** Encoder settings. Fields are only ever appended: fill the struct with
  * cbrdf_encode_settings_init, then change the fields you need. */
 typedef struct cbrdf_encode_settings {
@@ -65,6 +71,10 @@ typedef struct cbrdf_encode_settings {
   int metadata;       /**< the metadata chunk: CBRDF_METADATA_NONE, CBRDF_METADATA_SHORT (the
                          default: source and encoder) or CBRDF_METADATA_FULL (also bits and
                          zstd level) */
+  int residual_steps; /**< how max_error bounds the residual layer: CBRDF_RESIDUAL_STEPS_ONE (the
+                         default: every measured bin within it) or
+                         CBRDF_RESIDUAL_STEPS_VISIBILITY (the most visible rows within it, the
+                         others coarser: fewer bytes for the same picture; needs max_error > 0) */
 } cbrdf_encode_settings;
 
 /** Sets every field to its default (as `cbrdf encode` without options, except threads = 1) and

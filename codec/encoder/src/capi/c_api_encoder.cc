@@ -48,6 +48,7 @@ cbrdf_encode_settings default_settings() {
   s.mixture_copulas = d.fit.mixture_copulas ? 1 : 0;
   s.format_version = CBRDF_FORMAT_AUTO;  // as `cbrdf encode`
   s.metadata = CBRDF_METADATA_SHORT;
+  s.residual_steps = CBRDF_RESIDUAL_STEPS_ONE;
   return s;
 }
 
@@ -112,6 +113,18 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
     return invalid_argument(
         "cbrdf_encode_settings.max_error and .lossless exclude each other (lossless has no error)");
   }
+  if (s.residual_steps != CBRDF_RESIDUAL_STEPS_ONE &&
+      s.residual_steps != CBRDF_RESIDUAL_STEPS_VISIBILITY) {
+    return invalid_argument(
+        "cbrdf_encode_settings.residual_steps must be CBRDF_RESIDUAL_STEPS_ONE (0) or "
+        "CBRDF_RESIDUAL_STEPS_VISIBILITY (1), not " +
+        std::to_string(s.residual_steps));
+  }
+  if (s.residual_steps == CBRDF_RESIDUAL_STEPS_VISIBILITY && s.max_error == 0) {
+    return invalid_argument(
+        "cbrdf_encode_settings.residual_steps CBRDF_RESIDUAL_STEPS_VISIBILITY needs max_error > 0 "
+        "(the bound of the most visible rows)");
+  }
 
   EncoderSettings out;
   out.auto_bits.enabled = s.bits == CBRDF_BITS_AUTO;
@@ -126,6 +139,10 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   }
   // 0: one thread per core, as `cbrdf encode --threads 0`.
   out.fit.threads = s.threads > 0 ? s.threads : thread_limit();
+  // Visibility steps: the layer rate control's PSNR targets write, bounded by max_error.
+  if (s.residual_steps == CBRDF_RESIDUAL_STEPS_VISIBILITY) {
+    out.residual = target_residual_settings(s.max_error);
+  }
   out.residual.max_error = s.max_error;
   out.residual.lossless = s.lossless != 0;
   out.fit.mixture_copulas = s.mixture_copulas != 0;
