@@ -190,6 +190,15 @@ TEST(Sweep, ResidualBoundsSitOnThePrimarySettingAtEachComponentCount) {
   const CodecSetting d = default_setting();
   EXPECT_EQ(all[2], (CodecSetting{d.family, d.slices, d.bits, 1, 0.05}));
   EXPECT_EQ(all[3], (CodecSetting{d.family, d.slices, d.bits, 2, 0.05}));
+  // With bits=auto in the sweep, on the bits the command chooses (`encode --max-error E`).
+  s = parse_sweep({"bits=12,auto residual=0.2 components=1,2"});
+  ASSERT_TRUE(s.ok());
+  labels.clear();
+  for (const CodecSetting& c : s->settings()) labels.push_back(c.label());
+  EXPECT_EQ(labels, (std::vector<std::string>{"frank s6 b12", "frank s6 bauto", "frank s6 b12 k2",
+                                              "frank s6 bauto k2", "frank s6 bauto E0.2",
+                                              "frank s6 bauto k2 E0.2"}));
+  EXPECT_EQ(s->primary().label(), "frank s6 b12");
   EXPECT_TRUE(parse_sweep({"slices=3"})->residual.empty());  // the models alone
   EXPECT_EQ((CodecSetting{"frank", 6, 10, 2, 1e-3}).label(), "frank s6 b10 k2 E0.001");
 }

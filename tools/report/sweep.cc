@@ -150,11 +150,16 @@ std::vector<CodecSetting> Sweep::settings() const {
     }
   }
   // The layer on the primary setting at each component count: at coarse bounds a mixture carries
-  // shape the layer would pay for, at fine ones one component under it costs less (docs).
+  // shape the layer would pay for, at fine ones one component under it costs less (docs). With
+  // bits=auto in the sweep it sits on the bits the command chooses, as `cbrdf encode --max-error E`
+  // without --bits does: the layer corrects what coarser marginals miss, and on the 20 real
+  // materials the model under it is 0.9 to 1.4 KB smaller than at 12 bits for 0.01 dB.
   const CodecSetting primary = primary_of(out);
+  const bool auto_bits = std::find(bits.begin(), bits.end(), kAutoBits) != bits.end();
   for (int k : components) {
     for (double e : residual) {
       CodecSetting base = primary;
+      if (auto_bits) base.bits = kAutoBits;
       base.components = k;
       base.max_error = e;
       out.push_back(base);

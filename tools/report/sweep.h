@@ -52,9 +52,10 @@ struct Sweep {
   std::vector<int> slices = {6};
   std::vector<int> bits = {10};
   std::vector<int> components = {1};  // kAutoComponents for auto
-  // Residual bounds E: each adds the primary setting at each component count plus the residual
-  // layer at E (none by default). Not a full product axis: a layer costs seconds per setting and
-  // per coding, and over tens of KB it is the layer, not the model's bits, that sets the picture.
+  // Residual bounds E: each adds the primary setting (at auto bits when `bits` holds auto) at each
+  // component count plus the residual layer at E (none by default). Not a full product axis: a
+  // layer costs seconds per setting and per coding, and over tens of KB it is the layer, not the
+  // model's bits, that sets the picture.
   std::vector<double> residual;
   // The cartesian product: family, slices, components, bits (innermost), so that settings that
   // share a fit are adjacent; then the primary setting at each component count and residual bound.
