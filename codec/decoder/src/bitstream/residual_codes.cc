@@ -2,6 +2,7 @@
 #include "residual_codes.h"
 
 #include <array>
+#include <bit>
 #include <memory>
 #include <string>
 
@@ -18,6 +19,7 @@ constexpr int kSignContexts = 27;
 // |q| <= 2^28 has at most 29 bits: exponents 0..28.
 constexpr int kMaxCodeExponent = 28;
 constexpr std::size_t kSlab = std::size_t(kThetaDBins) * kPhiDBins;
+constexpr std::size_t kRowsPerChannel = std::size_t(kThetaHBins) * kThetaDBins;
 
 struct Contexts {
   std::array<internal::FineProb, kMaxCodeExponent + 1> exponent;
@@ -49,57 +51,139 @@ constexpr std::array<std::uint8_t, 8 * 8> make_class_table() {
 }
 constexpr std::array<std::uint8_t, 64> kClassOf = make_class_table();
 
-// The bucket of s: how many of 0, 1, 2, 4, 6, 9, 14, 22, 40, 80 it exceeds (a table up to 80,
-// the decoder's inner loop).
-constexpr std::array<std::uint8_t, 81> make_bucket_table() {
-  constexpr std::uint64_t kTop[kBuckets - 1] = {0, 1, 2, 4, 6, 9, 14, 22, 40, 80};
-  std::array<std::uint8_t, 81> t{};
-  for (std::uint64_t s = 0; s <= 80; ++s) {
-    int b = 0;
-    while (b < kBuckets - 1 && s > kTop[b]) ++b;
-    t[s] = std::uint8_t(b);
+// The buckets of s: a bucket is how many of these s exceeds. Counted with compares rather than
+// looked up, so a row's loop vectorizes (a table lookup per bin is a gather).
+constexpr std::int16_t kBucketTops[kBuckets - 1] = {0, 1, 2, 4, 6, 9, 14, 22, 40, 80};
+// Capping each magnitude at 81 leaves every bucket as it was (a sum with a term of 81 or more is
+// above 80 either way) and keeps the sums in 16 bits (8 to a 128-bit vector).
+constexpr std::int32_t kCap = 81;
+
+// The context index without its bucket, (class x kBuckets) x 2 + (c > 0), per (c > 0, d mod 8, p).
+using RowBase = std::array<std::int16_t, kPhiDBins>;
+constexpr std::array<std::array<RowBase, 8>, 2> make_row_base() {
+  std::array<std::array<RowBase, 8>, 2> t{};
+  for (int later = 0; later < 2; ++later) {
+    for (int d = 0; d < 8; ++d) {
+      for (int p = 0; p < kPhiDBins; ++p) {
+        t[std::size_t(later)][std::size_t(d)][std::size_t(p)] =
+            std::int16_t(kClassOf[std::size_t(d * 8 + (p & 7))] * kBuckets * 2 + later);
+      }
+    }
   }
   return t;
 }
-constexpr std::array<std::uint8_t, 81> kBucketOf = make_bucket_table();
+constexpr std::array<std::array<RowBase, 8>, 2> kRowBase = make_row_base();
 
-inline int bucket(std::uint64_t s) {
-  return s <= 80 ? kBucketOf[s] : kBuckets - 1;
+inline std::uint8_t capped_magnitude(std::int32_t v) {
+  const std::int32_t m = v < 0 ? std::int32_t(0u - std::uint32_t(v)) : v;  // INT32_MIN stays < 0
+  return std::uint8_t(m < 0 || m > kCap ? kCap : m);
 }
+
+// What the contexts read of the codes coded so far: each code's capped magnitude (kMaskBits
+// bytes; a byte per code is cheaper to read 180 at a time than the codes themselves) and, per row
+// r = (c x 90 + h) x 90 + d, whether it holds a nonzero code.
+struct Coded {
+  std::vector<std::uint8_t> magnitude = std::vector<std::uint8_t>(kMaskBits, 0);
+  std::vector<std::uint8_t> nonzero = std::vector<std::uint8_t>(kChannels * kRowsPerChannel, 0);
+};
+
+inline int sign_class(std::int32_t v) {
+  return int(v > 0) + 2 * int(v < 0);
+}
+
+// The magnitude contexts of row (c, h, d), all 180 at once: s weighs the same bin of the previous
+// theta_h slab twice and its phi_d neighbours (phi_d wraps) once, and the same bin of the previous
+// channel twice. They read earlier slabs and channels only, never the row itself, so a row's
+// contexts are known before its first code (computed inside the coder's loop, a bin's context
+// cost a third of the decode). A row of zeros (most rows at coarse bounds) adds nothing, and when
+// both rows read are zeros the contexts are the row's base alone. Returns k or that base.
+const std::int16_t* row_contexts(const Coded& coded, int c, int h, int d, std::int16_t* k) {
+  const std::size_t r =
+      (std::size_t(c) * kThetaHBins + std::size_t(h)) * kThetaDBins + std::size_t(d);
+  const bool up_row = h > 0 && coded.nonzero[r - kThetaDBins] != 0;
+  const bool channel_row = c > 0 && coded.nonzero[r - kRowsPerChannel] != 0;
+  const RowBase& base = kRowBase[c > 0 ? 1 : 0][std::size_t(d & 7)];
+  if (!up_row && !channel_row) return base.data();
+  const std::uint8_t* row = coded.magnitude.data() + r * kPhiDBins;
+  std::array<std::int16_t, kPhiDBins> s{};
+  if (up_row) {
+    std::array<std::int16_t, kPhiDBins + 2> a;  // the slab before, with its wrapped ends
+    const std::uint8_t* up = row - kSlab;
+    for (std::size_t p = 0; p < kPhiDBins; ++p) a[p + 1] = up[p];
+    a[0] = a[kPhiDBins];
+    a[kPhiDBins + 1] = a[1];
+    for (std::size_t p = 0; p < kPhiDBins; ++p) {
+      s[p] = std::int16_t(2 * a[p + 1] + a[p] + a[p + 2]);
+    }
+  }
+  if (channel_row) {
+    const std::uint8_t* before = row - kBinsPerChannel;
+    for (std::size_t p = 0; p < kPhiDBins; ++p) s[p] = std::int16_t(s[p] + 2 * before[p]);
+  }
+  for (std::size_t p = 0; p < kPhiDBins; ++p) {
+    const std::int16_t v = s[p];  // the compares written out: a loop here stops vectorization
+    const int b = (v > kBucketTops[0]) + (v > kBucketTops[1]) + (v > kBucketTops[2]) +
+                  (v > kBucketTops[3]) + (v > kBucketTops[4]) + (v > kBucketTops[5]) +
+                  (v > kBucketTops[6]) + (v > kBucketTops[7]) + (v > kBucketTops[8]) +
+                  (v > kBucketTops[9]);
+    k[p] = std::int16_t(base[p] + 2 * b);
+  }
+  return k;
+}
+
+constexpr std::array<std::uint8_t, kPhiDBins> make_iota() {
+  std::array<std::uint8_t, kPhiDBins> t{};
+  for (int p = 0; p < kPhiDBins; ++p) t[std::size_t(p)] = std::uint8_t(p);
+  return t;
+}
+constexpr std::array<std::uint8_t, kPhiDBins> kAllBins = make_iota();
+
+// The measured phi_d bins of the row whose first bin is mask bit b0, in increasing order: all of
+// them for most rows (kAllBins), else those written to `list`. Empty: none is measured.
+std::span<const std::uint8_t> measured_bins(const NotMeasured& mask, std::size_t b0,
+                                            std::array<std::uint8_t, kPhiDBins>& list) {
+  std::array<std::uint64_t, 3> w{};
+  const std::size_t word = b0 >> 6, shift = b0 & 63;
+  const std::size_t words = mask.bits.size();
+  for (std::size_t j = 0; j < 3; ++j) {
+    const std::uint64_t lo = word + j < words ? mask.bits[word + j] : ~std::uint64_t{0};
+    const std::uint64_t hi = shift != 0 && word + j + 1 < words ? mask.bits[word + j + 1] : 0;
+    w[j] = shift != 0 ? (lo >> shift) | (hi << (64 - shift)) : lo;  // not-measured bits
+  }
+  constexpr std::uint64_t kLast = (std::uint64_t{1} << (kPhiDBins - 128)) - 1;
+  w[2] &= kLast;
+  if ((w[0] | w[1] | w[2]) == 0) return kAllBins;
+  std::size_t n = 0;
+  for (std::size_t j = 0; j < 3; ++j) {
+    for (std::uint64_t m = ~w[j] & (j == 2 ? kLast : ~std::uint64_t{0}); m != 0; m &= m - 1) {
+      list[n++] = std::uint8_t(64 * j + std::size_t(std::countr_zero(m)));
+    }
+  }
+  return {list.data(), n};
+}
+
+// The sign contexts of row (c, h, d): from the signs of the same bin one and two slabs before and
+// in the channel before (a row of zeros where there is none).
+class SignRows {
+ public:
+  SignRows(const std::int32_t* q, int c, int h, std::size_t b0)
+      : up_(h > 0 ? q + (b0 - kSlab) : kZeros.data()),
+        up2_(h > 1 ? q + (b0 - 2 * kSlab) : kZeros.data()),
+        channel_(c > 0 ? q + (b0 - kBinsPerChannel) : kZeros.data()) {}
+  int context(std::size_t p) const {
+    return 9 * sign_class(up_[p]) + 3 * sign_class(channel_[p]) + sign_class(up2_[p]);
+  }
+
+ private:
+  static constexpr std::array<std::int32_t, kPhiDBins> kZeros{};
+  const std::int32_t* up_;
+  const std::int32_t* up2_;
+  const std::int32_t* channel_;
+};
 
 inline std::uint64_t magnitude(std::int32_t v) {
   return v < 0 ? std::uint64_t(-std::int64_t(v)) : std::uint64_t(v);
 }
-inline int sign_class(std::int32_t v) {
-  return v > 0 ? 1 : v < 0 ? 2 : 0;
-}
-
-// The contexts of the code at (c, h, d, p), i = MERL index, from codes coded before it.
-struct Neighbours {
-  const std::int32_t* q;
-  int magnitude_context(int c, int h, int d, int p, std::size_t i) const {
-    // Indices are formed before the pointer: own + i - kBinsPerChannel would step outside the
-    // array on the way (undefined, and UBSan's pointer-overflow check says so).
-    const std::int32_t* own = q + std::size_t(c) * kBinsPerChannel;
-    std::uint64_t s = 0;
-    if (h > 0) {
-      const std::int32_t* row = own + (i - std::size_t(p) - kSlab);
-      const int before = p == 0 ? kPhiDBins - 1 : p - 1;
-      const int after = p == kPhiDBins - 1 ? 0 : p + 1;
-      s += 2 * magnitude(row[p]) + magnitude(row[before]) + magnitude(row[after]);
-    }
-    if (c > 0) s += 2 * magnitude(q[std::size_t(c - 1) * kBinsPerChannel + i]);
-    const int cls = kClassOf[std::size_t((d & 7) * 8 + (p & 7))];
-    return (cls * kBuckets + bucket(s)) * 2 + (c > 0 ? 1 : 0);
-  }
-  int sign_context(int c, int h, std::size_t i) const {
-    const std::int32_t* own = q + std::size_t(c) * kBinsPerChannel;
-    const int a = h > 0 ? sign_class(own[i - kSlab]) : 0;
-    const int b = c > 0 ? sign_class(q[std::size_t(c - 1) * kBinsPerChannel + i]) : 0;
-    const int e = h > 1 ? sign_class(own[i - 2 * kSlab]) : 0;
-    return 9 * a + 3 * b + e;
-  }
-};
 
 template <class Sink>
 void put_code(Sink& s, Model& m, int k, int sk, std::int32_t v) {
@@ -116,34 +200,32 @@ void put_code(Sink& s, Model& m, int k, int sk, std::int32_t v) {
     s.bit(c.mantissa[std::size_t(n)][std::size_t(j)], int((x >> j) & 1u));
 }
 
-// Visits the measured bins in the spec's order: channel, then MERL index, until f returns false.
-template <class F>
-void for_each_measured(const NotMeasured& mask, F&& f) {
-  std::size_t b = 0;
-  for (int c = 0; c < kChannels; ++c) {
-    std::size_t i = 0;
-    for (int h = 0; h < kThetaHBins; ++h) {
-      for (int d = 0; d < kThetaDBins; ++d) {
-        for (int p = 0; p < kPhiDBins; ++p, ++i, ++b) {
-          if ((mask.bits[b >> 6] >> (b & 63)) & 1u) continue;
-          if (!f(c, h, d, p, i)) return;
-        }
-      }
-    }
-  }
-}
-
 }  // namespace
 
 std::vector<std::uint8_t> encode_residual_codes(const std::int32_t* q, const NotMeasured& mask) {
   auto m = std::make_unique<Model>();
   internal::Encoder e;
-  const Neighbours nb{q};
-  for_each_measured(mask, [&](int c, int h, int d, int p, std::size_t i) {
-    put_code(e, *m, nb.magnitude_context(c, h, d, p, i), nb.sign_context(c, h, i),
-             q[std::size_t(c) * kBinsPerChannel + i]);
-    return true;
-  });
+  std::array<std::int16_t, kPhiDBins> k;
+  std::array<std::uint8_t, kPhiDBins> list;
+  Coded coded;
+  for (std::size_t b = 0; b < kMaskBits; ++b) {
+    if (q[b] == 0) continue;
+    coded.magnitude[b] = capped_magnitude(q[b]);
+    coded.nonzero[b / kPhiDBins] = 1;
+  }
+  for (int c = 0; c < kChannels; ++c) {
+    for (int h = 0; h < kThetaHBins; ++h) {
+      for (int d = 0; d < kThetaDBins; ++d) {
+        const std::size_t i0 = (std::size_t(h) * kThetaDBins + std::size_t(d)) * kPhiDBins;
+        const std::size_t b0 = std::size_t(c) * kBinsPerChannel + i0;
+        const std::span<const std::uint8_t> bins = measured_bins(mask, b0, list);
+        if (bins.empty()) continue;
+        const std::int16_t* ks = row_contexts(coded, c, h, d, k.data());
+        const SignRows signs(q, c, h, b0);
+        for (const std::size_t p : bins) put_code(e, *m, ks[p], signs.context(p), q[b0 + p]);
+      }
+    }
+  }
   return e.finish();
 }
 
@@ -151,48 +233,51 @@ Status decode_residual_codes(std::span<const std::uint8_t> in, std::uint64_t at,
                              const NotMeasured& mask, std::int32_t* q) {
   auto m = std::make_unique<Model>();
   internal::Decoder dec(in);
-  const Neighbours nb{q};
-  // The loop of for_each_measured written out: a call per bin cost a third of the decode time.
-  Status bad = ok_status();
-  std::size_t b = 0;
-  for (int c = 0; c < kChannels && bad.ok(); ++c) {
-    std::int32_t* own = q + std::size_t(c) * kBinsPerChannel;
-    std::size_t i = 0;
-    for (int h = 0; h < kThetaHBins && bad.ok(); ++h) {
-      for (int d = 0; d < kThetaDBins && bad.ok(); ++d) {
-        for (int p = 0; p < kPhiDBins; ++p, ++i, ++b) {
-          if ((mask.bits[b >> 6] >> (b & 63)) & 1u) continue;
-          const int k = nb.magnitude_context(c, h, d, p, i);
-          if (dec.bit(m->zero[std::size_t(k)]) == 0) continue;  // q is zero-filled
-          Contexts& cx = m->ctx[std::size_t(k)];
-          const int negative = dec.bit(m->sign[std::size_t(nb.sign_context(c, h, i))]);
+  std::array<std::int16_t, kPhiDBins> row_k;
+  std::array<std::uint8_t, kPhiDBins> list;
+  Coded coded;
+  // The bin of a code that fails, for the message.
+  const auto refuse = [&](int c, std::size_t i, const std::string& what) {
+    return error(ErrorCode::kCorrupt, std::string("the range-coded code of channel ") +
+                                          kChannelNames[c] + " bin " + std::to_string(i) +
+                                          " (stream at payload offset " + std::to_string(at) +
+                                          ") " + what);
+  };
+  for (int c = 0; c < kChannels; ++c) {
+    for (int h = 0; h < kThetaHBins; ++h) {
+      for (int d = 0; d < kThetaDBins; ++d) {
+        const std::size_t i0 = (std::size_t(h) * kThetaDBins + std::size_t(d)) * kPhiDBins;
+        const std::size_t b0 = std::size_t(c) * kBinsPerChannel + i0;
+        const std::span<const std::uint8_t> bins = measured_bins(mask, b0, list);
+        if (bins.empty()) continue;
+        const std::int16_t* ks = row_contexts(coded, c, h, d, row_k.data());
+        const SignRows signs(q, c, h, b0);
+        bool row_nonzero = false;
+        for (const std::size_t p : bins) {
+          const std::size_t k = std::size_t(ks[p]);
+          if (dec.bit(m->zero[k]) == 0) continue;  // q is zero-filled
+          Contexts& cx = m->ctx[k];
+          const int negative = dec.bit(m->sign[std::size_t(signs.context(p))]);
           int n = 0;
           while (n <= kMaxCodeExponent && dec.bit(cx.exponent[std::size_t(n)]) != 0) ++n;
           if (n > kMaxCodeExponent) {
-            bad =
-                error(ErrorCode::kCorrupt,
-                      std::string("the range-coded code of channel ") + kChannelNames[c] + " bin " +
-                          std::to_string(i) + " (stream at payload offset " + std::to_string(at) +
-                          ") has an exponent above " + std::to_string(kMaxCodeExponent));
-            break;
+            return refuse(c, i0 + p, "has an exponent above " + std::to_string(kMaxCodeExponent));
           }
           std::uint32_t x = 1;
           for (int j = n - 1; j >= 0; --j) {
             x = (x << 1) | std::uint32_t(dec.bit(cx.mantissa[std::size_t(n)][std::size_t(j)]));
           }
           if (x > std::uint32_t(kMaxResidualCode)) {
-            bad = error(ErrorCode::kCorrupt, std::string("the range-coded code of channel ") +
-                                                 kChannelNames[c] + " bin " + std::to_string(i) +
-                                                 " (stream at payload offset " +
-                                                 std::to_string(at) + ") is outside -2^28..2^28");
-            break;
+            return refuse(c, i0 + p, "is outside -2^28..2^28");
           }
-          own[i] = negative ? -std::int32_t(x) : std::int32_t(x);
+          q[b0 + p] = negative ? -std::int32_t(x) : std::int32_t(x);
+          coded.magnitude[b0 + p] = capped_magnitude(q[b0 + p]);
+          row_nonzero = true;
         }
+        coded.nonzero[b0 / kPhiDBins] = row_nonzero ? 1 : 0;
       }
     }
   }
-  if (!bad.ok()) return bad;
   Status s = dec.finish();
   if (!s.ok()) {
     return s.with_context("range-coded codes at payload offset " + std::to_string(at));
