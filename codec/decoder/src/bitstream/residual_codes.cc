@@ -200,19 +200,22 @@ void put_code(Sink& s, Model& m, int k, int sk, std::int32_t v) {
     s.bit(c.mantissa[std::size_t(n)][std::size_t(j)], int((x >> j) & 1u));
 }
 
-}  // namespace
+// A row of codes as the coder visits it: its measured bins (phi_d), their magnitude contexts
+// and sign contexts, and where its codes sit (MERL index i0 + p, code b0 + p).
+struct Row {
+  int c;
+  std::size_t i0, b0;
+  std::span<const std::uint8_t> bins;
+  const std::int16_t* k;
+  SignRows signs;
+};
 
-std::vector<std::uint8_t> encode_residual_codes(const std::int32_t* q, const NotMeasured& mask) {
-  auto m = std::make_unique<Model>();
-  internal::Encoder e;
+// Calls f(row) for each row with a measured bin in the spec's order (channel, theta_h, theta_d),
+// while f returns true; the contexts read what `coded` holds when the row comes.
+template <class F>
+bool for_each_row(const std::int32_t* q, const NotMeasured& mask, const Coded& coded, F&& f) {
   std::array<std::int16_t, kPhiDBins> k;
   std::array<std::uint8_t, kPhiDBins> list;
-  Coded coded;
-  for (std::size_t b = 0; b < kMaskBits; ++b) {
-    if (q[b] == 0) continue;
-    coded.magnitude[b] = capped_magnitude(q[b]);
-    coded.nonzero[b / kPhiDBins] = 1;
-  }
   for (int c = 0; c < kChannels; ++c) {
     for (int h = 0; h < kThetaHBins; ++h) {
       for (int d = 0; d < kThetaDBins; ++d) {
@@ -220,12 +223,33 @@ std::vector<std::uint8_t> encode_residual_codes(const std::int32_t* q, const Not
         const std::size_t b0 = std::size_t(c) * kBinsPerChannel + i0;
         const std::span<const std::uint8_t> bins = measured_bins(mask, b0, list);
         if (bins.empty()) continue;
-        const std::int16_t* ks = row_contexts(coded, c, h, d, k.data());
-        const SignRows signs(q, c, h, b0);
-        for (const std::size_t p : bins) put_code(e, *m, ks[p], signs.context(p), q[b0 + p]);
+        if (!f(Row{c, i0, b0, bins, row_contexts(coded, c, h, d, k.data()),
+                   SignRows(q, c, h, b0)})) {
+          return false;
+        }
       }
     }
   }
+  return true;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encode_residual_codes(const std::int32_t* q, const NotMeasured& mask) {
+  auto m = std::make_unique<Model>();
+  internal::Encoder e;
+  Coded coded;  // all of it before the first row: the contexts read earlier rows only
+  for (std::size_t b = 0; b < kMaskBits; ++b) {
+    if (q[b] == 0) continue;
+    coded.magnitude[b] = capped_magnitude(q[b]);
+    coded.nonzero[b / kPhiDBins] = 1;
+  }
+  for_each_row(q, mask, coded, [&](const Row& row) {
+    for (const std::size_t p : row.bins) {
+      put_code(e, *m, row.k[p], row.signs.context(p), q[row.b0 + p]);
+    }
+    return true;
+  });
   return e.finish();
 }
 
@@ -233,51 +257,41 @@ Status decode_residual_codes(std::span<const std::uint8_t> in, std::uint64_t at,
                              const NotMeasured& mask, std::int32_t* q) {
   auto m = std::make_unique<Model>();
   internal::Decoder dec(in);
-  std::array<std::int16_t, kPhiDBins> row_k;
-  std::array<std::uint8_t, kPhiDBins> list;
   Coded coded;
+  Status bad = ok_status();
   // The bin of a code that fails, for the message.
-  const auto refuse = [&](int c, std::size_t i, const std::string& what) {
-    return error(ErrorCode::kCorrupt, std::string("the range-coded code of channel ") +
-                                          kChannelNames[c] + " bin " + std::to_string(i) +
-                                          " (stream at payload offset " + std::to_string(at) +
-                                          ") " + what);
+  const auto refuse = [&](const Row& row, std::size_t p, const std::string& what) {
+    bad = error(ErrorCode::kCorrupt,
+                std::string("the range-coded code of channel ") + kChannelNames[row.c] + " bin " +
+                    std::to_string(row.i0 + p) + " (stream at payload offset " +
+                    std::to_string(at) + ") " + what);
+    return false;
   };
-  for (int c = 0; c < kChannels; ++c) {
-    for (int h = 0; h < kThetaHBins; ++h) {
-      for (int d = 0; d < kThetaDBins; ++d) {
-        const std::size_t i0 = (std::size_t(h) * kThetaDBins + std::size_t(d)) * kPhiDBins;
-        const std::size_t b0 = std::size_t(c) * kBinsPerChannel + i0;
-        const std::span<const std::uint8_t> bins = measured_bins(mask, b0, list);
-        if (bins.empty()) continue;
-        const std::int16_t* ks = row_contexts(coded, c, h, d, row_k.data());
-        const SignRows signs(q, c, h, b0);
-        bool row_nonzero = false;
-        for (const std::size_t p : bins) {
-          const std::size_t k = std::size_t(ks[p]);
-          if (dec.bit(m->zero[k]) == 0) continue;  // q is zero-filled
-          Contexts& cx = m->ctx[k];
-          const int negative = dec.bit(m->sign[std::size_t(signs.context(p))]);
-          int n = 0;
-          while (n <= kMaxCodeExponent && dec.bit(cx.exponent[std::size_t(n)]) != 0) ++n;
-          if (n > kMaxCodeExponent) {
-            return refuse(c, i0 + p, "has an exponent above " + std::to_string(kMaxCodeExponent));
-          }
-          std::uint32_t x = 1;
-          for (int j = n - 1; j >= 0; --j) {
-            x = (x << 1) | std::uint32_t(dec.bit(cx.mantissa[std::size_t(n)][std::size_t(j)]));
-          }
-          if (x > std::uint32_t(kMaxResidualCode)) {
-            return refuse(c, i0 + p, "is outside -2^28..2^28");
-          }
-          q[b0 + p] = negative ? -std::int32_t(x) : std::int32_t(x);
-          coded.magnitude[b0 + p] = capped_magnitude(q[b0 + p]);
-          row_nonzero = true;
-        }
-        coded.nonzero[b0 / kPhiDBins] = row_nonzero ? 1 : 0;
+  const bool read = for_each_row(q, mask, coded, [&](const Row& row) {
+    bool row_nonzero = false;
+    for (const std::size_t p : row.bins) {
+      const std::size_t k = std::size_t(row.k[p]);
+      if (dec.bit(m->zero[k]) == 0) continue;  // q is zero-filled
+      Contexts& cx = m->ctx[k];
+      const int negative = dec.bit(m->sign[std::size_t(row.signs.context(p))]);
+      int n = 0;
+      while (n <= kMaxCodeExponent && dec.bit(cx.exponent[std::size_t(n)]) != 0) ++n;
+      if (n > kMaxCodeExponent) {
+        return refuse(row, p, "has an exponent above " + std::to_string(kMaxCodeExponent));
       }
+      std::uint32_t x = 1;
+      for (int j = n - 1; j >= 0; --j) {
+        x = (x << 1) | std::uint32_t(dec.bit(cx.mantissa[std::size_t(n)][std::size_t(j)]));
+      }
+      if (x > std::uint32_t(kMaxResidualCode)) return refuse(row, p, "is outside -2^28..2^28");
+      q[row.b0 + p] = negative ? -std::int32_t(x) : std::int32_t(x);
+      coded.magnitude[row.b0 + p] = capped_magnitude(q[row.b0 + p]);
+      row_nonzero = true;
     }
-  }
+    coded.nonzero[row.b0 / kPhiDBins] = row_nonzero ? 1 : 0;
+    return true;
+  });
+  if (!read) return bad;
   Status s = dec.finish();
   if (!s.ok()) {
     return s.with_context("range-coded codes at payload offset " + std::to_string(at));
