@@ -69,20 +69,9 @@ std::optional<std::string> parse_rate_target(const EncodeOptions& o, RateTarget*
   }
   // Rate control chooses the slice count itself.
   const bool targeted = target->max_bytes > 0 || target->min_psnr > 0;
-  // A target chooses the residual layer itself: a bound or lossless beside it would be dropped.
-  if (targeted && (o.lossless || o.given(o.max_error_option))) {
-    return std::string("encode: ") + (o.lossless ? "--lossless" : "--max-error") +
-           " and a target (--target-bytes, --target-psnr) exclude each other: the target "
-           "chooses the residual layer itself; give one of them";
-  }
-  if (o.given(o.residual_steps_option) && targeted) {
-    return std::string(
-        "encode: --residual-steps and a target (--target-bytes, --target-psnr) exclude each "
-        "other: a target's residual layer always steps by visibility");
-  }
-  if (o.given(o.residual_steps_option) && !o.given(o.max_error_option)) {
-    return std::string(
-        "encode: --residual-steps shapes the layer --max-error E adds; give --max-error too");
+  if (auto conflict = residual_option_conflict(
+          {targeted, o.given(o.max_error_option), o.lossless, o.given(o.residual_steps_option)})) {
+    return "encode: " + *conflict;
   }
   if (targeted && o.encoder.slices == "auto") {
     return std::string(

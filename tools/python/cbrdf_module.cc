@@ -979,25 +979,11 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
     target.min_psnr = target_value(target_psnr, "target_psnr", 1000.0, "1000");
   }
   const bool targeted = target.max_bytes > 0 || target.min_psnr > 0;
-  // A target chooses the residual layer itself: a bound or lossless beside it would be dropped.
-  if (targeted && (lossless || !max_error.is_none())) {
-    raise_invalid(std::string(lossless ? "lossless" : "max_error") +
-                      " and a target (target_bytes, target_psnr) exclude each other: the target "
-                      "chooses the residual layer itself; give one of them",
-                  2);
+  if (auto conflict = residual_option_conflict(
+          {targeted, !max_error.is_none(), lossless, !residual_steps.is_none()})) {
+    raise_invalid(keyword_names(*conflict), 2);
   }
-  if (!residual_steps.is_none()) {
-    if (targeted) {
-      raise_invalid(
-          "residual_steps and a target (target_bytes, target_psnr) exclude each other: a "
-          "target's residual layer always steps by visibility",
-          2);
-    }
-    if (max_error.is_none()) {
-      raise_invalid("residual_steps shapes the layer max_error adds; give max_error too", 2);
-    }
-    o.residual_steps = str_arg(residual_steps, "residual_steps");
-  }
+  if (!residual_steps.is_none()) o.residual_steps = str_arg(residual_steps, "residual_steps");
   if (lossless && t.folded_from_360) {
     raise_invalid(t.name +
                       ": lossless cannot keep a 90x90x360 file exactly (it is read as 180 phi_d "

@@ -100,15 +100,12 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
   if (o.residual_steps != "one" && o.residual_steps != "visibility") {
     return invalid("--residual-steps must be one or visibility, not '" + o.residual_steps + "'");
   }
-  if (o.residual_steps == "visibility") {
-    if (o.max_error == 0) {
-      return invalid(
-          "--residual-steps visibility needs --max-error E (the bound of the most visible rows)");
-    }
-    st.residual = target_residual_settings(o.max_error);
+  const bool visibility = o.residual_steps == "visibility";
+  if (visibility && o.max_error == 0) {
+    return invalid(
+        "--residual-steps visibility needs --max-error E (the bound of the most visible rows)");
   }
-  st.residual.max_error = o.max_error;
-  st.residual.lossless = o.lossless;
+  st.residual = residual_request(o.max_error, o.lossless, visibility);
   st.fit.impute_missing = !o.naive_marginals;
   st.fit.threads = o.threads > 0 ? o.threads : thread_limit();
   st.auto_bits.enabled = o.bits == kAutoBits;
@@ -133,6 +130,33 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
     return invalid("--metadata must be none, short or full, not '" + o.metadata + "'");
   }
   return st;
+}
+
+ResidualSettings residual_request(double max_error, bool lossless, bool visibility_steps) {
+  // Visibility steps: the layer rate control's PSNR targets write, bounded by max_error.
+  ResidualSettings rs = visibility_steps ? target_residual_settings(max_error) : ResidualSettings{};
+  rs.max_error = max_error;
+  rs.lossless = lossless;
+  return rs;
+}
+
+std::optional<std::string> residual_option_conflict(const GivenResidualOptions& given) {
+  // A bound or lossless beside a target would be dropped.
+  if (given.target && (given.lossless || given.max_error)) {
+    return std::string(given.lossless ? "--lossless" : "--max-error") +
+           " and a target (--target-bytes, --target-psnr) exclude each other: the target "
+           "chooses the residual layer itself; give one of them";
+  }
+  if (given.residual_steps && given.target) {
+    return std::string(
+        "--residual-steps and a target (--target-bytes, --target-psnr) exclude each other: a "
+        "target's residual layer always steps by visibility");
+  }
+  if (given.residual_steps && !given.max_error) {
+    return std::string(
+        "--residual-steps shapes the layer --max-error E adds; give --max-error too");
+  }
+  return std::nullopt;
 }
 
 EncoderSettings command_defaults() {

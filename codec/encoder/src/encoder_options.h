@@ -55,6 +55,22 @@ struct EncoderOptions {
 // one line ("--slices must be 1 to 90 or auto, not '0'"), the same wording for every caller.
 Expected<EncoderSettings> encoder_settings(const EncoderOptions& options);
 
+// The residual layer a bound (0: none), lossless or visibility steps ask for, once checked: what
+// `--max-error E [--residual-steps visibility]` and `--lossless` write, for every front end.
+ResidualSettings residual_request(double max_error, bool lossless, bool visibility_steps);
+
+// Which residual options and targets (--target-bytes, --target-psnr) a caller gave.
+struct GivenResidualOptions {
+  bool target = false;
+  bool max_error = false;
+  bool lossless = false;
+  bool residual_steps = false;
+};
+// A target chooses the residual layer itself, and steps shape the layer a bound adds: the message
+// for options that do not fit together (in the command's words; Python renames them), else
+// nullopt.
+std::optional<std::string> residual_option_conflict(const GivenResidualOptions& given);
+
 // Sets a slice count (fixed: explicit boundaries cleared, auto_slices left as it is; auto: chosen
 // from the data) and a
 // component count (auto: up to kAutoMaxComponents) on `settings`: what encoder_settings does with

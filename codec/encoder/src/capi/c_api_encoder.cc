@@ -26,6 +26,7 @@
 #include "cbrdf/parallel.h"
 #include "cbrdf/status.h"
 #include "copula/registry.h"
+#include "encoder_options.h"
 
 namespace cbrdf::internal {
 namespace {
@@ -139,12 +140,8 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   }
   // 0: one thread per core, as `cbrdf encode --threads 0`.
   out.fit.threads = s.threads > 0 ? s.threads : thread_limit();
-  // Visibility steps: the layer rate control's PSNR targets write, bounded by max_error.
-  if (s.residual_steps == CBRDF_RESIDUAL_STEPS_VISIBILITY) {
-    out.residual = target_residual_settings(s.max_error);
-  }
-  out.residual.max_error = s.max_error;
-  out.residual.lossless = s.lossless != 0;
+  out.residual = residual_request(s.max_error, s.lossless != 0,
+                                  s.residual_steps == CBRDF_RESIDUAL_STEPS_VISIBILITY);
   out.fit.mixture_copulas = s.mixture_copulas != 0;
   out.container.format = s.format_version == CBRDF_FORMAT_1_2   ? ContainerSettings::Format::kV12
                          : s.format_version == CBRDF_FORMAT_1_3 ? ContainerSettings::Format::kV13
