@@ -24,6 +24,7 @@
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"
+#include "refused.h"
 #include "synthetic_model.h"
 
 namespace cbrdf {
@@ -267,12 +268,7 @@ TEST(BaseCoding, AutoWritesTheSmallerAndV12IsUnchanged) {
 
 // Malformed 1.3 files.
 void expect_error(const Bytes& b, ErrorCode code, const std::string& needle) {
-  Expected<Model> m = decode_model(b);
-  ASSERT_FALSE(m.ok()) << "decoded although it should fail with: " << needle;
-  EXPECT_EQ(m.status().code(), code)
-      << error_code_name(m.status().code()) << ": " << m.status().message();
-  EXPECT_NE(m.status().message().find(needle), std::string::npos)
-      << "message: " << m.status().message() << "\nexpected to contain: " << needle;
+  testing::expect_refused(b, code, needle);
 }
 
 Bytes rebuild(const Bytes& file, const std::function<void(std::vector<ChunkToWrite>*)>& edit,
@@ -402,18 +398,7 @@ Model golden13_mixture3() {
 // A residual layer (mode 0) in a 1.3 file: sparse codes of both signs.
 Model golden13_residual6() {
   Model m = golden13_frank6();
-  Residual& r = m.residual;
-  r.max_error = 0.004;
-  r.step = 0.0079;
-  r.knee = 1e-4;
-  r.codes.assign(std::size_t(kChannels) * kBinsPerChannel, 0);
-  for (int c = 0; c < kChannels; ++c) {
-    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
-      if (!m.not_measured.test(c, i) && (i + std::size_t(c)) % 4099 == 0) {
-        r.codes[std::size_t(c) * kBinsPerChannel + i] = std::int32_t(i % 13) - 6;
-      }
-    }
-  }
+  testing::add_sparse_residual(&m);
   return m;
 }
 

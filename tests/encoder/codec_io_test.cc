@@ -447,18 +447,8 @@ Model golden_mixture3() {
 // Version 1.2: golden_frank6 with a residual layer: sparse codes of both signs and one escape.
 Model golden_residual6() {
   Model m = golden_frank6();
+  testing::add_sparse_residual(&m);
   Residual& r = m.residual;
-  r.max_error = 0.004;
-  r.step = 0.0079;
-  r.knee = 1e-4;
-  r.codes.assign(std::size_t(kChannels) * kBinsPerChannel, 0);
-  for (int c = 0; c < kChannels; ++c) {
-    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
-      if (!m.not_measured.test(c, i) && (i + std::size_t(c)) % 4099 == 0) {
-        r.codes[std::size_t(c) * kBinsPerChannel + i] = std::int32_t(i % 13) - 6;
-      }
-    }
-  }
   std::size_t first = 0;
   while (m.not_measured.test(2, first)) ++first;
   r.escapes = {{std::uint32_t(2 * kBinsPerChannel + first), 0.5}};

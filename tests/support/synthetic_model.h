@@ -142,6 +142,23 @@ inline Model make_mixture_model(const std::vector<int>& bounds, int max_componen
   return m;
 }
 
+// The golden files' residual layer (mode 0, bound 0.004, knee 1e-4): sparse codes of both signs,
+// -6 to 6, at every 4099th bin (offset by channel) that is measured.
+inline void add_sparse_residual(Model* m) {
+  Residual& r = m->residual;
+  r.max_error = 0.004;
+  r.step = 0.0079;
+  r.knee = 1e-4;
+  r.codes.assign(std::size_t(kChannels) * kBinsPerChannel, 0);
+  for (int c = 0; c < kChannels; ++c) {
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      if (!m->not_measured.test(c, i) && (i + std::size_t(c)) % 4099 == 0) {
+        r.codes[std::size_t(c) * kBinsPerChannel + i] = std::int32_t(i % 13) - 6;
+      }
+    }
+  }
+}
+
 inline const std::vector<int>& six_slices() {
   static const std::vector<int> b = {0, 6, 15, 30, 50, 70, 90};
   return b;
