@@ -329,21 +329,27 @@ void roundtrip_seeds(Writer& w) {
           broken ? "rejected invalid-argument" : "accepted");
   }
   // Inputs long enough to reach the residual layer (one in 32 of them): the first with one bound
-  // (mode 0), with a shift per row (mode 2) and with interpolated levels (mode 3), from a fixed
-  // search.
+  // (mode 0), with a shift per row (mode 2), with interpolated levels (mode 3) and with a step per
+  // level (mode 4, written only where version 1.3 codes the model), from a fixed search.
   std::mt19937_64 search(2026);
-  bool have[3] = {false, false, false};
-  const char* names[3] = {"residual-one-bound.bin", "residual-row-bounds.bin",
-                          "residual-interpolated.bin"};
-  for (int t = 0; t < 100000 && !(have[0] && have[1] && have[2]); ++t) {
+  bool have[4] = {false, false, false, false};
+  const char* names[4] = {"residual-one-bound.bin", "residual-row-bounds.bin",
+                          "residual-interpolated.bin", "residual-level-steps.bin"};
+  for (int t = 0; t < 100000 && !(have[0] && have[1] && have[2] && have[3]); ++t) {
     Bytes b(20000 + search() % 40000);
     for (std::uint8_t& v : b) v = std::uint8_t(search());
     b[3] &= 0xFE;  // valid: the residual is checked
     cbrdf::fuzz::ByteSource in({b.data(), b.size()});
     for (int k = 0; k < 4; ++k) in.u8();  // bits, level, metadata, breakage
     const Model m = cbrdf::fuzz::build_model(in);
-    const int mode = m.residual.row_shift.empty() ? 0 : m.residual.interpolated() ? 2 : 1;
+    const int mode = m.residual.row_shift.empty() ? 0
+                     : m.residual.middle_steps()  ? 3
+                     : m.residual.interpolated()  ? 2
+                                                  : 1;
     if (!m.residual.present() || have[mode]) continue;
+    if (mode == 3 && cbrdf::fuzz::run_roundtrip(b).outcome != cbrdf::fuzz::Outcome::kAccepted) {
+      continue;
+    }
     have[mode] = true;
     w.add("fuzz_roundtrip", names[mode], b, "accepted");
   }

@@ -404,8 +404,8 @@ Model golden13_residual6() {
 
 // Mode 3 (L = 3, m = 8, a step per row) in a 1.3 file, whose codes the writer range codes
 // (spec 4.6, "Range-coded codes"): a smooth target with noise, codes of both signs and sizes up
-// to tens in every level class, and an escape.
-Model golden13_ranged_residual6() {
+// to tens in every level class, and an escape. With middle multipliers other than 1, mode 4.
+Model ranged_residual6(std::array<std::uint8_t, 3> middle) {
   Model m = golden13_frank6();
   Residual& r = m.residual;
   r.max_error = 0.01;
@@ -413,6 +413,7 @@ Model golden13_ranged_residual6() {
   r.knee = 1e-4;
   r.levels = 3;
   r.fine_multiplier = 8;
+  r.middle_multipliers = middle;
   r.row_shift.assign(kResidualRows, 0);
   for (std::size_t row = 0; row < kResidualRows; ++row) r.row_shift[row] = std::uint8_t(row % 2);
   std::vector<double> target(kMaskBits, std::numeric_limits<double>::quiet_NaN());
@@ -432,6 +433,15 @@ Model golden13_ranged_residual6() {
   while (m.not_measured.test(1, measured)) ++measured;
   r.escapes = {{std::uint32_t(kBinsPerChannel + measured), 0.5}};
   return m;
+}
+
+Model golden13_ranged_residual6() {
+  return ranged_residual6({1, 1, 1});
+}
+
+// Mode 4: level 1's step 3 times its row's, level 2's twice.
+Model golden13_level_steps6() {
+  return ranged_residual6({3, 2, 1});
 }
 
 // FNV-1a over the bit patterns of everything a decoded model holds.
@@ -477,6 +487,18 @@ std::uint64_t codes_fnv(const std::vector<std::int32_t>& codes) {
 }
 constexpr std::uint64_t kRangedCodesFnv = 0x74ba0d728c343abdull;
 
+// FNV-1a over the rebuilt residual R of the mode 4 golden file, a binary64 bit pattern (not a
+// byte) at a time: what test_base_spec.py's rebuild, written from the spec, must get too.
+std::uint64_t values_fnv(const std::vector<double>& values) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (double v : values) {
+    h ^= std::bit_cast<std::uint64_t>(v);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+constexpr std::uint64_t kLevelStepsValuesFnv = 0x530037d4d94983c5ull;
+
 struct Golden13 {
   const char* name;
   std::uint64_t hash;
@@ -492,6 +514,8 @@ const Golden13 kGolden13[] = {
     {"v1.3-mixture3-b12.cbrdf", 0xc5917255596ad58aull, 12, golden13_mixture3},
     {"v1.3-residual-frank6-b10.cbrdf", 0x08c54933dc6314acull, 10, golden13_residual6, false},
     {"v1.3-ranged-residual-frank6-b10.cbrdf", 0x673eaac45303cdcbull, 10, golden13_ranged_residual6},
+    {"v1.3-level-steps-residual-frank6-b10.cbrdf", 0x72de0963fcf5643cull, 10,
+     golden13_level_steps6},
 };
 
 // CBRDF_REGENERATE_GOLDEN=NAME (or all) rewrites the file and prints its hash to record here.
@@ -545,6 +569,16 @@ TEST(BaseCodingGolden, CommittedFilesDecodeToRecordedModels) {
       EXPECT_EQ(committed->payloads[std::size_t(k)][1], kResidualPredictorRange);
       EXPECT_EQ(codes_fnv(decoded->residual.codes), kRangedCodesFnv)
           << std::hex << "0x" << codes_fnv(decoded->residual.codes);
+    }
+    if (std::string(g.name).find("level-steps") != std::string::npos) {
+      const int k = committed->find(kTagResidual);
+      ASSERT_GE(k, 0);
+      EXPECT_EQ(committed->payloads[std::size_t(k)][0], kResidualModeLevelSteps);
+      EXPECT_EQ(decoded->residual.middle_multipliers, built.residual.middle_multipliers);
+      EXPECT_EQ(decoded->residual.values, built.residual.values);
+      const std::uint64_t v = values_fnv(decoded->residual.values);
+      if (regenerate) std::printf("%s values 0x%016llxull\n", g.name, (unsigned long long)v);
+      EXPECT_EQ(v, kLevelStepsValuesFnv) << std::hex << "0x" << v;
     }
     const std::uint64_t h = model_hash(*decoded);
     if (regenerate) std::printf("%s 0x%016llxull\n", g.name, static_cast<unsigned long long>(h));

@@ -132,10 +132,11 @@ Bytes with_resd(const std::function<void(Bytes*)>& edit, int minor = 2, bool twi
       if (twice) chunks.push_back(chunks.back());
     }
   }
-  Expected<Bytes> out = write_container(chunks, 3);
+  // Minor 3 has a framing of its own (spec 2.2): written as such, not patched.
+  Expected<Bytes> out = write_container(chunks, 3, minor >= 3 ? std::uint16_t(minor) : 0);
   EXPECT_TRUE(out.ok()) << out.status().message();
   Bytes b = out.ok() ? *out : Bytes{};
-  b[10] = std::uint8_t(minor);
+  if (minor < 3) b[10] = std::uint8_t(minor);
   return b;
 }
 
@@ -150,8 +151,11 @@ void put_f64(Bytes* b, std::size_t at, double v) {
 }
 
 TEST(ResidualContainer, MalformedPayloadsAreRefused) {
-  expect_error(with_resd([](Bytes* p) { (*p)[0] = 4; }), ErrorCode::kUnsupported,
-               "residual mode 4");
+  expect_error(with_resd([](Bytes* p) { (*p)[0] = 5; }), ErrorCode::kUnsupported,
+               "residual mode 5");
+  // Mode 4 exists from version 1.3 on (the payload is mode 0's: refused before it is read).
+  expect_error(with_resd([](Bytes* p) { (*p)[0] = 4; }), ErrorCode::kCorrupt,
+               "residual mode 4 (a step per level) in a version 1.2 file");
   expect_error(with_resd([](Bytes* p) { (*p)[1] = 2; }), ErrorCode::kCorrupt, "predictor 2");
   expect_error(with_resd([](Bytes* p) { (*p)[2] = 1; }), ErrorCode::kCorrupt, "reserved 1");
   expect_error(with_resd([](Bytes* p) { put_f64(p, 4, std::nan("")); }), ErrorCode::kNumeric,
@@ -298,25 +302,31 @@ const Bytes& interp_file() {
 std::vector<double> spec_slab(const Residual& r, int c, int h) {
   std::vector<double> R(std::size_t(kThetaDBins) * kPhiDBins, 0.0);
   auto at = [&](int d, int p) -> double& { return R[std::size_t(d) * kPhiDBins + std::size_t(p)]; };
-  auto set = [&](int d, int p, double P) {
+  // Level l's multiplier: m on the finest (0), m_l between (mode 4; 1 in mode 3), none at L.
+  auto multiplier = [&](int l) {
+    return l == 0          ? double(r.fine_multiplier)
+           : l == r.levels ? 1.0
+                           : double(r.middle_multipliers[std::size_t(l - 1)]);
+  };
+  auto set = [&](int d, int p, int l, double P) {
     const std::size_t i = merl_index(h, d, p);
     double step = std::ldexp(r.step, r.row_shift[i / kPhiDBins]);
-    if (d % 2 == 1 || p % 2 == 1) step *= r.fine_multiplier;
+    if (l < r.levels) step *= multiplier(l);
     at(d, p) = P + double(r.codes[std::size_t(c) * kBinsPerChannel + i]) * step;
   };
   const int S = 1 << r.levels;
   for (int d = 0; d < 90; d += S) {
-    for (int p = 0; p < 180; p += S) set(d, p, p > 0 ? at(d, p - S) : 0.0);
+    for (int p = 0; p < 180; p += S) set(d, p, r.levels, p > 0 ? at(d, p - S) : 0.0);
   }
-  for (int hh = S / 2; hh >= 1; hh /= 2) {
+  for (int hh = S / 2, l = r.levels - 1; hh >= 1; hh /= 2, --l) {
     for (int d = 0; d < 90; d += 2 * hh) {
       for (int p = hh; p < 180; p += 2 * hh) {
-        set(d, p, 0.5 * (at(d, p - hh) + at(d, (p + hh) % 180)));
+        set(d, p, l, 0.5 * (at(d, p - hh) + at(d, (p + hh) % 180)));
       }
     }
     for (int d = hh; d < 90; d += 2 * hh) {
       for (int p = 0; p < 180; p += hh) {
-        set(d, p, d + hh < 90 ? 0.5 * (at(d - hh, p) + at(d + hh, p)) : at(d - hh, p));
+        set(d, p, l, d + hh < 90 ? 0.5 * (at(d - hh, p) + at(d + hh, p)) : at(d - hh, p));
       }
     }
   }
@@ -394,6 +404,116 @@ TEST(ResidualContainer, MalformedInterpolatedLevelsAreRefused) {
     edit(&bad.residual);
     EXPECT_EQ(encode_model(bad, s).status().code(), ErrorCode::kInvalidArgument);
   }
+}
+
+// Mode 4 (version 1.3): interp_model()'s codes over 3 levels, the finest level's multiplier 3,
+// levels 1 and 2 their own (2 and 5: a coarser level may take the larger one).
+Model level_steps_model() {
+  Model m = interp_model();
+  m.residual.levels = 3;
+  m.residual.middle_multipliers = {2, 5, 1};
+  internal::rebuild_interpolated(&m.residual);
+  return m;
+}
+
+const Bytes& level_steps_file() {
+  static const Bytes b = [] {
+    ContainerSettings s;
+    s.bits = 8;
+    s.zstd_level = 3;
+    s.format = ContainerSettings::Format::kV13;
+    Expected<Bytes> e = encode_model(level_steps_model(), s);
+    EXPECT_TRUE(e.ok()) << e.status().message();
+    return e.ok() ? *e : Bytes{};
+  }();
+  return b;
+}
+
+TEST(ResidualContainer, LevelStepsRoundTripAndRebuildAsSpecified) {
+  const Model want = level_steps_model();
+  Expected<Model> got = decode_model(level_steps_file());
+  ASSERT_TRUE(got.ok()) << got.status().message();
+  EXPECT_EQ(level_steps_file()[10], 3);  // minor version 1.3
+  const Bytes payload = payload_of_resd(level_steps_file());
+  EXPECT_EQ(payload[0], 4);
+  EXPECT_EQ(got->residual.levels, 3);
+  EXPECT_EQ(got->residual.fine_multiplier, 3);
+  EXPECT_EQ(got->residual.middle_multipliers, (std::array<std::uint8_t, 3>{2, 5, 1}));
+  EXPECT_EQ(got->residual.codes, want.residual.codes);
+  ASSERT_EQ(got->residual.values.size(), want.residual.values.size());
+  EXPECT_EQ(std::memcmp(got->residual.values.data(), want.residual.values.data(),
+                        want.residual.values.size() * sizeof(double)),
+            0);
+  for (int c = 0; c < kChannels; ++c) {
+    for (int h : {0, 3, 89}) {
+      const std::vector<double> R = spec_slab(got->residual, c, h);
+      const double* v =
+          got->residual.values.data() + std::size_t(c) * kBinsPerChannel + merl_index(h, 0, 0);
+      EXPECT_EQ(std::memcmp(R.data(), v, R.size() * sizeof(double)), 0) << c << " " << h;
+    }
+  }
+  // The multipliers change the rebuild: the same codes in mode 3 rebuild otherwise.
+  Model mode3 = want;
+  mode3.residual.middle_multipliers = {1, 1, 1};
+  internal::rebuild_interpolated(&mode3.residual);
+  EXPECT_NE(mode3.residual.values, got->residual.values);
+  // Each level's bound: its row's times the level's multiplier.
+  const Residual& r = got->residual;
+  struct Bin {
+    int d, p, level;
+    double multiplier;
+  };
+  for (const Bin& b : {Bin{45, 1, 0, 3}, Bin{44, 3, 0, 3}, Bin{44, 2, 1, 2}, Bin{42, 4, 1, 2},
+                       Bin{40, 4, 2, 5}, Bin{44, 0, 2, 5}, Bin{40, 8, 3, 1}, Bin{0, 0, 3, 1}}) {
+    const std::size_t i = merl_index(3, b.d, b.p);
+    EXPECT_EQ(r.level_of(i), b.level) << b.d << " " << b.p;
+    EXPECT_EQ(r.bound_at(i), std::ldexp(0.01, r.row_shift[i / kPhiDBins]) * b.multiplier)
+        << b.d << " " << b.p;
+  }
+  Expected<ContainerInfo> info = inspect_container(level_steps_file());
+  ASSERT_TRUE(info.ok()) << info.status().message();
+  EXPECT_EQ(info->residual_mode, 4);
+  EXPECT_EQ(info->residual_max_error, 0.01 * 16 * 5);  // shifts up to 4, largest multiplier 5
+  EXPECT_EQ(info->residual_min_error, 0.01);
+}
+
+TEST(ResidualContainer, MalformedLevelStepsAreRefused) {
+  const Bytes& f = level_steps_file();
+  constexpr std::size_t kLevels = 32 + 8100;  // after the header and the row shifts
+  const auto edited = [&](const std::function<void(Bytes*)>& edit) {
+    return with_resd(edit, 3, false, f);
+  };
+  ASSERT_TRUE(decode_model(edited([](Bytes*) {})).ok());
+  expect_error(edited([](Bytes* p) { (*p)[kLevels] = 1; }), ErrorCode::kCorrupt,
+               "level count 1 at payload offset 8132 is not in 2..4");
+  expect_error(edited([](Bytes* p) { (*p)[kLevels + 2] = 0; }), ErrorCode::kNumeric,
+               "level 1's multiplier 0 at payload offset 8134");
+  expect_error(edited([](Bytes* p) { (*p)[kLevels + 3] = 65; }), ErrorCode::kNumeric,
+               "level 2's multiplier 65 at payload offset 8135");
+  // A bound of 0.5 keeps the rows within 16 (0.5 x 2^4) and the finest level, set to 1, and
+  // level 1 too (2 x 8); level 2's 5 x 8 = 40 passes it.
+  expect_error(edited([](Bytes* p) {
+                 put_f64(p, 4, 0.5);
+                 (*p)[kLevels + 1] = 1;
+               }),
+               ErrorCode::kNumeric, "level 2's multiplier 5");
+  expect_error(edited([](Bytes* p) { p->resize(kLevels + 3); }), ErrorCode::kTruncated,
+               "a middle level's multiplier");
+  // Mode 4 in a 1.2 file (mode 3's payload, refused before its levels are read).
+  expect_error(with_resd([](Bytes* p) { (*p)[0] = 4; }, 2, false, interp_file()),
+               ErrorCode::kCorrupt, "residual mode 4 (a step per level) in a version 1.2 file");
+  // The writer refuses what no reader accepts: a multiplier out of range, and mode 4 in 1.2.
+  ContainerSettings s;
+  s.format = ContainerSettings::Format::kV13;
+  for (std::uint8_t bad_m : {std::uint8_t(0), std::uint8_t(65)}) {
+    Model bad = level_steps_model();
+    bad.residual.middle_multipliers[1] = bad_m;
+    EXPECT_EQ(encode_model(bad, s).status().code(), ErrorCode::kInvalidArgument);
+  }
+  s.format = ContainerSettings::Format::kV12;
+  const Status v12 = encode_model(level_steps_model(), s).status();
+  EXPECT_EQ(v12.code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(v12.message().find("need container version 1.3"), std::string::npos) << v12.message();
 }
 
 // An escape at a not-measured bin.

@@ -286,46 +286,66 @@ TEST(Residual, RowStepsHoldEachRowsBound) {
   expect_bin_centres_are_the_table(*model, dec, 40);
 }
 
-// RESD mode 3 (target_residual_settings): every bin within its own bound (row shift, times the
-// multiplier on the finest level), checked from the fields the file stores; the reader rebuilds
-// the writer's residual bit for bit; the finest level uses its wider bound; evaluation at bin
-// centres is the table.
+// RESD mode 4 (target_residual_settings in a 1.3 file): every bin within its own bound (row
+// shift, times its level's multiplier), checked from the fields the file stores; the reader
+// rebuilds the writer's residual bit for bit; the finer levels use their wider bounds; evaluation
+// at bin centres is the table. A 1.2 file takes mode 3.
 TEST(Residual, InterpolatedLevelsHoldEachBinsBound) {
   const Encoded& uniform = encoded_at(0.002);
   EncoderSettings st = settings_for(0.002);
   st.residual = target_residual_settings(0.002);
+  st.container.format = ContainerSettings::Format::kAuto;  // settings_for's is 1.2
   Expected<EncodeResult> r = encode_table(uniform.source, st);
   ASSERT_TRUE(r.ok()) << r.status().message();
-  EXPECT_EQ(payload_of(r->bytes, kTagResidual)[0], 3);
+  // A 1.3 file: mode 4, the finest level 32 times its row's bound and level 1 8 times.
+  EXPECT_EQ(r->bytes[10], 3);
+  EXPECT_EQ(payload_of(r->bytes, kTagResidual)[0], 4);
   Expected<Model> model = decode_model(r->bytes);
   ASSERT_TRUE(model.ok()) << model.status().message();
   const Residual& res = model->residual;
   ASSERT_EQ(res.levels, 3);
-  ASSERT_EQ(res.fine_multiplier, 8);
-  EXPECT_EQ(res.row_shift, internal::residual_row_shifts(0.002, 8));
+  ASSERT_EQ(res.fine_multiplier, 32);
+  ASSERT_EQ(res.middle_multipliers, (std::array<std::uint8_t, 3>{8, 1, 1}));
+  EXPECT_EQ(res.row_shift, internal::residual_row_shifts(0.002, 32));
   EXPECT_EQ(res.values, r->model.residual.values);
   const BrdfTable dec = model->table();
-  double worst_fine = 0, worst_coarse = 0;
+  // Per level (0 the finest, 3 the coarsest nodes): the largest error over the row's bound.
+  const double multiplier[4] = {32, 8, 1, 1};
+  double worst[4] = {0, 0, 0, 0};
   for (int c = 0; c < kChannels; ++c) {
     for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
       const double s = uniform.source.stored(c, i);
       if (!(s >= 0.0)) continue;
       const double e = std::abs(std::log1p(dec.stored(c, i) / 1e-4) - std::log1p(s / 1e-4));
       const double row = std::ldexp(0.002, res.row_shift[i / 180]);
-      const bool finest = (i % 180) % 2 == 1 || (i / 180) % 2 == 1;
-      ASSERT_LE(e, finest ? 8 * row : row) << c << " " << i;
-      double& worst = finest ? worst_fine : worst_coarse;
-      worst = std::max(worst, e / row);
+      // The level from the indices, as spec 4.6 defines it: min(tz(theta_d), tz(phi_d), 3).
+      const std::size_t both = (i % 180) | ((i / 180) % 90);
+      const int level = (both & 1) ? 0 : (both & 2) ? 1 : (both & 4) ? 2 : 3;
+      ASSERT_LE(e, multiplier[level] * row) << c << " " << i;
+      worst[level] = std::max(worst[level], e / row);
     }
   }
-  EXPECT_GT(worst_fine, 6.0);    // the finest level uses its multiplier
-  EXPECT_GT(worst_coarse, 0.9);  // the coarser ones their row's step
+  EXPECT_GT(worst[0], 24.0);  // the finest level uses its multiplier
+  EXPECT_GT(worst[1], 6.0);   // and level 1 its own
+  EXPECT_GT(worst[2], 0.9);   // the coarser ones their row's step
+  EXPECT_GT(worst[3], 0.9);
   Expected<ContainerInfo> info = inspect_container(r->bytes);
   ASSERT_TRUE(info.ok());
-  EXPECT_EQ(info->residual_mode, 3);
+  EXPECT_EQ(info->residual_mode, 4);
   EXPECT_EQ(info->residual_min_error, 0.002);
-  EXPECT_EQ(info->residual_max_error, 0.002 * 8 * (1 << res.max_row_shift()));
+  EXPECT_EQ(info->residual_max_error, 0.002 * 32 * (1 << res.max_row_shift()));
   expect_bin_centres_are_the_table(*model, dec, 41);  // an odd phi_d: the finest level
+
+  // In a 1.2 file the same settings write mode 3: the finest multiplier alone.
+  st.container.format = ContainerSettings::Format::kV12;
+  Expected<EncodeResult> old = encode_table(uniform.source, st);
+  ASSERT_TRUE(old.ok()) << old.status().message();
+  EXPECT_EQ(old->bytes[10], 2);
+  EXPECT_EQ(payload_of(old->bytes, kTagResidual)[0], 3);
+  Expected<Model> old_model = decode_model(old->bytes);
+  ASSERT_TRUE(old_model.ok()) << old_model.status().message();
+  EXPECT_EQ(old_model->residual.fine_multiplier, 32);
+  EXPECT_EQ(old_model->residual.middle_multipliers, (std::array<std::uint8_t, 3>{1, 1, 1}));
 }
 
 // Where the residual is smooth, mode 3's codes are mostly 0: on a smooth residual over a fixed

@@ -250,7 +250,7 @@ def test_spec_decoder_reads_what_the_library_reads(tmp_path):
 def test_spec_framing_reads_the_golden_files_and_refuses_damage():
     golden = Path(__file__).resolve().parents[1] / "data" / "golden"
     files = sorted(golden.glob("v1.3-*.cbrdf"))
-    assert len(files) == 4
+    assert len(files) == 5
     for f in files:
         data = f.read_bytes()
         minor, ch, layout = chunks(data)
@@ -384,8 +384,10 @@ def decode_ranged_codes(stream, masked):
     return q
 
 
-def test_spec_decoder_reads_range_coded_residual_codes():
-    path = Path(__file__).resolve().parents[1] / "data" / "golden" / RANGED_GOLDEN
+def golden_resd(name):
+    """RESD of a 1.3 golden file read from the spec: mode, header fields, row shifts, levels and
+    their multipliers (modes 3 and 4), the range-coded codes and the escapes' count."""
+    path = Path(__file__).resolve().parents[1] / "data" / "golden" / name
     data = path.read_bytes()
     minor, stored, layout = chunks(data)  # spec 2.2's framing
     assert minor == 3
@@ -406,9 +408,13 @@ def test_spec_decoder_reads_range_coded_residual_codes():
     assert sum(masked) == count
     resd = ch["RESD"]
     mode, predictor = resd[0], resd[1]
-    assert mode == 3 and predictor == 2
+    assert mode in (3, 4) and predictor == 2
+    E, step, knee = struct.unpack_from("<3d", resd, 4)
     escapes = struct.unpack_from("<I", resd, 28)[0]
-    at = 32 + 8100 + 2
+    shifts = resd[32:32 + 8100]
+    levels, fine = resd[32 + 8100], resd[32 + 8101]
+    middle = list(resd[32 + 8102:32 + 8102 + (levels - 1 if mode == 4 else 0)])
+    at = 32 + 8102 + len(middle)
     length = struct.unpack_from("<I", resd, at)[0]
     stream = resd[at + 4:at + 4 + length]
     q = decode_ranged_codes(stream, masked)
@@ -420,8 +426,71 @@ def test_spec_decoder_reads_range_coded_residual_codes():
             k += 1
         k += 1 + 8
     assert k == len(rest)
+    return dict(mode=mode, E=E, step=step, shifts=shifts, levels=levels, fine=fine,
+                middle=middle, q=q)
+
+
+def test_spec_decoder_reads_range_coded_residual_codes():
+    r = golden_resd(RANGED_GOLDEN)
+    assert r["mode"] == 3
+    q = r["q"]
     h = 0xCBF29CE484222325
     for v in q:
         for byte in struct.pack("<i", v):
             h = ((h ^ byte) * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
     assert any(q) and h == RANGED_CODES_FNV, hex(h)
+
+
+def rebuild_levels(r):
+    """Spec 4.6, modes 3 and 4: R(d, p) of every (channel, theta_h) slab, level by level, in
+    binary64 with the operations in the spec's order (NumPy: one level of every slab at once)."""
+    np = pytest.importorskip("numpy")
+    q = np.array(r["q"], dtype=np.float64).reshape(3, 90, 90, 180)
+    row = np.ldexp(r["step"], np.frombuffer(r["shifts"], dtype=np.uint8).astype(np.int32))
+    row = row.reshape(1, 90, 90, 1)  # step' of row (theta_h, theta_d)
+    L = r["levels"]
+    mult = [r["fine"]] + r["middle"] + [1] * (L - 1 - len(r["middle"]))
+
+    def step_of(level):  # the row's step, times the level's multiplier below the coarsest
+        return row if level == L else row * float(mult[level])
+
+    R = np.zeros((3, 90, 90, 180))
+    S = 1 << L
+    st = step_of(L)[:, :, ::S, :]
+    for p in range(0, 180, S):
+        P = R[:, :, ::S, p - S] if p > 0 else 0.0
+        R[:, :, ::S, p] = P + q[:, :, ::S, p] * st[..., 0]
+    h, level = S // 2, L - 1
+    while h >= 1:
+        st = step_of(level)
+        d = np.arange(0, 90, 2 * h)
+        p = np.arange(h, 180, 2 * h)
+        P = 0.5 * (R[:, :, d][:, :, :, p - h] + R[:, :, d][:, :, :, (p + h) % 180])
+        R[:, :, d[:, None], p[None, :]] = P + q[:, :, d][:, :, :, p] * st[:, :, d]
+        d = np.arange(h, 90, 2 * h)
+        p = np.arange(0, 180, h)
+        below = np.minimum(d + h, 89)
+        P = np.where((d + h < 90)[None, None, :, None],
+                     0.5 * (R[:, :, d - h][:, :, :, p] + R[:, :, below][:, :, :, p]),
+                     R[:, :, d - h][:, :, :, p])
+        R[:, :, d[:, None], p[None, :]] = P + q[:, :, d][:, :, :, p] * st[:, :, d]
+        h, level = h // 2, level - 1
+    return R
+
+
+LEVEL_STEPS_GOLDEN = "v1.3-level-steps-residual-frank6-b10.cbrdf"
+LEVEL_STEPS_VALUES_FNV = 0x530037D4D94983C5
+
+
+def test_spec_rebuild_of_a_step_per_level():
+    """Mode 4's rebuild from the spec gives the C++ decoder's R bit for bit (the FNV-1a over its
+    binary64 bit patterns that base_coding_test records for the same golden file)."""
+    r = golden_resd(LEVEL_STEPS_GOLDEN)
+    assert r["mode"] == 4 and r["levels"] == 3 and r["fine"] == 8 and r["middle"] == [3, 2]
+    R = rebuild_levels(r)
+    h = 0xCBF29CE484222325
+    for u in R.reshape(-1).view("<u8").tolist():
+        h = ((h ^ u) * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
+    assert h == LEVEL_STEPS_VALUES_FNV, hex(h)
+    # The multipliers matter: read as mode 3 (middle levels at 1), the rebuild differs.
+    assert not (rebuild_levels(dict(r, middle=[])) == R).all()

@@ -176,7 +176,7 @@ void print_residual(const EncodeResult& result, bool smoothed, std::FILE* info) 
     return;
   }
   // Steps per row (--target-psnr, --target-bytes): the bound over every bin is the coarsest row's
-  // (times the finest level's multiplier in mode 3), the number `cbrdf info` shows.
+  // (times the largest level multiplier in modes 3 and 4), the number `cbrdf info` shows.
   const int top = r.max_row_shift();
   std::fprintf(info,
                "residual layer: |log1p(decoded / k) - log1p(%s / k)| <= %g on every measured "
@@ -190,10 +190,17 @@ void print_residual(const EncodeResult& result, bool smoothed, std::FILE* info) 
   }
   if (top > 0 || r.interpolated()) {
     if (r.interpolated()) {
+      std::string levels;  // finest first
+      for (int l = 0; l < r.levels; ++l) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%s%g", l == 0 ? "" : ", ",
+                      r.max_error * double(r.multiplier_of_level(l)));
+        levels += text;
+      }
       std::fprintf(info,
-                   "  steps per row by visibility: the most visible rows within %g (%g on the "
-                   "finest level)\n",
-                   r.max_error, r.max_error * double(r.fine_multiplier));
+                   "  steps per row by visibility: the most visible rows within %g at the "
+                   "coarsest nodes, %s on the finer levels (finest first)\n",
+                   r.max_error, levels.c_str());
     } else {
       std::fprintf(info, "  steps per row by visibility: the most visible rows within %g\n",
                    r.max_error);

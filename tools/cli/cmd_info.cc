@@ -75,6 +75,10 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
         std::printf(
             "  codes correct an interpolation of coarser bins; the finest level (odd theta_d or "
             "phi_d) has a multiple of its row's bound\n");
+      } else if (info->residual_mode == 4) {
+        std::printf(
+            "  codes correct an interpolation of coarser bins; each level finer than the "
+            "coarsest has a multiple of its row's bound\n");
       }
     }
   }

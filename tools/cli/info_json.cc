@@ -31,7 +31,8 @@ nlohmann::json container_info_json(const ContainerInfo& info, std::size_t evalua
   j["not_measured_bins"] = info.not_measured_bins;
   if (info.residual_mode >= 0) {
     // spec 4.6: 0 one bound, 1 exact, 2 a bound per row (max_error the coarsest row's), 3 row
-    // bounds with interpolated levels (max_error the coarsest row's finest level's).
+    // bounds with interpolated levels, 4 the same with a step per level (max_error the coarsest
+    // row's at the level with the largest multiplier).
     j["residual"] = {
         {"mode", info.residual_mode},
         {"max_error", info.residual_max_error},

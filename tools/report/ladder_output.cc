@@ -80,10 +80,11 @@ TextTable mean_table(const std::vector<LadderMaterial>& ladders) {
   t.note = "Means over " + std::to_string(ladders.size()) +
            " materials per method and setting. cbrdf base: the copula model alone (kK components, "
            "bB bits); cbrdf residual: base (1 component) + residual layer as --target-psnr "
-           "writes it (RESD mode 3: a bound per (theta_h, theta_d) row, codes correcting an "
-           "interpolation): |log1p decoded - log1p source| <= E in the rows that weigh most in "
-           "rendering, up to 64 E where they weigh least, 8 times that on the finest level (odd "
-           "theta_d or phi_d); ZFP: fixed accuracy on "
+           "writes it (RESD mode 4 in 1.3 files, 3 in 1.2: a bound per (theta_h, theta_d) row, "
+           "codes correcting an interpolation): |log1p decoded - log1p source| <= E in the rows "
+           "that weigh most in rendering, up to 64 E where they weigh least, 32, 16 or 8 times "
+           "that on the finest level (odd theta_d or phi_d; E from 1.5e-3, from 6e-4, below) and "
+           "a quarter of that on the next (1.3 only); ZFP: fixed accuracy on "
            "log1p of physical values (tolerance tol); lossless points are bit-exact (PSNR shown "
            "as the cap). Times: encode (fit included) and decode to a full table, seconds.";
   t.header = {"method",       "setting",       "materials", "KB",

@@ -75,7 +75,7 @@ double max_log_error(const BrdfTable& source, const BrdfTable& decoded, const Re
   return worst;
 }
 
-std::vector<std::uint8_t> residual_row_shifts(double max_error, int fine_multiplier) {
+std::vector<std::uint8_t> residual_row_shifts(double max_error, int largest_multiplier) {
   std::vector<double> w(kResidualRows, 0.0);
   for (int h = 0; h < kThetaHBins; ++h) {
     // Bin centres; theta_h's bins widen with theta_h (MERL's square-root spacing).
@@ -97,7 +97,7 @@ std::vector<std::uint8_t> residual_row_shifts(double max_error, int fine_multipl
   // No row's bound above the format's largest.
   const int cap = std::min(
       kRowStepShiftCap,
-      int(std::floor(std::log2(kMaxResidualError / (max_error * double(fine_multiplier))))));
+      int(std::floor(std::log2(kMaxResidualError / (max_error * double(largest_multiplier))))));
   std::vector<std::uint8_t> shifts(kResidualRows);
   for (std::size_t r = 0; r < kResidualRows; ++r) {
     const double s = w[r] > 0 ? std::nearbyint(0.5 * std::log2(top / w[r])) : double(cap);
@@ -134,12 +134,18 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings, En
   if (settings.residual.lossless) return add_exact(source, container, result);
   const double bound = settings.residual.max_error;
   const ResidualSettings& rs = settings.residual;
+  const auto out_of_range = [](int m) { return m < 1 || m > kMaxFineMultiplier; };
   if (rs.levels < 0 || rs.levels > kMaxResidualLevels ||
-      (rs.levels > 0 && (rs.fine_multiplier < 1 || rs.fine_multiplier > kMaxFineMultiplier))) {
+      (rs.levels > 0 &&
+       (out_of_range(rs.fine_multiplier) ||
+        std::any_of(rs.middle_multipliers.begin(), rs.middle_multipliers.end(), out_of_range)))) {
     return error(ErrorCode::kInvalidArgument,
-                 "residual levels " + std::to_string(rs.levels) + " and finest multiplier " +
-                     std::to_string(rs.fine_multiplier) + ": levels must be 0.." +
-                     std::to_string(kMaxResidualLevels) + " and the multiplier 1.." +
+                 "residual levels " + std::to_string(rs.levels) + ", finest multiplier " +
+                     std::to_string(rs.fine_multiplier) + " and middle multipliers " +
+                     std::to_string(rs.middle_multipliers[0]) + ", " +
+                     std::to_string(rs.middle_multipliers[1]) + ", " +
+                     std::to_string(rs.middle_multipliers[2]) + ": levels must be 0.." +
+                     std::to_string(kMaxResidualLevels) + " and each multiplier 1.." +
                      std::to_string(kMaxFineMultiplier));
   }
   // The base exactly as every decoder of the file rebuilds it.
@@ -159,8 +165,17 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings, En
   model.residual.levels = std::uint8_t(settings.residual.levels);
   model.residual.fine_multiplier =
       std::uint8_t(settings.residual.levels > 0 ? settings.residual.fine_multiplier : 1);
+  // Middle levels' multipliers are RESD mode 4, version 1.3 only: a file its base writes as 1.2
+  // (the file's minor version, bytes 10-11 of the header, spec 1) takes them as 1.
+  const bool v13 = result->bytes.size() >= 12 &&
+                   (unsigned(result->bytes[10]) | unsigned(result->bytes[11]) << 8) >= 3;
+  model.residual.middle_multipliers = {1, 1, 1};
+  for (int l = 1; v13 && l < settings.residual.levels; ++l) {
+    model.residual.middle_multipliers[std::size_t(l - 1)] =
+        std::uint8_t(settings.residual.middle_multipliers[std::size_t(l - 1)]);
+  }
   model.residual.values.clear();
-  const int multiplier = model.residual.fine_multiplier;
+  const int multiplier = model.residual.max_multiplier();
   if (settings.residual.row_steps) {
     model.residual.row_shift = residual_row_shifts(bound, multiplier);
   } else if (model.residual.interpolated()) {
@@ -221,7 +236,17 @@ ResidualSettings target_residual_settings(double max_error) {
   // two of three, and each doubling of the multiplier saved bytes at the same tone-mapped PSNR
   // (8: 2-10% fewer than 4); docs/benchmarks.md has the bytes at 60 dB against mode 2.
   rs.levels = 3;
-  rs.fine_multiplier = 8;
+  // Levels 0 and 1 coarser than their rows (mode 4 in 1.3 files), more so at coarse bounds: the
+  // finer a level, the fewer predictions its errors feed. Measured on six shared materials (the
+  // same base, bounds 0.012 to 2e-4, bytes at equal tone-mapped sphere PSNR against m = 8 alone):
+  // 32 and 8 took 0.65x at 60 dB and 0.76x at 70 dB but cannot reach 80 dB above 2e-4; 8 and 2
+  // took 0.79x at 60 dB and 0.99x at 80 dB; a coarser level 2 lost at every rate. Multipliers
+  // never fall as E grows, so bytes and PSNR stay monotonic in E for rate control's search, and
+  // m x E stays within the format's bound 16.
+  const int fine = max_error >= 1.5e-3 ? 32 : max_error >= 6e-4 ? 16 : 8;
+  const int level1 = fine / 4;
+  rs.fine_multiplier = std::max(1, std::min(fine, int(std::floor(kMaxResidualError / max_error))));
+  rs.middle_multipliers = {std::min(level1, rs.fine_multiplier), 1, 1};
   return rs;
 }
 

@@ -34,8 +34,9 @@ double max_log_error(const BrdfTable& source, const BrdfTable& decoded, const Re
 // format's largest bound, with W_r the row's solid-angle measure times the sum over its phi_d
 // bins of cos(theta_i) cos(theta_o) (0 below the horizon). High-rate theory: a step
 // proportional to 1 / sqrt(weight) minimises the weighted squared error at a given rate.
-// With a finest-level multiplier m (mode 3), no bound m x max_error x 2^shift exceeds the format's.
-std::vector<std::uint8_t> residual_row_shifts(double max_error, int fine_multiplier = 1);
+// With level multipliers (modes 3 and 4), the largest m: no bound m x max_error x 2^shift exceeds
+// the format's.
+std::vector<std::uint8_t> residual_row_shifts(double max_error, int largest_multiplier = 1);
 inline constexpr int kRowStepShiftCap = 6;
 
 }  // namespace cbrdf::internal

@@ -68,15 +68,17 @@ Status check_residual(const Model& model) {
     }
   }
   if (r.interpolated()) {
-    const int m = r.fine_multiplier;
-    if (r.levels > kMaxResidualLevels || r.row_shift.size() != kResidualRows || m < 1 ||
-        m > kMaxFineMultiplier ||
-        double(m) * std::ldexp(r.max_error, r.max_row_shift()) > kMaxResidualError ||
+    bool multipliers_ok = true;
+    for (int l = 0; l < r.levels && l < kMaxResidualLevels; ++l) {
+      const int m = r.multiplier_of_level(l);
+      multipliers_ok = multipliers_ok && m >= 1 && m <= kMaxFineMultiplier &&
+                       double(m) * std::ldexp(r.max_error, r.max_row_shift()) <= kMaxResidualError;
+    }
+    if (r.levels > kMaxResidualLevels || r.row_shift.size() != kResidualRows || !multipliers_ok ||
         r.values.size() != kMaskBits) {
       return invalid("the interpolated residual needs 1.." + std::to_string(kMaxResidualLevels) +
                      " levels, " + std::to_string(kResidualRows) +
-                     " row shifts, a finest multiplier of 1.." +
-                     std::to_string(kMaxFineMultiplier) +
+                     " row shifts, level multipliers of 1.." + std::to_string(kMaxFineMultiplier) +
                      " within the bound limit 16, and its rebuilt values");
     }
   }
@@ -215,7 +217,8 @@ Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
   CBRDF_RETURN_IF_ERROR(check_model(model));
 
   // The model's own chunks in both codings; 1.3 where smaller (by the model chunks alone, so
-  // that a residual file's base decodes as the file without the residual did).
+  // that a residual file's base decodes as the file without the residual did), or where the
+  // residual needs it.
   const std::uint16_t old_minor = container_minor(model);
   std::vector<ChunkToWrite> model_chunks;
   std::uint16_t minor = old_minor;
@@ -225,7 +228,8 @@ Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
       std::vector<ChunkToWrite> v13;
       v13.push_back({std::string(kTagHeader), encode_header_chunk(model, true), false});
       v13.push_back({std::string(kTagBase), std::move(*base), false});
-      if (settings.format == ContainerSettings::Format::kV13) {
+      // A residual with middle levels' steps (mode 4) exists only in 1.3.
+      if (settings.format == ContainerSettings::Format::kV13 || model.residual.middle_steps()) {
         model_chunks = std::move(v13);
         minor = 3;
       } else {
@@ -242,6 +246,12 @@ Expected<std::vector<std::uint8_t>> encode_model(const Model& model,
     }
   }
   if (model_chunks.empty()) model_chunks = old_model_chunks(model, settings.bits);
+  if (model.residual.middle_steps() && minor < 3) {
+    return invalid(
+        "the residual's multipliers of middle levels (RESD mode 4) need container version 1.3, "
+        "and this file is written as 1." +
+        std::to_string(minor) + " (--format-version 1.2, or a model 1.3 cannot code)");
+  }
   std::vector<ChunkToWrite> chunks = std::move(model_chunks);
   // One stored value per not-measured bin makes MASK up to 35 MB; zstd's top levels take minutes
   // on that for a few percent, so the level is capped for this chunk (a uniform value is tiny).

@@ -68,9 +68,9 @@ class _SliceInfo(TypedDict):
     channels: list[_ChannelInfo]
 
 class _ResidualInfo(TypedDict):
-    mode: int  # 0 bounded, 1 exact table, 2 a step per row, 3 interpolated levels
+    mode: int  # 0 bounded, 1 exact table, 2 a step per row, 3 interpolated levels, 4 a step per level
     max_error: float  # the bound every measured bin meets (0 in mode 1)
-    min_error: float  # the finest row's bound (modes 2 and 3)
+    min_error: float  # the finest row's bound (modes 2 to 4)
     knee: float
     escapes: int
     stored_bytes: int

@@ -152,7 +152,10 @@ typedef enum cbrdf_residual_mode {
   CBRDF_RESIDUAL_ROW_BOUNDED = 2,
   /** Since 1.5: row bounds, the codes correcting an interpolation of coarser bins; the finest level
    * (odd theta_d or phi_d) has a multiple of its row's bound (written by the rate control). */
-  CBRDF_RESIDUAL_INTERPOLATED = 3
+  CBRDF_RESIDUAL_INTERPOLATED = 3,
+  /** Since 2.2 (container 1.3): _INTERPOLATED with a multiple of the row's bound on every level
+   * between the finest and the coarsest too (written by the rate control). */
+  CBRDF_RESIDUAL_LEVEL_STEPS = 4
 } cbrdf_residual_mode;
 
 /** What a file holds. Fields are only ever appended: set struct_size to sizeof(cbrdf_model_info)

@@ -7,6 +7,7 @@
 /// a mixture: a sum of such terms, each with its own marginals, parameter and K.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -107,6 +108,10 @@ struct Residual {
   /// Mode 3: the finest level's step and bound (bins with an odd theta_d or phi_d index) are its
   /// row's times this, 1..64.
   std::uint8_t fine_multiplier = 1;
+  /// Mode 4 (version 1.3): the same for the levels between the finest and the coarsest: level l
+  /// (1..levels - 1, level_of) has middle_multipliers[l - 1], 1..64. All 1 in mode 3 (and unused
+  /// beyond levels - 1).
+  std::array<std::uint8_t, 3> middle_multipliers{1, 1, 1};
   /// Mode 3, derived from the codes by the reader and the writer (not stored): the residual of
   /// every bin in log1p units, channel-major MERL order.
   std::vector<double> values;
@@ -123,24 +128,51 @@ struct Residual {
   double step_at(std::size_t i) const {
     return row_shift.empty() ? step : std::ldexp(step, row_shift[i / std::size_t{kPhiDBins}]);
   }
-  /// The bound at MERL index i (any channel): max_error x 2^row shift, times fine_multiplier on
-  /// mode 3's finest level (odd theta_d or phi_d).
+  /// The bound at MERL index i (any channel): max_error x 2^row shift, times the multiplier of
+  /// the bin's level in modes 3 and 4 (level_multiplier).
   double bound_at(std::size_t i) const {
     const double b = row_shift.empty()
                          ? max_error
                          : std::ldexp(max_error, row_shift[i / std::size_t{kPhiDBins}]);
-    return interpolated() && finest_level(i) ? b * double(fine_multiplier) : b;
+    return interpolated() ? b * double(level_multiplier(i)) : b;
   }
   /// The bound every measured bin meets, the largest bound_at: max_error x 2^max_row_shift(), times
-  /// fine_multiplier in mode 3 (0 in mode 1 and without a residual). What the encoder prints,
-  /// `cbrdf info`, the C API and Python show.
+  /// the largest level multiplier in modes 3 and 4 (0 in mode 1 and without a residual). What the
+  /// encoder prints, `cbrdf info`, the C API and Python show.
   double bound() const {
     if (exact || !present()) return 0.0;
     const double b = std::ldexp(max_error, max_row_shift());
-    return interpolated() ? b * double(fine_multiplier) : b;
+    return interpolated() ? b * double(max_multiplier()) : b;
   }
   /// Mode 3's finest level at MERL index i: an odd theta_d or phi_d.
   static bool finest_level(std::size_t i) { return ((i % kPhiDBins) | (i / kPhiDBins)) & 1; }
+  /// The level of MERL index i (any channel) in modes 3 and 4: min(tz(theta_d), tz(phi_d), levels)
+  /// with tz the trailing zero bits (tz(0) = levels): 0 the finest, `levels` the coarsest nodes.
+  int level_of(std::size_t i) const {
+    const std::size_t both = (i % kPhiDBins) | ((i / kPhiDBins) % kThetaDBins);
+    int l = 0;
+    while (l < levels && ((both >> l) & 1u) == 0) ++l;
+    return l;
+  }
+  /// The step and bound multiplier of a level: fine_multiplier at 0, middle_multipliers[l - 1]
+  /// between, 1 at the coarsest nodes.
+  int multiplier_of_level(int l) const {
+    return l == 0 ? fine_multiplier : l >= levels ? 1 : middle_multipliers[std::size_t(l - 1)];
+  }
+  int level_multiplier(std::size_t i) const { return multiplier_of_level(level_of(i)); }
+  /// The largest multiplier of any level (1 without levels).
+  int max_multiplier() const {
+    int m = 1;
+    for (int l = 0; l < levels; ++l) m = std::max(m, multiplier_of_level(l));
+    return m;
+  }
+  /// Mode 4: a level between the finest and the coarsest has a multiplier other than 1.
+  bool middle_steps() const {
+    for (int l = 1; l < levels; ++l) {
+      if (middle_multipliers[std::size_t(l - 1)] != 1) return true;
+    }
+    return false;
+  }
   /// The residual of bin b = c x kBinsPerChannel + i in log1p units: code x step (modes 0, 2) or
   /// the interpolated reconstruction (mode 3).
   double value_at(std::size_t b) const {

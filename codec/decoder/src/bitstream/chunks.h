@@ -66,6 +66,7 @@ inline constexpr std::uint8_t kResidualModeLog = 0;     // bounded log1p residua
 inline constexpr std::uint8_t kResidualModeExact = 1;   // the exact table (lossless)
 inline constexpr std::uint8_t kResidualModeRows = 2;    // mode 0 with a step per row
 inline constexpr std::uint8_t kResidualModeInterp = 3;  // mode 2, interpolated levels
+inline constexpr std::uint8_t kResidualModeLevelSteps = 4;  // mode 3, a step per level (1.3)
 inline constexpr int kMaxResidualLevels = 4;  // coarsest spacing 16: phi_d + h stays <= 180
 inline constexpr int kMaxFineMultiplier = 64;
 inline constexpr std::uint8_t kResidualPredictorNone = 0;  // codes as they are

@@ -68,11 +68,12 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
     if (!st.ok()) return st.with_context(where(pc, resd));
     const Residual& res = d.model.residual;
     d.info.residual_mode = res.exact               ? kResidualModeExact
+                           : res.middle_steps()    ? kResidualModeLevelSteps
                            : res.interpolated()    ? kResidualModeInterp
                            : res.row_shift.empty() ? kResidualModeLog
                                                    : kResidualModeRows;
-    // Mode 2: the bound over every bin is the coarsest row's; the finest row's beside it. Mode 3:
-    // the coarsest row's finest level's.
+    // Mode 2: the bound over every bin is the coarsest row's; the finest row's beside it. Modes 3
+    // and 4: the coarsest row's at the level with the largest multiplier.
     d.info.residual_max_error = res.bound();
     d.info.residual_min_error = std::ldexp(res.max_error, res.min_row_shift());
     d.info.residual_knee = d.model.residual.knee;

@@ -5,7 +5,8 @@
 // coded as the zigzag of its difference from a prediction out of codes already decoded, as an
 // unsigned LEB128 varint; the chunk's zstd frame does the entropy coding. Mode 2 adds one step
 // shift per (theta_h, theta_d) row before the codes; mode 3 adds the level count and the finest
-// level's multiplier after them, and its codes correct an interpolation (residual_levels.h).
+// level's multiplier after them, and its codes correct an interpolation (residual_levels.h); mode
+// 4 (version 1.3) adds a multiplier for each level between the finest and the coarsest.
 // In version 1.3 the codes may instead be range coded with contexts (residual_codes.h).
 #include <algorithm>
 #include <array>
@@ -181,25 +182,35 @@ Status read_row_shifts(ByteReader& r, Residual* out) {
   return ok_status();
 }
 
-// Mode 3's level count and finest multiplier, after the row shifts.
-Status read_levels(ByteReader& r, Residual* out) {
+// Modes 3 and 4: the level count and the finest level's multiplier after the row shifts; in mode
+// 4 then one multiplier per level between the finest and the coarsest, finer first.
+Status read_levels(ByteReader& r, bool middle, Residual* out) {
   const std::uint64_t at = r.offset();
   CBRDF_RETURN_IF_ERROR(r.u8(&out->levels, "level count"));
   CBRDF_RETURN_IF_ERROR(r.u8(&out->fine_multiplier, "finest level's multiplier"));
-  if (out->levels < 1 || out->levels > kMaxResidualLevels) {
+  if (out->levels < 1 || out->levels > kMaxResidualLevels || (middle && out->levels < 2)) {
     return error(ErrorCode::kCorrupt, "level count " + std::to_string(int(out->levels)) +
                                           " at payload offset " + std::to_string(at) +
-                                          " is not in 1.." + std::to_string(kMaxResidualLevels));
+                                          " is not in " + (middle ? "2.." : "1..") +
+                                          std::to_string(kMaxResidualLevels));
   }
-  const int m = out->fine_multiplier;
-  if (m < 1 || m > kMaxFineMultiplier ||
-      double(m) * std::ldexp(out->max_error, out->max_row_shift()) > kMaxResidualError) {
-    return error(ErrorCode::kNumeric,
-                 "finest level's multiplier " + std::to_string(m) + " at payload offset " +
-                     std::to_string(at + 1) + " is not in 1.." +
-                     std::to_string(kMaxFineMultiplier) +
-                     " or makes a bound (multiplier x max error x 2^shift) exceed " +
-                     number_text(kMaxResidualError));
+  out->middle_multipliers = {1, 1, 1};
+  for (int l = 1; middle && l < out->levels; ++l) {
+    CBRDF_RETURN_IF_ERROR(
+        r.u8(&out->middle_multipliers[std::size_t(l - 1)], "a middle level's multiplier"));
+  }
+  const double top = std::ldexp(out->max_error, out->max_row_shift());
+  for (int l = 0; l < out->levels; ++l) {
+    const int m = out->multiplier_of_level(l);
+    if (m < 1 || m > kMaxFineMultiplier || double(m) * top > kMaxResidualError) {
+      return error(ErrorCode::kNumeric,
+                   (l == 0 ? std::string("finest level's") : "level " + std::to_string(l) + "'s") +
+                       " multiplier " + std::to_string(m) + " at payload offset " +
+                       std::to_string(at + 1 + std::uint64_t(l)) + " is not in 1.." +
+                       std::to_string(kMaxFineMultiplier) +
+                       " or makes a bound (multiplier x max error x 2^shift) exceed " +
+                       number_text(kMaxResidualError));
+    }
   }
   return ok_status();
 }
@@ -255,11 +266,17 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   std::uint32_t escapes = 0;
   CBRDF_RETURN_IF_ERROR(r.u8(&mode, "residual mode"));
   if (mode == kResidualModeExact) return read_exact(payload.subspan(1), mask, out);
-  if (mode != kResidualModeLog && mode != kResidualModeRows && mode != kResidualModeInterp) {
+  if (mode != kResidualModeLog && mode != kResidualModeRows && mode != kResidualModeInterp &&
+      mode != kResidualModeLevelSteps) {
     return error(ErrorCode::kUnsupported,
                  "residual mode " + std::to_string(mode) +
                      " is not known to this reader (0 = bounded log residual, 1 = exact table, "
-                     "2 = a step per row, 3 = interpolated levels)");
+                     "2 = a step per row, 3 = interpolated levels, 4 = a step per level)");
+  }
+  if (mode == kResidualModeLevelSteps && file_minor < 3) {
+    return error(ErrorCode::kCorrupt, "residual mode 4 (a step per level) in a version 1." +
+                                          std::to_string(file_minor) +
+                                          " file: it exists from version 1.3 on");
   }
   CBRDF_RETURN_IF_ERROR(r.u8(&predictor, "predictor"));
   CBRDF_RETURN_IF_ERROR(r.u16(&reserved, "reserved field"));
@@ -272,9 +289,12 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   out->row_shift.clear();
   out->levels = 0;
   out->fine_multiplier = 1;
+  out->middle_multipliers = {1, 1, 1};
   out->values.clear();
   if (mode != kResidualModeLog) CBRDF_RETURN_IF_ERROR(read_row_shifts(r, out));
-  if (mode == kResidualModeInterp) CBRDF_RETURN_IF_ERROR(read_levels(r, out));
+  if (mode == kResidualModeInterp || mode == kResidualModeLevelSteps) {
+    CBRDF_RETURN_IF_ERROR(read_levels(r, mode == kResidualModeLevelSteps, out));
+  }
   out->codes.assign(kMaskBits, 0);
   std::span<const std::uint8_t> rest;
   std::uint64_t codes_at = r.offset();
@@ -305,7 +325,8 @@ std::vector<std::uint8_t> residual_payload(const Residual& res, std::uint8_t pre
                                            const std::vector<std::uint8_t>& codes) {
   ByteWriter w;
   // Mode 3 always carries row shifts (check_residual: all 0 for one step).
-  w.u8(res.interpolated()      ? kResidualModeInterp
+  w.u8(res.middle_steps()      ? kResidualModeLevelSteps
+       : res.interpolated()    ? kResidualModeInterp
        : res.row_shift.empty() ? kResidualModeLog
                                : kResidualModeRows);
   w.u8(predictor);
@@ -318,6 +339,9 @@ std::vector<std::uint8_t> residual_payload(const Residual& res, std::uint8_t pre
   if (res.interpolated()) {
     w.u8(res.levels);
     w.u8(res.fine_multiplier);
+    for (int l = 1; res.middle_steps() && l < res.levels; ++l) {
+      w.u8(res.middle_multipliers[std::size_t(l - 1)]);
+    }
   }
   if (predictor == kResidualPredictorRange) w.u32(std::uint32_t(codes.size()));
   w.bytes(codes);

@@ -346,7 +346,8 @@ cbrdf_status cbrdf_model_get_info(const cbrdf_model* model, cbrdf_model_info* in
     const cbrdf::ContainerInfo& ci = model->info;
     out.residual_mode = ci.residual_mode < 0 ? CBRDF_RESIDUAL_NONE : ci.residual_mode;
     const bool rows = ci.residual_mode == CBRDF_RESIDUAL_ROW_BOUNDED ||
-                      ci.residual_mode == CBRDF_RESIDUAL_INTERPOLATED;
+                      ci.residual_mode == CBRDF_RESIDUAL_INTERPOLATED ||
+                      ci.residual_mode == CBRDF_RESIDUAL_LEVEL_STEPS;
     const bool bounded = rows || ci.residual_mode == CBRDF_RESIDUAL_BOUNDED;
     out.residual_max_error = model->model.residual.bound();  // 0 in mode 1 and without RESD
     out.residual_min_error = rows ? ci.residual_min_error : bounded ? ci.residual_max_error : 0;

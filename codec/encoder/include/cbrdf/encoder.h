@@ -4,6 +4,7 @@
 /// the decoder's: codec.h).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -49,10 +50,16 @@ struct ResidualSettings {
   /// fine_multiplier (1..64) times its row's. What --target-psnr and --target-bytes use.
   int levels = 0;
   int fine_multiplier = 1;  ///< mode 3: see levels
+  /// The same for the levels between the finest and the coarsest, finer first (level l = 1..
+  /// levels - 1 has middle_multipliers[l - 1], 1..64): any other than 1 writes RESD mode 4, which
+  /// needs container 1.3 (a 1.2 file takes them as 1).
+  std::array<int, 3> middle_multipliers{1, 1, 1};
 };
 
 /// The residual the rate control (--target-psnr, --target-bytes) and the report's ladder write at
-/// bound E of the finest rows: row steps, 3 levels, the finest level's bound 8 times its row's.
+/// bound E of the finest rows: row steps, 3 levels, the finest level's bound 32, 16 or 8 times its
+/// row's (E from 1.5e-3, from 6e-4, below; at most 16 / E) and level 1's a quarter of that (in
+/// container 1.3: RESD mode 4).
 ResidualSettings target_residual_settings(double max_error);
 
 /// Everything encode_table() needs.
