@@ -333,6 +333,18 @@ std::vector<double> spec_slab(const Residual& r, int c, int h) {
   return R;
 }
 
+// The decoder's R against spec_slab's in every channel, at theta_h 3 (a band of codes in every
+// row) and 0 and 89 (only the sparse ones).
+void expect_rebuilt_as_specified(const Residual& r) {
+  for (int c = 0; c < kChannels; ++c) {
+    for (int h : {0, 3, 89}) {
+      const std::vector<double> R = spec_slab(r, c, h);
+      const double* v = r.values.data() + std::size_t(c) * kBinsPerChannel + merl_index(h, 0, 0);
+      EXPECT_EQ(std::memcmp(R.data(), v, R.size() * sizeof(double)), 0) << c << " " << h;
+    }
+  }
+}
+
 Bytes payload_of_resd(const Bytes& file) {
   Expected<ParsedContainer> pc = parse_container(file);
   EXPECT_TRUE(pc.ok() && pc->find(kTagResidual) >= 0);
@@ -350,15 +362,7 @@ TEST(ResidualContainer, InterpolatedLevelsRoundTripAndRebuildAsSpecified) {
   EXPECT_EQ(got->residual.codes, want.residual.codes);
   EXPECT_EQ(got->residual.row_shift, want.residual.row_shift);
   ASSERT_EQ(got->residual.values.size(), want.residual.values.size());
-  // theta_h 3 holds a band of codes in every row; 0 and 89 only the sparse ones.
-  for (int c = 0; c < kChannels; ++c) {
-    for (int h : {0, 3, 89}) {
-      const std::vector<double> R = spec_slab(got->residual, c, h);
-      const double* v =
-          got->residual.values.data() + std::size_t(c) * kBinsPerChannel + merl_index(h, 0, 0);
-      EXPECT_EQ(std::memcmp(R.data(), v, R.size() * sizeof(double)), 0) << c << " " << h;
-    }
-  }
+  expect_rebuilt_as_specified(got->residual);
   // The table: each measured bin's base value corrected by R, escapes exact.
   Model base = *got;
   base.residual = Residual{};
@@ -444,14 +448,7 @@ TEST(ResidualContainer, LevelStepsRoundTripAndRebuildAsSpecified) {
   EXPECT_EQ(std::memcmp(got->residual.values.data(), want.residual.values.data(),
                         want.residual.values.size() * sizeof(double)),
             0);
-  for (int c = 0; c < kChannels; ++c) {
-    for (int h : {0, 3, 89}) {
-      const std::vector<double> R = spec_slab(got->residual, c, h);
-      const double* v =
-          got->residual.values.data() + std::size_t(c) * kBinsPerChannel + merl_index(h, 0, 0);
-      EXPECT_EQ(std::memcmp(R.data(), v, R.size() * sizeof(double)), 0) << c << " " << h;
-    }
-  }
+  expect_rebuilt_as_specified(got->residual);
   // The multipliers change the rebuild: the same codes in mode 3 rebuild otherwise.
   Model mode3 = want;
   mode3.residual.middle_multipliers = {1, 1, 1};

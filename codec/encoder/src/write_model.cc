@@ -6,6 +6,7 @@
 #include <string>
 
 #include "bitstream/chunks.h"
+#include "bitstream/residual_levels.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"
@@ -68,14 +69,8 @@ Status check_residual(const Model& model) {
     }
   }
   if (r.interpolated()) {
-    bool multipliers_ok = true;
-    for (int l = 0; l < r.levels && l < kMaxResidualLevels; ++l) {
-      const int m = r.multiplier_of_level(l);
-      multipliers_ok = multipliers_ok && m >= 1 && m <= kMaxFineMultiplier &&
-                       double(m) * std::ldexp(r.max_error, r.max_row_shift()) <= kMaxResidualError;
-    }
-    if (r.levels > kMaxResidualLevels || r.row_shift.size() != kResidualRows || !multipliers_ok ||
-        r.values.size() != kMaskBits) {
+    if (r.levels > kMaxResidualLevels || r.row_shift.size() != kResidualRows ||
+        internal::level_multiplier_out_of_range(r) >= 0 || r.values.size() != kMaskBits) {
       return invalid("the interpolated residual needs 1.." + std::to_string(kMaxResidualLevels) +
                      " levels, " + std::to_string(kResidualRows) +
                      " row shifts, level multipliers of 1.." + std::to_string(kMaxFineMultiplier) +

@@ -199,18 +199,14 @@ Status read_levels(ByteReader& r, bool middle, Residual* out) {
     CBRDF_RETURN_IF_ERROR(
         r.u8(&out->middle_multipliers[std::size_t(l - 1)], "a middle level's multiplier"));
   }
-  const double top = std::ldexp(out->max_error, out->max_row_shift());
-  for (int l = 0; l < out->levels; ++l) {
-    const int m = out->multiplier_of_level(l);
-    if (m < 1 || m > kMaxFineMultiplier || double(m) * top > kMaxResidualError) {
-      return error(ErrorCode::kNumeric,
-                   (l == 0 ? std::string("finest level's") : "level " + std::to_string(l) + "'s") +
-                       " multiplier " + std::to_string(m) + " at payload offset " +
-                       std::to_string(at + 1 + std::uint64_t(l)) + " is not in 1.." +
-                       std::to_string(kMaxFineMultiplier) +
-                       " or makes a bound (multiplier x max error x 2^shift) exceed " +
-                       number_text(kMaxResidualError));
-    }
+  if (const int l = internal::level_multiplier_out_of_range(*out); l >= 0) {
+    return error(ErrorCode::kNumeric,
+                 (l == 0 ? std::string("finest level's") : "level " + std::to_string(l) + "'s") +
+                     " multiplier " + std::to_string(out->multiplier_of_level(l)) +
+                     " at payload offset " + std::to_string(at + 1 + std::uint64_t(l)) +
+                     " is not in 1.." + std::to_string(kMaxFineMultiplier) +
+                     " or makes a bound (multiplier x max error x 2^shift) exceed " +
+                     number_text(kMaxResidualError));
   }
   return ok_status();
 }

@@ -20,6 +20,19 @@ inline std::int32_t residual_code(double r, double step) {
   return r == r ? std::int32_t(std::clamp(std::nearbyint(r / step), -top, top)) : 0;
 }
 
+// Modes 3 and 4: the first level (0 the finest .. levels - 1) whose multiplier is outside
+// 1..kMaxFineMultiplier or takes its coarsest row's bound (multiplier x max_error x
+// 2^max_row_shift) past the format's largest, or -1 when none does. The reader's check and the
+// writer's.
+inline int level_multiplier_out_of_range(const Residual& r) {
+  const double top = std::ldexp(r.max_error, r.max_row_shift());
+  for (int l = 0; l < r.levels && l < kMaxResidualLevels; ++l) {
+    const int m = r.multiplier_of_level(l);
+    if (m < 1 || m > kMaxFineMultiplier || double(m) * top > kMaxResidualError) return l;
+  }
+  return -1;
+}
+
 // Rebuilds residual.values from residual.codes (levels, steps, row shifts and fine multiplier
 // taken from `residual`). Codes at not-measured bins are 0 and their values predictions only.
 void rebuild_interpolated(Residual* residual);
