@@ -1485,10 +1485,10 @@ static cbrdf_model* encode_and_open(const double* table, const cbrdf_encode_sett
 }
 #endif /* CBRDF_C_TEST_DECODER_ONLY */
 
-/* A golden 1.2 file's description: its size, the residual's mode, bounds and chunk bytes (knee
- * 1e-4). */
-static void check_residual_golden(const char* file, uint64_t file_bytes, int mode, double max_error,
-                                  double min_error, uint64_t residual_bytes) {
+/* A golden file's description: its minor version, size, the residual's mode, bounds and chunk
+ * bytes (knee 1e-4). */
+static void check_residual_golden(const char* file, int minor, uint64_t file_bytes, int mode,
+                                  double max_error, double min_error, uint64_t residual_bytes) {
   char path[512];
   cbrdf_model_info info;
   cbrdf_model* m;
@@ -1498,7 +1498,7 @@ static void check_residual_golden(const char* file, uint64_t file_bytes, int mod
   if (m == NULL) return;
   info.struct_size = sizeof info;
   CHECK_STATUS(cbrdf_model_get_info(m, &info), CBRDF_OK);
-  CHECK(info.version_minor == 2 && info.file_bytes == file_bytes);
+  CHECK(info.version_minor == minor && info.file_bytes == file_bytes);
   CHECK(info.residual_mode == mode);
   CHECK(info.residual_max_error == max_error && info.residual_min_error == min_error);
   CHECK(info.residual_knee == 1e-4 && info.residual_bytes == residual_bytes);
@@ -1508,13 +1508,16 @@ static void check_residual_golden(const char* file, uint64_t file_bytes, int mod
 /* The golden 1.2 files, as `cbrdf info --json` describes them: one bound, and a bound per row
  * (the coarsest row's and the finest row's). */
 static void test_residual_goldens(void) {
-  check_residual_golden("v1.2-residual-frank6-b10.cbrdf", 6478, CBRDF_RESIDUAL_BOUNDED, 0.004,
+  check_residual_golden("v1.2-residual-frank6-b10.cbrdf", 2, 6478, CBRDF_RESIDUAL_BOUNDED, 0.004,
                         0.004, 3073);
-  check_residual_golden("v1.2-residual-rows-frank6-b10.cbrdf", 6583, CBRDF_RESIDUAL_ROW_BOUNDED,
+  check_residual_golden("v1.2-residual-rows-frank6-b10.cbrdf", 2, 6583, CBRDF_RESIDUAL_ROW_BOUNDED,
                         0.128, 0.004, 3173);
   /* Interpolated levels: the coarsest row's bound 0.128 times the finest multiplier 4. */
-  check_residual_golden("v1.2-residual-interp-frank6-b10.cbrdf", 7860, CBRDF_RESIDUAL_INTERPOLATED,
-                        0.512, 0.004, 4449);
+  check_residual_golden("v1.2-residual-interp-frank6-b10.cbrdf", 2, 7860,
+                        CBRDF_RESIDUAL_INTERPOLATED, 0.512, 0.004, 4449);
+  /* A step per level (1.3): the coarsest row's bound 0.02 times the largest multiplier 8. */
+  check_residual_golden("v1.3-level-steps-residual-frank6-b10.cbrdf", 3, 28533,
+                        CBRDF_RESIDUAL_LEVEL_STEPS, 0.16, 0.01, 26912);
 }
 
 #ifndef CBRDF_C_TEST_DECODER_ONLY
@@ -1585,8 +1588,8 @@ static void test_residual(const double* table) {
   s.residual_steps = CBRDF_RESIDUAL_STEPS_VISIBILITY;
   m = encode_and_open(table, &s, &info, &size);
   if (m != NULL) {
-    CHECK(info.residual_mode == CBRDF_RESIDUAL_ROW_BOUNDED ||
-          info.residual_mode == CBRDF_RESIDUAL_INTERPOLATED);
+    /* A 1.3 file: row bounds, interpolated levels with a step per level (RESD mode 4). */
+    CHECK(info.version_minor == 3 && info.residual_mode == CBRDF_RESIDUAL_LEVEL_STEPS);
     CHECK(info.residual_min_error == 0.01);
     CHECK(info.residual_max_error > 0.01 && info.residual_max_error <= 16);
     CHECK_STATUS(cbrdf_model_table(m, decoded, count), CBRDF_OK);

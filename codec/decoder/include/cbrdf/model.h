@@ -159,6 +159,7 @@ struct Residual {
   int multiplier_of_level(int l) const {
     return l == 0 ? fine_multiplier : l >= levels ? 1 : middle_multipliers[std::size_t(l - 1)];
   }
+  /// The multiplier of the level of MERL index i (any channel).
   int level_multiplier(std::size_t i) const { return multiplier_of_level(level_of(i)); }
   /// The largest multiplier of any level (1 without levels).
   int max_multiplier() const {

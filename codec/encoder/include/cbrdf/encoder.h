@@ -50,9 +50,9 @@ struct ResidualSettings {
   /// fine_multiplier (1..64) times its row's. What --target-psnr and --target-bytes use.
   int levels = 0;
   int fine_multiplier = 1;  ///< mode 3: see levels
-  /// The same for the levels between the finest and the coarsest, finer first (level l = 1..
-  /// levels - 1 has middle_multipliers[l - 1], 1..64): any other than 1 writes RESD mode 4, which
-  /// needs container 1.3 (a 1.2 file takes them as 1).
+  /// The same for the levels between the finest and the coarsest, finer first: level l, from 1
+  /// to levels minus 1, has middle_multipliers[l - 1], each from 1 to 64. Any other than 1
+  /// writes RESD mode 4, which needs container 1.3 (a 1.2 file takes them as 1).
   std::array<int, 3> middle_multipliers{1, 1, 1};
 };
 
