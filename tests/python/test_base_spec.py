@@ -479,7 +479,7 @@ def rebuild_levels(r):
 
 
 LEVEL_STEPS_GOLDEN = "v1.3-level-steps-residual-frank6-b10.cbrdf"
-LEVEL_STEPS_VALUES_FNV = 0x530037D4D94983C5
+LEVEL_STEPS_VALUES_FNV = 0xE290ABC7D4FE14AD
 
 
 def test_spec_rebuild_of_a_step_per_level():
