@@ -181,7 +181,7 @@ TEST(Ladder, MeasuresEveryMethodOnASmallSetting) {
   // Smooth data: the exact coding takes far fewer than the .binary's 35 MB.
   EXPECT_LT(l->points[2].bytes, 8e6);
   // The residual point reuses the base points' fit, and is the very file a whole encode with the
-  // rate control's residual (row steps, interpolated levels) writes.
+  // rate control's residual (row steps, interpolated levels, per-level step multipliers) writes.
   EncoderOptions o;
   o.components = "1";
   o.bits = st.residual_base_bits;
@@ -195,7 +195,7 @@ TEST(Ladder, MeasuresEveryMethodOnASmallSetting) {
   EXPECT_EQ(double(whole->bytes.size()), residual.bytes);
   auto info = inspect_container(whole->bytes);
   ASSERT_TRUE(info.ok());
-  EXPECT_EQ(info->residual_mode, 3);
+  EXPECT_EQ(info->residual_mode, 4);  // RESD mode 4: the per-level multipliers of container 1.3
 }
 
 }  // namespace
