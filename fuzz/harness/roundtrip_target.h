@@ -6,18 +6,23 @@
 // channel a family with a parameter inside its domain (edges, huge and tiny values included), K,
 // three marginal tables of assorted shapes (zeros, one-hot, 700-decade ranges, raw doubles), a
 // mask (standard, empty, full, runs, flipped bits) and single or per-bin values (NaN payloads
-// included), plus the quantization bits and, on one input in 32, a residual layer (modes 0, 2, 3).
-// The checks are the codec's promises (codec.h, spec/container.md 4.3): families, parameters, K,
-// bounds, mask and values come back bit for bit; each nonzero mass within the documented relative
-// error e^step - 1, each zero mass exactly. One input in two (by a byte) breaks one rule of the
-// model instead, and encode_model must then refuse it with kInvalidArgument.
+// included), plus the quantization bits, the coding (auto, 1.2 only or 1.3), the metadata's form
+// and, on one input in 32, a residual layer (modes 0, 2, 3, 4). The checks are the codec's
+// promises (codec.h, spec/container.md 4.3, 4.8): families, parameters, K, bounds, mask and values
+// come back bit for bit (in a 1.3 file parameters and K as their binary32 forms); each nonzero
+// mass within the documented relative error (e^step - 1; 1.3: e^(2 step) - 1), each zero mass
+// exactly; 1.3 is written when asked for and the parameters allow it, never when 1.2 is. One input
+// in two (by a byte) breaks one rule of the model instead, and encode_model must then refuse it
+// with kInvalidArgument.
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -269,6 +274,37 @@ inline void pick_residual(Model* m, ByteSource& in) {
   }
 }
 
+// The binary32 a 1.3 file holds for a parameter (spec 4.8): the nearest, or its neighbour towards
+// the inside of the family's range; none when neither is inside it.
+inline std::optional<double> binary32_parameter(CopulaFamily family, double theta, double k) {
+  const float f = float(theta);
+  for (float g : {f, std::nextafter(f, -std::numeric_limits<float>::infinity()),
+                  std::nextafter(f, std::numeric_limits<float>::infinity())}) {
+    if (std::isfinite(g) &&
+        check_channel_params(std::uint8_t(family), double(g), double(float(k))).ok()) {
+      return double(g);
+    }
+  }
+  return std::nullopt;
+}
+
+// Mode 4 exists only in version 1.3, whose BASE holds each parameter and K as a binary32; the raw
+// doubles picked above rarely have one, so nearly every mode 4 model would be refused as one 1.3
+// cannot code (none of 22 in 30,000 searched inputs were coded). Such models get binary32 values:
+// K's nearest (at most the largest float), the parameter's as 1.3 stores it or independence.
+inline void make_base_codable(Model* m) {
+  for (Slice& slice : m->slices) {
+    for (ChannelSlice& cs : slice.channel) {
+      for (int k = 0; k < cs.components(); ++k) {
+        Component& comp = cs.component(k);
+        comp.scale = double(float(std::min(comp.scale, double(std::numeric_limits<float>::max()))));
+        comp.theta = binary32_parameter(comp.family, comp.theta, comp.scale)
+                         .value_or(family_row(comp.family)->copula().domain().independence);
+      }
+    }
+  }
+}
+
 inline Model build_model(ByteSource& in) {
   Model m;
   std::vector<int> cuts = {0, kThetaDBins};
@@ -309,6 +345,7 @@ inline Model build_model(ByteSource& in) {
     }
   }
   pick_residual(&m, in);
+  if (m.residual.middle_steps()) make_base_codable(&m);
   return m;
 }
 
@@ -368,8 +405,10 @@ inline bool break_model(Model* m, ContainerSettings* s, std::uint8_t how) {
 }
 
 // Each nonzero mass within e^step - 1 of the source's normalized mass (spec 4.3), zeros exact.
+// In a 1.3 file (base): within e^(2 step) - 1, step = D / 32 / (2^bits - 2), where the writer's
+// span D is at most 8 grid units above the smallest that holds the log masses (spec 4.8).
 inline void check_masses(const std::vector<double>& src, const std::vector<double>& dec, int bits,
-                         const std::string& what, Result* r) {
+                         bool base, const std::string& what, Result* r) {
   if (src.size() != dec.size()) {
     r->check(false, what + ": size changed");
     return;
@@ -392,7 +431,11 @@ inline void check_masses(const std::vector<double>& src, const std::vector<doubl
   // lo and hi are stored as float32 rounded outwards: widen by one float ulp each.
   const double span = hi - lo + (std::abs(lo) + std::abs(hi)) * 0x1p-23;
   const double top = std::ldexp(1.0, bits) - 1.0;
-  const double bound = std::expm1(span / (top - 1.0));
+  double bound = std::expm1(span / (top - 1.0));
+  if (base) {
+    const double units = std::min(std::ceil((hi - std::max(lo, -746.0)) * 32.0) + 8.0, 746.0 * 32);
+    bound = std::expm1(2.0 * units / 32.0 / (top - 1.0));
+  }
   for (std::size_t i = 0; i < src.size(); ++i) {
     if (src[i] == 0.0) {
       if (dec[i] != 0.0) {
@@ -406,14 +449,16 @@ inline void check_masses(const std::vector<double>& src, const std::vector<doubl
     const double rel = std::abs(dec[i] / want - 1.0);
     if (!(rel <= bound * (1.0 + 1e-9) + 1e-12)) {
       r->check(false, what + ": mass " + std::to_string(i) + " has relative error " +
-                          std::to_string(rel) + " above the bound " + std::to_string(bound) + " (" +
-                          std::to_string(bits) + " bits)");
+                          std::to_string(rel) + " (normalized " + number_text(want) + ", decoded " +
+                          number_text(dec[i]) + ") above the bound " + std::to_string(bound) +
+                          " (" + std::to_string(bits) + " bits)");
       return;
     }
   }
 }
 
-inline void check_roundtrip(const Model& a, const Model& b, int bits, Result* r) {
+// base: the file is 1.3 (BASE), whose parameters and K are binary32 (spec 4.8).
+inline void check_roundtrip(const Model& a, const Model& b, int bits, bool base, Result* r) {
   if (a.slices.size() != b.slices.size()) {
     r->check(false, "the slice count changed");
     return;
@@ -433,11 +478,14 @@ inline void check_roundtrip(const Model& a, const Model& b, int bits, Result* r)
         const Component &x = xc.component(k), &y = yc.component(k);
         const std::string name = cname + " component " + std::to_string(k);
         r->check(x.family == y.family, name + ": family changed");
-        r->check(std::memcmp(&x.theta, &y.theta, 8) == 0, name + ": parameter changed");
-        r->check(std::memcmp(&x.scale, &y.scale, 8) == 0, name + ": K changed");
-        check_masses(x.pdf_h, y.pdf_h, bits, name + " theta_h", r);
-        check_masses(x.pdf_d, y.pdf_d, bits, name + " theta_d", r);
-        check_masses(x.pdf_p, y.pdf_p, bits, name + " phi_d", r);
+        const double theta =
+            base ? binary32_parameter(x.family, x.theta, x.scale).value_or(NAN) : x.theta;
+        const double scale = base ? double(float(x.scale)) : x.scale;
+        r->check(std::memcmp(&theta, &y.theta, 8) == 0, name + ": parameter changed");
+        r->check(std::memcmp(&scale, &y.scale, 8) == 0, name + ": K changed");
+        check_masses(x.pdf_h, y.pdf_h, bits, base, name + " theta_h", r);
+        check_masses(x.pdf_d, y.pdf_d, bits, base, name + " theta_d", r);
+        check_masses(x.pdf_p, y.pdf_p, bits, base, name + " phi_d", r);
       }
     }
   }
@@ -453,7 +501,14 @@ inline Result run_roundtrip(Bytes bytes) {
   ContainerSettings settings;
   settings.bits = 6 + in.u8() % 11;
   settings.zstd_level = 1 + in.u8() % 3;
-  settings.write_metadata = in.u8() % 2 == 0;
+  // One byte, so that older seeds build the models they did: metadata, its form and the coding
+  // (the struct's default is 1.2 only, which left BASE and RESD mode 4 unfuzzed here).
+  const std::uint8_t form = in.u8();
+  settings.write_metadata = form % 2 == 0;
+  settings.format = std::array{ContainerSettings::Format::kAuto, ContainerSettings::Format::kV12,
+                               ContainerSettings::Format::kV13}[(form >> 1) % 3];
+  settings.metadata =
+      (form >> 3) % 2 ? ContainerSettings::Metadata::kShort : ContainerSettings::Metadata::kFull;
   settings.source_name = "fuzz";
   const std::uint8_t breakage = in.u8();
   Model model = build_model(in);
@@ -485,7 +540,21 @@ inline Result run_roundtrip(Bytes bytes) {
     return r;
   }
   r.accept();
-  check_roundtrip(model, *back, settings.bits, &r);
+  const bool base = (unsigned((*file)[10]) | unsigned((*file)[11]) << 8) >= 3;  // minor, spec 1
+  r.check(base || settings.format != ContainerSettings::Format::kV13 ||
+              std::any_of(model.slices.begin(), model.slices.end(),
+                          [](const Slice& s) {
+                            return std::any_of(s.channel.begin(), s.channel.end(), [](auto& cs) {
+                              for (int k = 0; k < cs.components(); ++k) {
+                                const Component& c = cs.component(k);
+                                if (!binary32_parameter(c.family, c.theta, c.scale)) return true;
+                              }
+                              return false;
+                            });
+                          }),
+          "--format-version 1.3 wrote 1.2 for a model whose parameters have binary32 forms");
+  r.check(!base || settings.format != ContainerSettings::Format::kV12, "1.2 only wrote a 1.3 file");
+  check_roundtrip(model, *back, settings.bits, base, &r);
   check_residual_roundtrip(model.residual, back->residual, &r);
   // inspect_container decodes the whole file again: one input in eight is enough.
   if (input_hash(bytes) % 8 != 0) return r;

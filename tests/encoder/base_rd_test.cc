@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -147,6 +148,39 @@ TEST(BaseCodes, WrittenFilesDecodeWithinOneCodeStepOfEveryRatio) {
         }
       }
     }
+  }
+}
+
+TEST(BaseCodes, TablesWhoseSumOverflowsKeepTheirRatiosInBothCodings) {
+  // Masses near the double maximum are finite, so a model may hold them, but their sum is not:
+  // both quantizers once coded such a table as all zeros (found by fuzz_roundtrip).
+  const std::vector<double> m = {6.5e307, 0.0, 1.5e308, 1e290, 1.6e308, 1e300};
+  EXPECT_TRUE(std::isinf(m[0] + m[2] + m[4]));
+  const std::optional<double> total = log_mass_sum(m);
+  ASSERT_TRUE(total.has_value());
+  // 6.5e307 + 1.5e308 + 1.6e308 + 1e290 + 1e300 = (3.75 + 1e-8 + 1e-18) e308
+  EXPECT_NEAR(*total, std::log(3.75 + 1e-8) + 308.0 * std::log(10.0), 1e-12);
+  EXPECT_FALSE(log_mass_sum(std::vector<double>{0.0, -1.0}).has_value());
+  EXPECT_EQ(*log_mass_sum(std::vector<double>{2.0, 6.0}), std::log(8.0));  // unchanged when finite
+
+  Model model = testing::make_model({0, 45, 90}, false);
+  Component& comp = model.slices[1].channel[2];
+  comp.pdf_h.assign(comp.pdf_h.size(), 0.0);  // the six masses alone: a span of 41.9 in log
+  std::copy(m.begin(), m.end(), comp.pdf_h.begin());
+  for (auto format : {ContainerSettings::Format::kV12, ContainerSettings::Format::kV13}) {
+    ContainerSettings cs;
+    cs.bits = 16;  // a step of 6.4e-4 in log mass over the span of 41.9
+    cs.format = format;
+    auto bytes = encode_model(model, cs);
+    ASSERT_TRUE(bytes.ok()) << bytes.status().message();
+    auto decoded = decode_model(*bytes);
+    ASSERT_TRUE(decoded.ok()) << decoded.status().message();
+    const std::vector<double>& d = decoded->slices[1].channel[2].pdf_h;
+    ASSERT_GT(d[4], 0.0) << "the table decoded as zeros";
+    for (std::size_t i : {0, 2, 3, 5}) {
+      EXPECT_NEAR(std::log(d[i] / d[4]), std::log(m[i] / m[4]), 2e-3) << i;
+    }
+    EXPECT_EQ(d[1], 0.0);
   }
 }
 

@@ -143,11 +143,10 @@ Positions positions(std::span<const double> masses, int bits) {
   Positions p;
   p.position.assign(masses.size(), 0.0);
   p.weight.assign(masses.size(), 0.0);
-  double sum = 0.0;
-  for (double m : masses) sum += m > 0.0 ? m : 0.0;
-  if (!(sum > 0.0) || !std::isfinite(sum)) return p;
   // Scaled to sum 1, as the decoder renormalizes: every log mass at or below 0.
-  const double log_sum = std::log(sum);
+  const std::optional<double> total = log_mass_sum(masses);
+  if (!total) return p;
+  const double log_sum = *total;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (double m : masses) {
     if (m > 0.0) {

@@ -27,6 +27,19 @@ double step_of(const QuantizedTable& t, int bits) {
 
 }  // namespace
 
+std::optional<double> log_mass_sum(std::span<const double> masses) {
+  double sum = 0.0, max = 0.0;
+  for (double m : masses) {
+    sum += m > 0.0 ? m : 0.0;
+    max = m > max ? m : max;
+  }
+  if (!(sum > 0.0)) return std::nullopt;
+  if (std::isfinite(sum)) return std::log(sum);  // as before, so that codes do not move
+  double scaled = 0.0;
+  for (double m : masses) scaled += m > 0.0 ? m / max : 0.0;
+  return std::log(max) + std::log(scaled);
+}
+
 namespace {
 
 // The shared quantizer; `round_range` turns the exact log range into the stored one (which must
@@ -37,10 +50,9 @@ QuantizedTable quantize_with(std::span<const double> masses, int bits, RoundRang
   t.codes.assign(masses.size(), 0);
   // The decoder renormalizes, so only ratios matter: quantize the table scaled to sum 1, which
   // also keeps every log mass at or below 0.
-  double sum = 0.0;
-  for (double m : masses) sum += m > 0.0 ? m : 0.0;
-  if (!(sum > 0.0) || !std::isfinite(sum)) return t;
-  const double log_sum = std::log(sum);
+  const std::optional<double> total = log_mass_sum(masses);
+  if (!total) return t;
+  const double log_sum = *total;
   double lo = std::numeric_limits<double>::infinity();
   double hi = -lo;
   for (double m : masses) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -28,6 +29,11 @@ struct QuantizedTable {
 inline std::uint32_t max_code(int bits) {
   return (std::uint32_t{1} << bits) - 1;
 }
+
+// The log of the masses' sum (nonpositive ones count as 0), or nothing when none is positive.
+// Finite even where the plain sum overflows (masses near the double maximum): then summed
+// relative to the largest mass. Both quantizers once coded such a table as all zeros.
+std::optional<double> log_mass_sum(std::span<const double> masses);
 
 // Masses must be finite and >= 0 (the caller checks). The table is scaled to sum 1 first, which
 // the decoder's renormalization reproduces; an all-zero table gives all codes 0.
