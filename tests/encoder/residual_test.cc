@@ -336,7 +336,8 @@ TEST(Residual, InterpolatedLevelsHoldEachBinsBound) {
   EXPECT_EQ(info->residual_max_error, 0.002 * 32 * (1 << res.max_row_shift()));
   expect_bin_centres_are_the_table(*model, dec, 41);  // an odd phi_d: the finest level
 
-  // In a 1.2 file the same settings write mode 3: the finest multiplier alone.
+  // In a 1.2 file the same settings write mode 3: the finest level alone coarser, at mode 3's
+  // multiplier 8.
   st.container.format = ContainerSettings::Format::kV12;
   Expected<EncodeResult> old = encode_table(uniform.source, st);
   ASSERT_TRUE(old.ok()) << old.status().message();
@@ -344,8 +345,34 @@ TEST(Residual, InterpolatedLevelsHoldEachBinsBound) {
   EXPECT_EQ(payload_of(old->bytes, kTagResidual)[0], 3);
   Expected<Model> old_model = decode_model(old->bytes);
   ASSERT_TRUE(old_model.ok()) << old_model.status().message();
-  EXPECT_EQ(old_model->residual.fine_multiplier, 32);
+  EXPECT_EQ(st.residual.mode3_fine_multiplier, 8);
+  EXPECT_EQ(old_model->residual.fine_multiplier, 8);
   EXPECT_EQ(old_model->residual.middle_multipliers, (std::array<std::uint8_t, 3>{1, 1, 1}));
+  EXPECT_EQ(old_model->residual.row_shift, internal::residual_row_shifts(0.002, 8));
+  // Without mode 3's own multiplier a 1.2 file takes the finest one.
+  st.residual.mode3_fine_multiplier = 0;
+  Expected<EncodeResult> plain = encode_table(uniform.source, st);
+  ASSERT_TRUE(plain.ok()) << plain.status().message();
+  EXPECT_EQ(decode_model(plain->bytes)->residual.fine_multiplier, 32);
+}
+
+// Multipliers outside the format's 1..64 are the caller's error, named in the message.
+TEST(Residual, OutOfRangeMultipliersAreRefused) {
+  const Encoded& uniform = encoded_at(0.002);
+  for (int which = 0; which < 3; ++which) {
+    EncoderSettings st = settings_for(0.002);
+    st.residual = target_residual_settings(0.002);
+    if (which == 0) st.residual.fine_multiplier = 65;
+    if (which == 1) st.residual.middle_multipliers[1] = 0;
+    if (which == 2) st.residual.mode3_fine_multiplier = 65;
+    EncodeResult r = uniform.result;
+    const Status s = internal::add_residual(uniform.source, st, &r);
+    ASSERT_EQ(s.code(), ErrorCode::kInvalidArgument) << which;
+    EXPECT_NE(s.message().find("each multiplier 1..64"), std::string::npos) << s.message();
+    EXPECT_NE(s.message().find(which == 2 ? "(65 in mode 3)" : "residual levels 3"),
+              std::string::npos)
+        << s.message();
+  }
 }
 
 // Where the residual is smooth, mode 3's codes are mostly 0: on a smooth residual over a fixed

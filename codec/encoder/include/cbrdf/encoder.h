@@ -54,12 +54,15 @@ struct ResidualSettings {
   /// to levels minus 1, has middle_multipliers[l - 1], each from 1 to 64. Any other than 1
   /// writes RESD mode 4, which needs container 1.3 (a 1.2 file takes them as 1).
   std::array<int, 3> middle_multipliers{1, 1, 1};
+  /// The finest level's multiplier where the middle ones cannot be written (a file whose base is
+  /// 1.2: RESD mode 3), 1..64; 0: fine_multiplier. Mode 3 alone wants a finer one than mode 4.
+  int mode3_fine_multiplier = 0;
 };
 
 /// The residual the rate control (--target-psnr, --target-bytes) and the report's ladder write at
 /// bound E of the finest rows: row steps, 3 levels, the finest level's bound 32, 16 or 8 times its
 /// row's (E from 1.5e-3, from 6e-4, below; at most 16 / E) and level 1's a quarter of that (in
-/// container 1.3: RESD mode 4).
+/// container 1.3: RESD mode 4); in a 1.2 file (mode 3) the finest level's 8 times its row's.
 ResidualSettings target_residual_settings(double max_error);
 
 /// Everything encode_table() needs.
