@@ -84,7 +84,8 @@ TextTable mean_table(const std::vector<LadderMaterial>& ladders) {
            "codes correcting an interpolation): |log1p decoded - log1p source| <= E in the rows "
            "that weigh most in rendering, up to 64 E where they weigh least, 32, 16 or 8 times "
            "that on the finest level (odd theta_d or phi_d; E from 1.5e-3, from 6e-4, below) and "
-           "a quarter of that on the next (1.3 only); ZFP: fixed accuracy on "
+           "a quarter of that on the next (1.3; in 1.2 the finest level 8 times); ZFP: fixed "
+           "accuracy on "
            "log1p of physical values (tolerance tol); lossless points are bit-exact (PSNR shown "
            "as the cap). Times: encode (fit included) and decode to a full table, seconds.";
   t.header = {"method",       "setting",       "materials", "KB",
