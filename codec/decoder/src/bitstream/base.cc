@@ -98,19 +98,6 @@ std::int64_t first_prediction(const std::vector<std::uint32_t>* previous_same_ax
   return previous_same_axis && !previous_same_axis->empty() ? (*previous_same_axis)[0] : top;
 }
 
-// Binary32 of a parameter inside the format's range: the nearest, or its neighbour towards the
-// inside when the nearest falls outside (Frank's upper end ln 2 is not a binary32).
-std::optional<float> parameter_f32(std::uint8_t family, double theta, double scale) {
-  const float f = float(theta);
-  for (float g : {f, std::nextafter(f, -std::numeric_limits<float>::infinity()),
-                  std::nextafter(f, std::numeric_limits<float>::infinity())}) {
-    if (std::isfinite(g) && check_channel_params(family, double(g), double(float(scale))).ok()) {
-      return g;
-    }
-  }
-  return std::nullopt;
-}
-
 template <class F>
 void for_each_component(const std::vector<Slice>& slices, F f) {
   for (std::size_t s = 0; s < slices.size(); ++s) {
@@ -136,6 +123,19 @@ struct PeekSink {
 };
 
 }  // namespace
+
+// Binary32 of a parameter inside the format's range: the nearest, or its neighbour towards the
+// inside when the nearest falls outside (Frank's upper end ln 2 is not a binary32).
+std::optional<float> parameter_f32(std::uint8_t family, double theta, double scale) {
+  const float f = float(theta);
+  for (float g : {f, std::nextafter(f, -std::numeric_limits<float>::infinity()),
+                  std::nextafter(f, std::numeric_limits<float>::infinity())}) {
+    if (std::isfinite(g) && check_channel_params(family, double(g), double(float(scale))).ok()) {
+      return g;
+    }
+  }
+  return std::nullopt;
+}
 
 namespace base_codes {
 

@@ -62,10 +62,10 @@ inline constexpr std::uint8_t kMarginalLayoutComponents = 1;
 inline constexpr int kMaxExtraComponents = 7;
 
 // RESD (spec 4.6, version 1.2): the residual layer's modes, predictor and limits.
-inline constexpr std::uint8_t kResidualModeLog = 0;     // bounded log1p residual
-inline constexpr std::uint8_t kResidualModeExact = 1;   // the exact table (lossless)
-inline constexpr std::uint8_t kResidualModeRows = 2;    // mode 0 with a step per row
-inline constexpr std::uint8_t kResidualModeInterp = 3;  // mode 2, interpolated levels
+inline constexpr std::uint8_t kResidualModeLog = 0;         // bounded log1p residual
+inline constexpr std::uint8_t kResidualModeExact = 1;       // the exact table (lossless)
+inline constexpr std::uint8_t kResidualModeRows = 2;        // mode 0 with a step per row
+inline constexpr std::uint8_t kResidualModeInterp = 3;      // mode 2, interpolated levels
 inline constexpr std::uint8_t kResidualModeLevelSteps = 4;  // mode 3, a step per level (1.3)
 inline constexpr int kMaxResidualLevels = 4;  // coarsest spacing 16: phi_d + h stays <= 180
 inline constexpr int kMaxFineMultiplier = 64;
@@ -165,6 +165,9 @@ Status decode_metadata_chunk(std::span<const std::uint8_t> payload,
                              std::vector<std::pair<std::string, std::string>>* out);
 
 std::vector<std::uint8_t> encode_header_chunk(const Model& model, bool compact);
+// The binary32 BASE holds for a parameter (spec 4.8) with K as float(scale): the nearest, or its
+// neighbour towards the inside of the family's range; nullopt when neither is inside it.
+std::optional<float> parameter_f32(std::uint8_t family, double theta, double scale);
 // Version 1.3: MODL and MARG in one chunk; nullopt when a parameter has no binary32 inside its
 // family's range (the writer then uses the 1.2 chunks).
 std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, int bits);
