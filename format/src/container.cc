@@ -436,6 +436,13 @@ Expected<ParsedContainer> parse_compact(std::span<const std::uint8_t> bytes, Byt
 
 }  // namespace
 
+Expected<ContainerLayout> read_container_version(std::span<const std::uint8_t> bytes) {
+  ContainerLayout layout;
+  ByteReader r(bytes);
+  CBRDF_RETURN_IF_ERROR(read_preamble(bytes, r, &layout));
+  return layout;
+}
+
 Expected<ParsedContainer> parse_container(std::span<const std::uint8_t> bytes) {
   ParsedContainer pc;
   ByteReader r(bytes);

@@ -529,7 +529,9 @@ inline Result run_roundtrip(Bytes bytes) {
     return r;
   }
   r.accept();
-  const bool base = (unsigned((*file)[10]) | unsigned((*file)[11]) << 8) >= 3;  // minor, spec 1
+  Expected<ContainerLayout> version = read_container_version(*file);
+  r.check(version.ok(), "the encoder's output has no valid header");
+  const bool base = version.ok() && version->minor >= 3;
   // kV13 writes 1.3 wherever BASE can hold the model (its own test: every parameter's binary32).
   r.check(base || settings.format != ContainerSettings::Format::kV13 ||
               !encode_base_chunk(model, settings.bits).has_value(),

@@ -103,6 +103,39 @@ TEST(Container, NewerMinorVersionIsAccepted) {
   EXPECT_EQ(pc->payloads[1], minimal_chunks()[1].payload);
 }
 
+TEST(Container, VersionIsReadFromTheHeaderAloneWithTheParsersChecks) {
+  for (std::uint16_t minor : {0, 2, 3}) {
+    Expected<std::vector<std::uint8_t>> file = write_container(minimal_chunks(), 3, minor);
+    ASSERT_TRUE(file.ok());
+    Expected<ContainerLayout> v = read_container_version(*file);
+    ASSERT_TRUE(v.ok()) << v.status().message();
+    EXPECT_EQ(v->major, kContainerMajorVersion);
+    EXPECT_EQ(v->minor, minor);
+    EXPECT_EQ(v->file_bytes, file->size());
+    EXPECT_TRUE(v->chunks.empty());
+    // The header alone is enough: the chunks are not read.
+    file->resize(kContainerHeaderBytes);
+    v = read_container_version(*file);
+    ASSERT_TRUE(v.ok()) << v.status().message();
+    EXPECT_EQ(v->minor, minor);
+  }
+  const std::vector<std::uint8_t> header = container_file_header(1, 3);
+  Expected<ContainerLayout> v =
+      read_container_version(std::span(header).first(kContainerHeaderBytes - 1));
+  EXPECT_EQ(v.status().code(), ErrorCode::kTruncated);
+  EXPECT_NE(v.status().message().find("minor version"), std::string::npos) << v.status().message();
+  std::vector<std::uint8_t> lf = header;
+  lf.erase(lf.begin() + 4);  // CR LF -> LF, as a text-mode transfer does
+  v = read_container_version(lf);
+  EXPECT_EQ(v.status().code(), ErrorCode::kBadSignature);
+  EXPECT_NE(v.status().message().find("CR LF was converted"), std::string::npos);
+  v = read_container_version(container_file_header(2, 0));
+  EXPECT_EQ(v.status().code(), ErrorCode::kUnsupported);
+  EXPECT_NE(v.status().message().find("use a newer cbrdf"), std::string::npos);
+  v = read_container_version(container_file_header(0, 3));
+  EXPECT_EQ(v.status().code(), ErrorCode::kCorrupt);
+}
+
 TEST(Container, SpecWorkedExampleCompactFraming) {
   // spec/container.md 2.2, "Worked example": a 1.3 file of 'HEAD' holding "hd" and the end chunk.
   std::vector<std::uint8_t> out = container_file_header(1, 3);

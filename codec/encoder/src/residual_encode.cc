@@ -10,6 +10,7 @@
 
 #include "bitstream/chunks.h"
 #include "bitstream/residual_levels.h"
+#include "cbrdf/container.h"
 
 namespace cbrdf::internal {
 namespace {
@@ -166,10 +167,10 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings, En
   model.residual.row_shift.clear();
   model.residual.levels = std::uint8_t(settings.residual.levels);
   // Middle levels' multipliers are RESD mode 4, version 1.3 only: a file its base writes as 1.2
-  // (the file's minor version, bytes 10-11 of the header, spec 1) takes them as 1, and the finest
-  // level mode 3's multiplier.
-  const bool v13 = result->bytes.size() >= 12 &&
-                   (unsigned(result->bytes[10]) | unsigned(result->bytes[11]) << 8) >= 3;
+  // takes them as 1, and the finest level mode 3's multiplier.
+  Expected<ContainerLayout> version = read_container_version(result->bytes);
+  if (!version.ok()) return version.status();
+  const bool v13 = version->minor >= 3;
   const int fine =
       !v13 && rs.mode3_fine_multiplier > 0 ? rs.mode3_fine_multiplier : rs.fine_multiplier;
   model.residual.fine_multiplier = std::uint8_t(rs.levels > 0 ? fine : 1);

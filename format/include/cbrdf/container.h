@@ -123,6 +123,12 @@ struct ParsedContainer {
 /// and nothing after the end chunk. Decompresses the known chunks.
 Expected<ParsedContainer> parse_container(std::span<const std::uint8_t> bytes);
 
+/// The version a file declares, from its 12-byte header alone (the size limit, the signature and
+/// the version checked as parse_container() checks them; no chunk is read, so chunks stays
+/// empty): for code that adds to a file it wrote and must know which codings the
+/// file may hold (e.g. RESD mode 4 only in a file of minor version 3 or more).
+Expected<ContainerLayout> read_container_version(std::span<const std::uint8_t> bytes);
+
 /// XXH64 (seed 0) of a chunk's 16 header bytes followed by its stored bytes.
 std::uint64_t chunk_checksum(std::span<const std::uint8_t> header_and_stored);
 /// The compact framing's file checksum: the low 32 bits of XXH64 (seed 0) of every byte of the
