@@ -405,7 +405,8 @@ Model golden13_residual6() {
 // Mode 3 (L = 3, m = 8, a step per row) in a 1.3 file, whose codes the writer range codes
 // (spec 4.6, "Range-coded codes"): a smooth target with noise, codes of both signs and sizes up
 // to tens in every level class, and an escape. With middle multipliers other than 1, mode 4.
-Model ranged_residual6(std::array<std::uint8_t, 3> middle, double band_noise) {
+Model ranged_residual6(std::array<std::uint8_t, 3> middle, double band_noise,
+                       bool shifts_along_theta_h = false) {
   Model m = golden13_frank6();
   Residual& r = m.residual;
   r.max_error = 0.01;
@@ -415,7 +416,10 @@ Model ranged_residual6(std::array<std::uint8_t, 3> middle, double band_noise) {
   r.fine_multiplier = 8;
   r.middle_multipliers = middle;
   r.row_shift.assign(kResidualRows, 0);
-  for (std::size_t row = 0; row < kResidualRows; ++row) r.row_shift[row] = std::uint8_t(row % 2);
+  for (std::size_t row = 0; row < kResidualRows; ++row) {
+    const std::size_t h = row / kThetaDBins;
+    r.row_shift[row] = std::uint8_t(shifts_along_theta_h ? (h / 10 + row) % 2 : row % 2);
+  }
   std::vector<double> target(kMaskBits, std::numeric_limits<double>::quiet_NaN());
   std::uint32_t lcg = 2026;
   for (int c = 0; c < kChannels; ++c) {
@@ -445,6 +449,13 @@ Model golden13_ranged_residual6() {
 // 1e-10), a libm rounding difference carried through steep residual steps.
 Model golden13_level_steps6() {
   return ranged_residual6({3, 2, 1}, 0.002);
+}
+
+// Mode 4 whose codes the writer predicts before range coding (spec 4.6, "Predicted codes",
+// predictor 3): channels alike, as in real materials, and row shifts that change along theta_h
+// (every tenth slab, by 1 either way), so neighbours are scaled up and down.
+Model golden13_predicted_residual6() {
+  return ranged_residual6({2, 1, 1}, 0.002, true);
 }
 
 // FNV-1a over the bit patterns of everything a decoded model holds.
@@ -489,6 +500,8 @@ std::uint64_t codes_fnv(const std::vector<std::int32_t>& codes) {
   return h;
 }
 constexpr std::uint64_t kRangedCodesFnv = 0x74ba0d728c343abdull;
+// The same over the predicted golden file's codes (after undoing the prediction).
+constexpr std::uint64_t kPredictedCodesFnv = 0x92450bbee5f843f2ull;
 
 // FNV-1a over the rebuilt residual R of the mode 4 golden file, a binary64 bit pattern (not a
 // byte) at a time: what test_base_spec.py's rebuild, written from the spec, must get too.
@@ -507,8 +520,8 @@ struct Golden13 {
   std::uint64_t hash;
   int bits;
   Model (*build)();
-  // False for the residual file written before the codes could be range coded (issue 28): the
-  // writer now range codes them, and the committed file must still decode as before.
+  // False for the residual files written before a coding the writer now prefers existed (range
+  // coding, issue 28; prediction before it): the committed file must still decode as before.
   bool writer_pins_resd = true;
 };
 
@@ -517,8 +530,11 @@ const Golden13 kGolden13[] = {
     {"v1.3-mixture3-b12.cbrdf", 0xc5917255596ad58aull, 12, golden13_mixture3},
     {"v1.3-residual-frank6-b10.cbrdf", 0x08c54933dc6314acull, 10, golden13_residual6, false},
     {"v1.3-ranged-residual-frank6-b10.cbrdf", 0x673eaac45303cdcbull, 10, golden13_ranged_residual6},
-    {"v1.3-level-steps-residual-frank6-b10.cbrdf", 0x7e12a1f3833c552full, 10,
-     golden13_level_steps6},
+    // Written with predictor 2, before predicted codes existed; the writer now predicts them.
+    {"v1.3-level-steps-residual-frank6-b10.cbrdf", 0x7e12a1f3833c552full, 10, golden13_level_steps6,
+     false},
+    {"v1.3-predicted-residual-frank6-b10.cbrdf", 0x231762ffc09b0461ull, 10,
+     golden13_predicted_residual6},
 };
 
 // CBRDF_REGENERATE_GOLDEN=NAME (or all) rewrites the file and prints its hash to record here.
@@ -572,6 +588,15 @@ TEST(BaseCodingGolden, CommittedFilesDecodeToRecordedModels) {
       EXPECT_EQ(committed->payloads[std::size_t(k)][1], kResidualPredictorRange);
       EXPECT_EQ(codes_fnv(decoded->residual.codes), kRangedCodesFnv)
           << std::hex << "0x" << codes_fnv(decoded->residual.codes);
+    }
+    if (std::string(g.name).find("predicted") != std::string::npos) {
+      const int k = committed->find(kTagResidual);
+      ASSERT_GE(k, 0);
+      EXPECT_EQ(committed->payloads[std::size_t(k)][0], kResidualModeLevelSteps);
+      EXPECT_EQ(committed->payloads[std::size_t(k)][1], kResidualPredictorRangePredicted);
+      const std::uint64_t f = codes_fnv(decoded->residual.codes);
+      if (regenerate) std::printf("%s codes 0x%016llxull\n", g.name, (unsigned long long)f);
+      EXPECT_EQ(f, kPredictedCodesFnv) << std::hex << "0x" << f;
     }
     if (std::string(g.name).find("level-steps") != std::string::npos) {
       const int k = committed->find(kTagResidual);

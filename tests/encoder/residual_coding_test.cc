@@ -88,8 +88,11 @@ std::uint32_t stored_bytes(const Bytes& file, std::string_view tag) {
   return pc->layout.chunks[std::size_t(pc->find(tag))].stored_bytes;
 }
 
-// Mode 3's fields before the stream: 32 header bytes, 8100 row shifts, levels and multiplier.
-constexpr std::size_t kLengthAt = 32 + kResidualRows + 2;
+// Mode 3's fields before the stream: 32 header bytes, 8100 row shifts, levels and multiplier,
+// then predictor 3's coefficients (L = 3: 4 groups, 1 for R and 3 for G and B, 2 bytes each).
+constexpr std::size_t kCoefficientsAt = 32 + kResidualRows + 2;
+constexpr std::size_t kCoefficientBytes = 4 * (1 + 3 + 3) * 2;
+constexpr std::size_t kLengthAt = kCoefficientsAt + kCoefficientBytes;
 constexpr std::size_t kStreamAt = kLengthAt + 4;
 
 std::uint32_t get_u32(const Bytes& b, std::size_t at) {
@@ -144,15 +147,16 @@ TEST(ResidualCoding, OutOfRangeCodesAreRefused) {
   }
 }
 
-// The writer: range-coded codes in the 1.3 file (smaller than the 1.2 coding), the 1.2 coding
-// in the 1.2 file, both decoding to the same codes and escapes.
+// The writer: range-coded codes in the 1.3 file (smaller than the 1.2 coding; here, with
+// channels alike, after prediction), the 1.2 coding in the 1.2 file, both decoding to the same
+// codes and escapes.
 TEST(ResidualCoding, WriterRangeCodesOnlyIn13Files) {
   const Bytes v12 = encode_as(model13(), ContainerSettings::Format::kV12);
   const Bytes p13 = resd_payload(file13()), p12 = resd_payload(v12);
   EXPECT_EQ(file13()[10], 3);
   EXPECT_EQ(v12[10], 2);
   EXPECT_EQ(p13[0], kResidualModeInterp);
-  EXPECT_EQ(p13[1], kResidualPredictorRange);
+  EXPECT_EQ(p13[1], kResidualPredictorRangePredicted);
   EXPECT_LE(p12[1], kResidualPredictorPhi);
   // 1.2 as before this coding existed: the payload of the varint writer.
   EXPECT_EQ(p12, encode_residual_chunk(model13(), false));
@@ -222,17 +226,34 @@ void expect_error(const Bytes& b, ErrorCode code, const std::string& needle) {
 
 TEST(ResidualCoding, MalformedStreamsAreRefused) {
   ASSERT_TRUE(decode_model(with_resd([](Bytes*) {})).ok());
+  ASSERT_EQ(resd_payload(file13())[1], kResidualPredictorRangePredicted);
   const std::uint32_t length = get_u32(resd_payload(file13()), kLengthAt);
   ASSERT_GT(length, 100u);
   // Only a 1.3 file may hold range-coded codes (a 1.2 reader knows predictors 0 and 1).
   {
     // (A 1.2 file cannot hold BASE either, so the payload is read as in a 1.2 file directly.)
-    Residual r;
-    Status s = decode_residual_chunk(resd_payload(file13()), 2, model13().not_measured, &r);
-    EXPECT_EQ(s.code(), ErrorCode::kCorrupt) << s.message();
-    EXPECT_NE(s.message().find("predictor 2"), std::string::npos) << s.message();
+    for (std::uint8_t predictor : {kResidualPredictorRange, kResidualPredictorRangePredicted}) {
+      Bytes p = resd_payload(file13());
+      p[1] = predictor;
+      Residual r;
+      Status s = decode_residual_chunk(p, 2, model13().not_measured, &r);
+      EXPECT_EQ(s.code(), ErrorCode::kCorrupt) << s.message();
+      EXPECT_NE(s.message().find("predictor " + std::to_string(predictor)), std::string::npos)
+          << s.message();
+    }
   }
-  expect_error(with_resd([](Bytes* p) { (*p)[1] = 3; }), ErrorCode::kCorrupt, "predictor 3");
+  expect_error(with_resd([](Bytes* p) { (*p)[1] = 4; }), ErrorCode::kCorrupt, "predictor 4");
+  // The payload ends inside the coefficients.
+  expect_error(with_resd([](Bytes* p) { p->resize(kCoefficientsAt + 5); }), ErrorCode::kTruncated,
+               "a prediction coefficient");
+  // G's finest-level coefficient for the previous slab at its largest (about 128): codes grow
+  // by that factor slab after slab until one leaves the format's range.
+  expect_error(with_resd([](Bytes* p) {
+                 const std::size_t g_level0_a = kCoefficientsAt + 4 * 2;
+                 (*p)[g_level0_a] = 0xFF;
+                 (*p)[g_level0_a + 1] = 0x7F;
+               }),
+               ErrorCode::kCorrupt, "predicted code of channel G");
   // The payload ends inside the stream, or inside the length field.
   expect_error(with_resd([](Bytes* p) { p->resize(kStreamAt + 50); }), ErrorCode::kTruncated,
                "coded stream");

@@ -250,7 +250,7 @@ def test_spec_decoder_reads_what_the_library_reads(tmp_path):
 def test_spec_framing_reads_the_golden_files_and_refuses_damage():
     golden = Path(__file__).resolve().parents[1] / "data" / "golden"
     files = sorted(golden.glob("v1.3-*.cbrdf"))
-    assert len(files) == 5
+    assert len(files) == 6
     for f in files:
         data = f.read_bytes()
         minor, ch, layout = chunks(data)
@@ -384,6 +384,41 @@ def decode_ranged_codes(stream, masked):
     return q
 
 
+def unpredict(r, masked, shifts, levels, coefficients):
+    """Spec 4.6, "Predicted codes": q = r + P slab by slab, P from the same bin of the slab before
+    (U), of the channel before (X) and of the channel before's slab before (XU), the neighbours in
+    the bin's row step (times 2^delta, floor division for delta < 0, left out beyond 8)."""
+    np = pytest.importorskip("numpy")
+    q = np.array(r, dtype=np.int64).reshape(3, 90, 90, 180)
+    meas = ~np.array(masked, dtype=bool).reshape(3, 90, 90, 180)
+    shift = np.frombuffer(bytes(shifts), dtype=np.uint8).astype(np.int64).reshape(90, 90)
+    d = np.arange(90)[:, None]
+    p = np.arange(180)[None, :]
+    both = d | p
+    level = np.zeros((90, 180), dtype=np.int64)
+    for l in range(1, levels + 1):  # min(tz(d), tz(p), L), tz(0) = L
+        level += (both % (1 << l) == 0)
+    zero = np.zeros((90, 180), dtype=np.int64)
+
+    def scaled(v, delta):
+        delta = np.broadcast_to(delta[:, None], v.shape)
+        up = v * (np.int64(1) << np.clip(delta, 0, 8))
+        down = v >> np.clip(-delta, 0, 8)
+        return np.where(np.abs(delta) > 8, 0, np.where(delta >= 0, up, down))
+
+    for c in range(3):
+        k = np.array(coefficients[c], dtype=np.int64)[level]  # (90, 180, 3)
+        for h in range(90):
+            delta = shift[h - 1] - shift[h] if h > 0 else None
+            u = scaled(q[c, h - 1], delta) if h > 0 else zero
+            x = q[c - 1, h] if c > 0 else zero
+            xu = scaled(q[c - 1, h - 1], delta) if c > 0 and h > 0 else zero
+            P = (k[..., 0] * u + k[..., 1] * x + k[..., 2] * xu + 128) >> 8
+            q[c, h] = np.where(meas[c, h], q[c, h] + P, q[c, h])
+            assert (np.abs(q[c, h]) <= 1 << 28).all()
+    return [int(v) for v in q.reshape(-1)]
+
+
 def golden_resd(name):
     """RESD of a 1.3 golden file read from the spec: mode, header fields, row shifts, levels and
     their multipliers (modes 3 and 4), the range-coded codes and the escapes' count."""
@@ -408,16 +443,27 @@ def golden_resd(name):
     assert sum(masked) == count
     resd = ch["RESD"]
     mode, predictor = resd[0], resd[1]
-    assert mode in (3, 4) and predictor == 2
+    assert mode in (3, 4) and predictor in (2, 3)
     E, step, knee = struct.unpack_from("<3d", resd, 4)
     escapes = struct.unpack_from("<I", resd, 28)[0]
     shifts = resd[32:32 + 8100]
     levels, fine = resd[32 + 8100], resd[32 + 8101]
     middle = list(resd[32 + 8102:32 + 8102 + (levels - 1 if mode == 4 else 0)])
     at = 32 + 8102 + len(middle)
+    coefficients = None
+    if predictor == 3:  # per channel, per level 0..L: a (R), or a, b, g (G, B), i16 each
+        coefficients = []
+        for c in range(3):
+            n = (1 if c == 0 else 3) * (levels + 1)
+            k = struct.unpack_from("<%dh" % n, resd, at)
+            at += 2 * n
+            coefficients.append([tuple(k[g:g + 1]) + (0, 0) if c == 0 else tuple(k[3 * g:3 * g + 3])
+                                 for g in range(levels + 1)])
     length = struct.unpack_from("<I", resd, at)[0]
     stream = resd[at + 4:at + 4 + length]
     q = decode_ranged_codes(stream, masked)
+    if coefficients is not None:
+        q = unpredict(q, masked, shifts, levels, coefficients)
     # The escapes end the payload: varint gap, f64 each.
     rest = resd[at + 4 + length:]
     k = 0
@@ -439,6 +485,22 @@ def test_spec_decoder_reads_range_coded_residual_codes():
         for byte in struct.pack("<i", v):
             h = ((h ^ byte) * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
     assert any(q) and h == RANGED_CODES_FNV, hex(h)
+
+
+PREDICTED_GOLDEN = "v1.3-predicted-residual-frank6-b10.cbrdf"
+PREDICTED_CODES_FNV = 0x92450BBEE5F843F2
+
+
+def test_spec_decoder_reads_predicted_codes():
+    """Predictor 3: the range-coded stream, then the prediction undone as the spec says, gives
+    the codes the C++ decoder gets (base_coding_test pins the same FNV-1a)."""
+    r = golden_resd(PREDICTED_GOLDEN)
+    assert r["mode"] == 4
+    h = 0xCBF29CE484222325
+    for v in r["q"]:
+        for byte in struct.pack("<i", v):
+            h = ((h ^ byte) * 0x100000001B3) & 0xFFFFFFFFFFFFFFFF
+    assert h == PREDICTED_CODES_FNV, hex(h)
 
 
 def rebuild_levels(r):

@@ -73,6 +73,9 @@ inline constexpr std::uint8_t kResidualPredictorNone = 0;  // codes as they are
 inline constexpr std::uint8_t kResidualPredictorPhi = 1;   // from the previous phi_d bin
 // Version 1.3: the codes range coded with contexts (residual_codes.h), in files of minor >= 3.
 inline constexpr std::uint8_t kResidualPredictorRange = 2;
+// Version 1.3: the range-coded codes after a prediction from the previous slab and channel
+// (residual_prediction.h), in files of minor >= 3.
+inline constexpr std::uint8_t kResidualPredictorRangePredicted = 3;
 inline constexpr double kMinResidualError = 1e-6;
 inline constexpr double kMaxResidualError = 16.0;
 // Down to 1e-300 so that a table at any scale has a knee below its values (issue 31: a table

@@ -7,7 +7,8 @@
 // shift per (theta_h, theta_d) row before the codes; mode 3 adds the level count and the finest
 // level's multiplier after them, and its codes correct an interpolation (residual_levels.h); mode
 // 4 (version 1.3) adds a multiplier for each level between the finest and the coarsest.
-// In version 1.3 the codes may instead be range coded with contexts (residual_codes.h).
+// In version 1.3 the codes may instead be range coded with contexts (residual_codes.h), either
+// as they are or after a prediction across slabs and channels (residual_prediction.h).
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -21,6 +22,7 @@
 #include "exact_table.h"
 #include "residual_codes.h"
 #include "residual_levels.h"
+#include "residual_prediction.h"
 #include "zstd_util.h"
 
 namespace cbrdf {
@@ -63,12 +65,14 @@ double entropy_bits(const std::vector<std::uint8_t>& s) {
 
 Status check_header(std::uint8_t predictor, std::uint16_t reserved, double max_error, double step,
                     double knee, std::uint32_t escapes, std::uint16_t file_minor) {
-  const std::uint8_t top = file_minor >= 3 ? kResidualPredictorRange : kResidualPredictorPhi;
+  const std::uint8_t top =
+      file_minor >= 3 ? kResidualPredictorRangePredicted : kResidualPredictorPhi;
   if (predictor > top || reserved != 0) {
-    return error(ErrorCode::kCorrupt, "predictor " + std::to_string(predictor) + " / reserved " +
-                                          std::to_string(reserved) +
-                                          ": the predictor must be 0 or 1 (2, range-coded " +
-                                          "codes, from version 1.3 on) and the reserved field 0");
+    return error(ErrorCode::kCorrupt,
+                 "predictor " + std::to_string(predictor) + " / reserved " +
+                     std::to_string(reserved) +
+                     ": the predictor must be 0 or 1 (2, range-coded codes, and 3, range-coded " +
+                     "codes after prediction, from version 1.3 on) and the reserved field 0");
   }
   if (!(max_error >= kMinResidualError && max_error <= kMaxResidualError)) {
     return error(ErrorCode::kNumeric, "max error " + number_text(max_error) + " is outside " +
@@ -294,12 +298,21 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   out->codes.assign(kMaskBits, 0);
   std::span<const std::uint8_t> rest;
   std::uint64_t codes_at = r.offset();
-  if (predictor == kResidualPredictorRange) {
+  if (predictor == kResidualPredictorRange || predictor == kResidualPredictorRangePredicted) {
+    internal::CodePrediction prediction;
+    if (predictor == kResidualPredictorRangePredicted) {
+      CBRDF_RETURN_IF_ERROR(
+          internal::read_prediction(r, internal::prediction_groups(*out), &prediction));
+    }
     std::uint32_t length = 0;
     CBRDF_RETURN_IF_ERROR(r.u32(&length, "coded stream length"));
     codes_at = r.offset();
     CBRDF_RETURN_IF_ERROR(r.bytes(length, &rest, "coded stream"));
     CBRDF_RETURN_IF_ERROR(internal::decode_residual_codes(rest, codes_at, mask, out->codes.data()));
+    if (predictor == kResidualPredictorRangePredicted) {
+      CBRDF_RETURN_IF_ERROR(
+          internal::unpredict_codes(out->codes.data(), mask, *out, prediction, codes_at));
+    }
     CBRDF_RETURN_IF_ERROR(read_escapes(r, escapes, mask, &out->escapes));
     CBRDF_RETURN_IF_ERROR(check_trailing(r.remaining(), file_minor));
   } else {
@@ -316,9 +329,11 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
 
 namespace {
 
-// The payload with the codes as given (kResidualPredictorRange: its u32 length first).
+// The payload with the codes as given (range-coded predictors: their u32 length first, after the
+// coefficients of predictor 3).
 std::vector<std::uint8_t> residual_payload(const Residual& res, std::uint8_t predictor,
-                                           const std::vector<std::uint8_t>& codes) {
+                                           const std::vector<std::uint8_t>& codes,
+                                           const internal::CodePrediction* prediction = nullptr) {
   ByteWriter w;
   // Mode 3 always carries row shifts (check_residual: all 0 for one step).
   w.u8(res.middle_steps()      ? kResidualModeLevelSteps
@@ -339,7 +354,10 @@ std::vector<std::uint8_t> residual_payload(const Residual& res, std::uint8_t pre
       w.u8(res.middle_multipliers[std::size_t(l - 1)]);
     }
   }
-  if (predictor == kResidualPredictorRange) w.u32(std::uint32_t(codes.size()));
+  if (predictor == kResidualPredictorRangePredicted) internal::write_prediction(w, *prediction);
+  if (predictor != kResidualPredictorNone && predictor != kResidualPredictorPhi) {
+    w.u32(std::uint32_t(codes.size()));
+  }
   w.bytes(codes);
   std::uint64_t next = 0;
   for (const ResidualEscape& e : res.escapes) {
@@ -377,7 +395,26 @@ std::vector<std::uint8_t> encode_residual_chunk(const Model& model, bool range_c
   std::vector<std::uint8_t> coded =
       residual_payload(res, kResidualPredictorRange,
                        internal::encode_residual_codes(res.codes.data(), model.not_measured));
-  return stored_size(coded) < stored_size(varints) ? coded : varints;
+  std::size_t best = stored_size(varints);
+  std::vector<std::uint8_t>* chosen = &varints;
+  if (const std::size_t n = stored_size(coded); n < best) {
+    best = n;
+    chosen = &coded;
+  }
+  // Predictor 3 where the fit finds anything to predict and the chunk comes out smaller.
+  std::vector<std::uint8_t> predicted;
+  const internal::CodePrediction prediction =
+      internal::fit_prediction(res.codes.data(), model.not_measured, res);
+  if (prediction.any()) {
+    std::vector<std::int32_t> r(kMaskBits);
+    if (internal::predict_codes(res.codes.data(), model.not_measured, res, prediction, r.data())) {
+      predicted = residual_payload(res, kResidualPredictorRangePredicted,
+                                   internal::encode_residual_codes(r.data(), model.not_measured),
+                                   &prediction);
+      if (stored_size(predicted) < best) chosen = &predicted;
+    }
+  }
+  return std::move(*chosen);
 }
 
 }  // namespace cbrdf
