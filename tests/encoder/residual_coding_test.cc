@@ -161,6 +161,11 @@ TEST(ResidualCoding, WriterRangeCodesOnlyIn13Files) {
   // 1.2 as before this coding existed: the payload of the varint writer.
   EXPECT_EQ(p12, encode_residual_chunk(model13(), false));
   EXPECT_LT(stored_bytes(file13(), kTagResidual), stored_bytes(v12, kTagResidual));
+  // inspect_container reports the coding (`cbrdf info`'s "codes:" line).
+  Expected<ContainerInfo> i13 = inspect_container(file13()), i12 = inspect_container(v12);
+  ASSERT_TRUE(i13.ok() && i12.ok());
+  EXPECT_EQ(i13->residual_coding, kResidualPredictorRangePredicted);
+  EXPECT_EQ(i12->residual_coding, p12[1]);
   for (const Bytes* f : {&file13(), &v12}) {
     Expected<Model> got = decode_model(*f);
     ASSERT_TRUE(got.ok()) << got.status().message();
@@ -201,6 +206,9 @@ TEST(ResidualCoding, WriterTakesTheSmallerCoding) {
   Expected<Model> got = decode_model(f);
   ASSERT_TRUE(got.ok()) << got.status().message();
   EXPECT_EQ(got->residual.codes, m.residual.codes);
+  Expected<ContainerInfo> info = inspect_container(f);
+  ASSERT_TRUE(info.ok());
+  EXPECT_EQ(info->residual_coding, chosen[1]);
 }
 
 // Rewrites RESD's payload of the 1.3 file (checksums valid), at the given minor version.

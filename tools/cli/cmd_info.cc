@@ -80,6 +80,14 @@ int info_container(const InfoOptions& o, const std::vector<std::uint8_t>& bytes)
             "  codes correct an interpolation of coarser bins; each level finer than the "
             "coarsest has a multiple of its row's bound\n");
       }
+      static constexpr const char* kCodings[] = {
+          "zigzag varints through zstd", "zigzag varints after the previous phi_d bin's code",
+          "range coded with contexts",
+          "range coded after a prediction from the previous theta_h slab and channel"};
+      if (info->residual_coding >= 0 && info->residual_coding < 4) {
+        std::printf("  codes: %s (predictor %d)\n", kCodings[info->residual_coding],
+                    info->residual_coding);
+      }
     }
   }
   std::printf("evaluator: %zu bytes in memory (the MERL table it replaces: %zu)\n", evaluator_bytes,

@@ -40,6 +40,9 @@ nlohmann::json container_info_json(const ContainerInfo& info, std::size_t evalua
         {"knee", info.residual_knee},
         {"escapes", info.residual_escapes},
         {"stored_bytes", residual_chunk_bytes(info)}};
+    // spec 4.6's predictor byte: 0 varints, 1 varints after the previous phi_d bin, 2 range
+    // coded, 3 range coded after a prediction across slabs and channels.
+    if (info.residual_coding >= 0) j["residual"]["coding"] = info.residual_coding;
   }
   j["evaluator_bytes"] = evaluator_bytes;
   for (const SliceParams& s : info.slices) {

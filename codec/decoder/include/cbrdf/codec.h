@@ -57,7 +57,11 @@ struct ContainerInfo {
   int residual_mode = -1;
   double residual_max_error = 0;  ///< its bound on |log1p(decoded / knee) - log1p(source / knee)|
   double residual_min_error = 0;  ///< modes 2, 3: the finest row's bound (else residual_max_error)
-  double residual_knee = 0;       ///< in stored units (spec 4.6)
+  /// How modes 0 and 2-4 code their codes (RESD's predictor byte, spec 4.6): 0 zigzag varints, 1
+  /// the same after the previous phi_d bin, 2 range coded, 3 range coded after a prediction across
+  /// theta_h slabs and channels; -1 in mode 1 and without a residual layer.
+  int residual_coding = -1;
+  double residual_knee = 0;                                   ///< in stored units (spec 4.6)
   std::size_t residual_escapes = 0;                           ///< bins it stores exactly
   std::vector<std::pair<std::string, std::string>> metadata;  ///< mETA keys in file order
 };

@@ -161,9 +161,11 @@ Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
                          std::vector<Slice>* slices, int* bits);
 Status decode_mask_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
                          NotMeasured* out, MaskFields* fields);
-// Needs the mask (decoded before): codes are stored for measured bins only.
+// Needs the mask (decoded before): codes are stored for measured bins only. `predictor`, when
+// given, receives the chunk's predictor byte (modes 0, 2-4; untouched in mode 1).
 Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
-                             const NotMeasured& mask, Residual* out);
+                             const NotMeasured& mask, Residual* out,
+                             std::uint8_t* predictor_out = nullptr);
 Status decode_metadata_chunk(std::span<const std::uint8_t> payload,
                              std::vector<std::pair<std::string, std::string>>* out);
 

@@ -59,12 +59,13 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
 
   if (resd >= 0) {
     // The chunk is new in 1.2: an older file that holds it was not written by a valid writer.
-    st = minor >= 2
-             ? decode_residual_chunk(payload(resd), minor, d.model.not_measured, &d.model.residual)
-             : error(ErrorCode::kCorrupt,
-                     "'RESD' needs container version 1.2 or later, "
-                     "the file is 1." +
-                         std::to_string(minor));
+    std::uint8_t predictor = 0;
+    st = minor >= 2 ? decode_residual_chunk(payload(resd), minor, d.model.not_measured,
+                                            &d.model.residual, &predictor)
+                    : error(ErrorCode::kCorrupt,
+                            "'RESD' needs container version 1.2 or later, "
+                            "the file is 1." +
+                                std::to_string(minor));
     if (!st.ok()) return st.with_context(where(pc, resd));
     const Residual& res = d.model.residual;
     d.info.residual_mode = res.exact               ? kResidualModeExact
@@ -77,6 +78,7 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
     d.info.residual_max_error = res.bound();
     d.info.residual_min_error = std::ldexp(res.max_error, res.min_row_shift());
     d.info.residual_knee = d.model.residual.knee;
+    d.info.residual_coding = res.exact ? -1 : int(predictor);
     d.info.residual_escapes = d.model.residual.escapes.size();
   }
 

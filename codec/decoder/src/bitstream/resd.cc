@@ -259,7 +259,7 @@ Status read_exact(std::span<const std::uint8_t> rest, const NotMeasured& mask, R
 }  // namespace
 
 Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_t file_minor,
-                             const NotMeasured& mask, Residual* out) {
+                             const NotMeasured& mask, Residual* out, std::uint8_t* predictor_out) {
   ByteReader r = payload_reader(payload);
   std::uint8_t mode = 0, predictor = 0;
   std::uint16_t reserved = 0;
@@ -286,6 +286,7 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   CBRDF_RETURN_IF_ERROR(r.u32(&escapes, "escape count"));
   CBRDF_RETURN_IF_ERROR(
       check_header(predictor, reserved, out->max_error, out->step, out->knee, escapes, file_minor));
+  if (predictor_out != nullptr) *predictor_out = predictor;
   out->row_shift.clear();
   out->levels = 0;
   out->fine_multiplier = 1;
