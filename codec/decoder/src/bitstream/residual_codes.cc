@@ -138,30 +138,6 @@ constexpr std::array<std::uint8_t, kPhiDBins> make_iota() {
 }
 constexpr std::array<std::uint8_t, kPhiDBins> kAllBins = make_iota();
 
-// The measured phi_d bins of the row whose first bin is mask bit b0, in increasing order: all of
-// them for most rows (kAllBins), else those written to `list`. Empty: none is measured.
-std::span<const std::uint8_t> measured_bins(const NotMeasured& mask, std::size_t b0,
-                                            std::array<std::uint8_t, kPhiDBins>& list) {
-  std::array<std::uint64_t, 3> w{};
-  const std::size_t word = b0 >> 6, shift = b0 & 63;
-  const std::size_t words = mask.bits.size();
-  for (std::size_t j = 0; j < 3; ++j) {
-    const std::uint64_t lo = word + j < words ? mask.bits[word + j] : ~std::uint64_t{0};
-    const std::uint64_t hi = shift != 0 && word + j + 1 < words ? mask.bits[word + j + 1] : 0;
-    w[j] = shift != 0 ? (lo >> shift) | (hi << (64 - shift)) : lo;  // not-measured bits
-  }
-  constexpr std::uint64_t kLast = (std::uint64_t{1} << (kPhiDBins - 128)) - 1;
-  w[2] &= kLast;
-  if ((w[0] | w[1] | w[2]) == 0) return kAllBins;
-  std::size_t n = 0;
-  for (std::size_t j = 0; j < 3; ++j) {
-    for (std::uint64_t m = ~w[j] & (j == 2 ? kLast : ~std::uint64_t{0}); m != 0; m &= m - 1) {
-      list[n++] = std::uint8_t(64 * j + std::size_t(std::countr_zero(m)));
-    }
-  }
-  return {list.data(), n};
-}
-
 // The sign contexts of row (c, h, d): from the signs of the same bin one and two slabs before and
 // in the channel before (a row of zeros where there is none).
 class SignRows {
@@ -234,6 +210,28 @@ bool for_each_row(const std::int32_t* q, const NotMeasured& mask, const Coded& c
 }
 
 }  // namespace
+
+std::span<const std::uint8_t> measured_bins(const NotMeasured& mask, std::size_t b0,
+                                            std::array<std::uint8_t, kPhiDBins>& list) {
+  std::array<std::uint64_t, 3> w{};
+  const std::size_t word = b0 >> 6, shift = b0 & 63;
+  const std::size_t words = mask.bits.size();
+  for (std::size_t j = 0; j < 3; ++j) {
+    const std::uint64_t lo = word + j < words ? mask.bits[word + j] : ~std::uint64_t{0};
+    const std::uint64_t hi = shift != 0 && word + j + 1 < words ? mask.bits[word + j + 1] : 0;
+    w[j] = shift != 0 ? (lo >> shift) | (hi << (64 - shift)) : lo;  // not-measured bits
+  }
+  constexpr std::uint64_t kLast = (std::uint64_t{1} << (kPhiDBins - 128)) - 1;
+  w[2] &= kLast;
+  if ((w[0] | w[1] | w[2]) == 0) return kAllBins;
+  std::size_t n = 0;
+  for (std::size_t j = 0; j < 3; ++j) {
+    for (std::uint64_t m = ~w[j] & (j == 2 ? kLast : ~std::uint64_t{0}); m != 0; m &= m - 1) {
+      list[n++] = std::uint8_t(64 * j + std::size_t(std::countr_zero(m)));
+    }
+  }
+  return {list.data(), n};
+}
 
 std::vector<std::uint8_t> encode_residual_codes(const std::int32_t* q, const NotMeasured& mask) {
   auto m = std::make_unique<Model>();

@@ -7,6 +7,7 @@
 // 0.03, 0-45% at 0.01 and 0-25% at 1e-4 (the writer keeps the varints where they win).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -15,6 +16,12 @@
 #include "cbrdf/status.h"
 
 namespace cbrdf::internal {
+
+// The measured phi_d bins of the row whose first bin is mask bit b0, in increasing order: all of
+// them for most rows (a static list of 0..179), else those written to `list`. Empty: none is
+// measured. The codes' coder and the prediction of predictor 3 (residual_prediction.h) visit these.
+std::span<const std::uint8_t> measured_bins(const NotMeasured& mask, std::size_t b0,
+                                            std::array<std::uint8_t, kPhiDBins>& list);
 
 // The codes q (kMaskBits, channel-major MERL order) of the bins `mask` does not mark, coded.
 std::vector<std::uint8_t> encode_residual_codes(const std::int32_t* q, const NotMeasured& mask);

@@ -8,6 +8,7 @@
 #include "byte_reader.h"
 #include "byte_writer.h"
 #include "chunks.h"
+#include "residual_codes.h"
 
 namespace cbrdf::internal {
 namespace {
@@ -20,20 +21,6 @@ constexpr int kFeatures = 3;
 inline std::int64_t scaled(std::int32_t v, int delta) {
   if (delta > kPredictionShiftLimit || delta < -kPredictionShiftLimit) return 0;
   return delta >= 0 ? std::int64_t(v) * (std::int64_t{1} << delta) : std::int64_t(v) >> -delta;
-}
-
-// Whether none of the 180 mask bits from b0 on is set.
-bool row_fully_measured(const NotMeasured& mask, std::size_t b0) {
-  const std::size_t words = mask.bits.size();
-  for (std::size_t b = b0; b < b0 + kPhiDBins;) {
-    const std::size_t w = b >> 6, off = b & 63;
-    const std::size_t n = std::min<std::size_t>(64 - off, b0 + kPhiDBins - b);
-    const std::uint64_t bits = w < words ? mask.bits[w] >> off : 0;
-    const std::uint64_t m = n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1;
-    if ((bits & m) != 0) return false;
-    b += n;
-  }
-  return true;
 }
 
 int row_shift_of(const Residual& res, std::size_t row) {
@@ -237,12 +224,11 @@ Status store_row(const T* v, const NotMeasured& mask, std::size_t b0, std::int32
     lo = std::min(lo, v[p]);
     hi = std::max(hi, v[p]);
   }
-  const bool full = row_fully_measured(mask, b0);
+  std::array<std::uint8_t, kPhiDBins> list;
+  const std::span<const std::uint8_t> bins = measured_bins(mask, b0, list);
   if (lo < -kMaxResidualCode || hi > kMaxResidualCode) {
-    for (std::size_t p = 0; p < kPhiDBins; ++p) {
-      if (mask_bit(mask.bits, b0 + p) || (v[p] >= -kMaxResidualCode && v[p] <= kMaxResidualCode)) {
-        continue;
-      }
+    for (const std::size_t p : bins) {
+      if (v[p] >= -kMaxResidualCode && v[p] <= kMaxResidualCode) continue;
       return error(
           ErrorCode::kCorrupt,
           "the predicted code of channel " + std::string(kChannelNames[b0 / kBinsPerChannel]) +
@@ -250,12 +236,10 @@ Status store_row(const T* v, const NotMeasured& mask, std::size_t b0, std::int32
               ", outside -2^28..2^28 (stream at payload offset " + std::to_string(at) + ")");
     }
   }
-  if (full) {
+  if (bins.size() == kPhiDBins) {
     for (std::size_t p = 0; p < kPhiDBins; ++p) out[p] = std::int32_t(v[p]);
   } else {
-    for (std::size_t p = 0; p < kPhiDBins; ++p) {
-      if (!mask_bit(mask.bits, b0 + p)) out[p] = std::int32_t(v[p]);
-    }
+    for (const std::size_t p : bins) out[p] = std::int32_t(v[p]);
   }
   return ok_status();
 }
