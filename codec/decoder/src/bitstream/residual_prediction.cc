@@ -37,9 +37,11 @@ std::vector<std::uint8_t> group_table(const Residual& res) {
 
 // Calls f(b, channel, group, U', X, XU') for every measured bin b in coding order (channel,
 // theta_h, theta_d, phi_d), with the neighbours read from `q` when f is called: the decoder turns q
-// into codes in place, so the neighbours are already codes.
+// into codes in place, so the neighbours are already codes. With phi_step > 1, only the bins whose
+// phi_d index is a multiple of it (the fit's sample: every level keeps its share).
 template <class F>
-void for_each_measured(const std::int32_t* q, const NotMeasured& mask, const Residual& res, F&& f) {
+void for_each_measured(const std::int32_t* q, const NotMeasured& mask, const Residual& res, F&& f,
+                       std::size_t phi_step = 1) {
   const std::vector<std::uint8_t> group = group_table(res);
   for (int c = 0; c < kChannels; ++c) {
     const std::size_t cb = std::size_t(c) * kBinsPerChannel;
@@ -48,7 +50,7 @@ void for_each_measured(const std::int32_t* q, const NotMeasured& mask, const Res
         const std::size_t row = std::size_t(h) * kThetaDBins + std::size_t(d);
         const int delta = h > 0 ? row_shift_of(res, row - kThetaDBins) - row_shift_of(res, row)
                                 : kPredictionShiftLimit + 1;
-        for (std::size_t p = 0; p < kPhiDBins; ++p) {
+        for (std::size_t p = 0; p < kPhiDBins; p += phi_step) {
           const std::size_t i = row * kPhiDBins + p, b = cb + i;
           if (mask_bit(mask.bits, b)) continue;
           const std::int64_t u = h > 0 ? scaled(q[b - kSlab], delta) : 0;
@@ -140,6 +142,12 @@ CodePrediction fit_prediction(const std::int32_t* q, const NotMeasured& mask,
   // which follows the bulk of small codes rather than the few largest (measured: 0.3 to 4% fewer
   // bytes than least squares on four materials' ladder codes at E = 1e-4).
   std::vector<std::array<double, kFeatures>> k(n, {0, 0, 0});
+  // The fit and its check read every kFitPhiStep-th phi_d bin: a quarter of the samples (over a
+  // million at full measurement) settle coefficients stored in 1/256, and the writer keeps the
+  // predictor only where the whole chunk comes out smaller. Measured against the full fit (four
+  // materials' ladder files at E 1e-4 and 1e-3): files 0.9974x to 1.0004x, 0.9991x in total, the
+  // encode 0.94x; under the sanitizers the fit was half the time of a fuzzer's residual roundtrip.
+  constexpr std::size_t kFitPhiStep = 4;
   constexpr int kIterations = 6;
   for (int it = 0; it < kIterations; ++it) {
     std::vector<std::array<std::array<double, kFeatures>, kFeatures>> a(n);
@@ -148,6 +156,7 @@ CodePrediction fit_prediction(const std::int32_t* q, const NotMeasured& mask,
     for_each_measured(
         q, mask, residual,
         [&](std::size_t b, int c, int g, std::int64_t u, std::int64_t x, std::int64_t xu) {
+          if (u == 0 && x == 0 && xu == 0) return;  // adds nothing to a or y
           const std::size_t s = std::size_t(c * p.groups + g);
           const double f[kFeatures] = {double(u), double(x), double(xu)};
           const double v = double(q[b]);
@@ -162,7 +171,8 @@ CodePrediction fit_prediction(const std::int32_t* q, const NotMeasured& mask,
               a[s][std::size_t(i)][std::size_t(j)] += w * f[i] * f[j];
             }
           }
-        });
+        },
+        kFitPhiStep);
     for (std::size_t s = 0; s < n; ++s) {
       const int features = s < std::size_t(p.groups) ? 1 : kFeatures;  // R: U only
       double m[kFeatures][kFeatures];
@@ -190,7 +200,8 @@ CodePrediction fit_prediction(const std::int32_t* q, const NotMeasured& mask,
         plain[s] += std::log2(1.0 + std::abs(double(q[b])));
         const std::int64_t r = std::int64_t(q[b]) - prediction(p.coef[s], u, x, xu);
         predicted[s] += std::log2(1.0 + std::abs(double(r)));
-      });
+      },
+      kFitPhiStep);
   for (std::size_t s = 0; s < n; ++s) {
     if (!(predicted[s] < 0.99 * plain[s])) p.coef[s] = {0, 0, 0};
   }

@@ -28,7 +28,6 @@ class SliceCost final : public ceres::SizedCostFunction<3, 1, 1> {
       : s_(s),
         m_(m),
         copula_(copula),
-        vbar_(vbar),
         inv_vbar_(1.0 / vbar),
         physical_vbar_(vbar * s.unit),
         loss_(loss) {}
@@ -96,7 +95,7 @@ class SliceCost final : public ceres::SizedCostFunction<3, 1, 1> {
   const SliceData& s_;
   const Marginals& m_;
   GridCopula& copula_;
-  double vbar_, inv_vbar_, physical_vbar_;  // the log loss is in physical units
+  double inv_vbar_, physical_vbar_;  // the log loss is in physical units
   FitLoss loss_;
 };
 
