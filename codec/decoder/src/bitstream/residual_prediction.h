@@ -53,9 +53,9 @@ void write_prediction(ByteWriter& w, const CodePrediction& p);
 Status read_prediction(ByteReader& r, int groups, CodePrediction* out);
 
 // The writer's coefficients for codes q (kMaskBits, 0 at not-measured bins): per group, a
-// weighted least-absolute-deviation fit (iteratively reweighted least squares), kept only where
-// it lowers sum log2(1 + |code|) (the size the range coder's exponents pay) by 1% or more. All zero
-// when prediction does not help.
+// weighted least-absolute-deviation fit (iteratively reweighted least squares) on every fourth
+// phi_d bin, kept only where it lowers sum log2(1 + |code|) (the size the range coder's exponents
+// pay) there by 1% or more. All zero when prediction does not help.
 CodePrediction fit_prediction(const std::int32_t* q, const NotMeasured& mask,
                               const Residual& residual);
 
