@@ -66,14 +66,16 @@ fi
 # measurements (spec/container.md, "Resource bounds"): the worst valid file reconstructs in about
 # 10.6 s here, a return of the slow per-bin path would take about 47 s. libFuzzer's own slow-unit
 # report (default 10 s) would write an artifact, counted below as a finding, for valid inputs
-# under that bound (a residual-layer roundtrip takes 4-9 s): it is set to the timeout.
+# under that bound (a roundtrip with a residual layer over all bins took 2 to 20 s), so it uses
+# the timeout too.
+per_input_timeout=25
 fuzz_one() {
   local t=$1
   mkdir -p "$work/$t/corpus" "$work/$t/artifacts"
   local code=0
   "$build/fuzz/$t" "$work/$t/corpus" "$root/fuzz/corpus/$t" -dict="$root/fuzz/cbrdf.dict" \
-    -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=25 -report_slow_units=25 \
-    -max_len="${max_len[$t]}" \
+    -max_total_time="$seconds" -rss_limit_mb=2048 -timeout="$per_input_timeout" \
+    -report_slow_units="$per_input_timeout" -max_len="${max_len[$t]}" \
     -print_final_stats=1 -artifact_prefix="$work/$t/artifacts/" > "$work/$t/log.txt" 2>&1 \
     || code=$?
   echo "$code" > "$work/$t/exit"
