@@ -12,6 +12,7 @@ packages=(
   libceres-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev
+  libcpp-httplib-dev  # cbrdf view's HTTP server (tools/cli/view_server.cc)
   pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest python3-matplotlib
   python3-setuptools python3-wheel python3-venv python3-build  # pip install . (pyproject.toml)
   chromium  # headless check of the report page (tests/tools/report_html_test.cc)
