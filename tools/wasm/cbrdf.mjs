@@ -10,11 +10,15 @@
 //   model.sample(wo, u);                        // { wi, pdf, weight }
 //   model.pdf(wi, wo);                          // the sampler's density of wi given wo
 //   model.table();                              // Float64Array, a MERL .binary's values
-//   model.free();
+//   model.free();                               // its memory is returned now
+//   await withModel(bytes, (m) => m.eval(wi, wo));  // opens, runs, frees in finally
 //
 // Every call goes to the C API (cbrdf/cbrdf_c.h) compiled into cbrdf.wasm (tools/wasm/README.md),
 // so results are the native library's. A failure throws a CbrdfError carrying the C API's code
-// (err.code, a cbrdf_status number; err.status, its name such as "checksum") and message.
+// (err.code, a cbrdf_status number; err.status, its name such as "checksum") and message. Sizes
+// and array lengths are checked here before anything is allocated in the module; memory is
+// returned by free(), withModel or Symbol.dispose, and by the finalizer only as a best effort
+// (README: Memory).
 // cbrdf.wasm is a standalone module (no Emscripten JavaScript runtime): it imports only a memory
 // growth notice and a few WASI calls (exit; output, environment with some builds), supplied here.
 
@@ -24,8 +28,17 @@ const kInfoFields = [
   'residualBytes',
 ];  // cbrdf_wasm_info's order (cbrdf_wasm.c)
 const kInvalidArgument = 9, kInternal = 11;  // cbrdf_status
+// Every size this module asks of cbrdf.wasm stays below 2^31 bytes, checked before anything is
+// allocated: the module is wasm32 with at most 2 GiB of memory (MAXIMUM_MEMORY,
+// tools/wasm/CMakeLists.txt), and a size reaches malloc's size_t as an i32, so that a JavaScript
+// number of 2^32 + 32 would arrive as 32 and the copy after it overwrite the heap.
+const kMaxBytes = 2 ** 31;
+// Statuses of this module's own, beside the C API's names (err.code stays a cbrdf_status).
+const kOutOfMemory = 'out-of-memory', kAborted = 'aborted';
 
-// An error of the C API: code (cbrdf_status), status (its name) and the C API's message.
+// An error of the C API: code (cbrdf_status), status (its name) and the C API's message. Two
+// statuses are this module's: "out-of-memory" (code CBRDF_ERROR_INTERNAL, as the C API reports
+// running out of memory) and "aborted" (the instance stopped: see load()).
 export class CbrdfError extends Error {
   constructor(code, status, message) {
     super(message);
@@ -33,6 +46,21 @@ export class CbrdfError extends Error {
     this.code = code;
     this.status = status;
   }
+}
+
+function argumentError(message) {
+  return new CbrdfError(kInvalidArgument, 'invalid-argument', message);
+}
+
+// count * unit bytes, or an INVALID_ARGUMENT (as the C API's "n = ... is too large") when that
+// reaches 2^31.
+function checkedBytes(what, count, unit) {
+  const bytes = count * unit;
+  if (!Number.isSafeInteger(count) || count < 0 || bytes >= kMaxBytes) {
+    throw argumentError(`${what}: n = ${count} is too large: ${unit} bytes each, ${bytes} bytes ` +
+                        'in all, and cbrdf.wasm holds less than 2^31');
+  }
+  return bytes;
 }
 
 async function wasmBytes(source) {
@@ -47,16 +75,66 @@ async function wasmBytes(source) {
   return response.arrayBuffer();
 }
 
+// cbrdf.wasm called exit (abort() does, e.g. on an uncaught C++ exception).
+class WasmExit extends Error {
+  constructor(code) {
+    super(`cbrdf.wasm exited with status ${code}`);
+    this.exitCode = code;
+  }
+}
+
 // One instance of cbrdf.wasm and the calls on its memory.
 class Runtime {
   constructor(instance) {
-    this.x = instance.exports;
+    this.memory = instance.exports.memory;
     this.decoder = new TextDecoder();
+    this.failure = null;  // the CbrdfError that stopped the instance (stop())
+    this.liveModels = 0;  // opened and not yet freed
+    // Every exported function through enter(), so that a trap or exit stops the instance.
+    this.x = {};
+    for (const [name, value] of Object.entries(instance.exports)) {
+      this.x[name] = typeof value === 'function' ? (...args) => this.enter(value, args) : value;
+    }
+    // A model dropped without free() is freed when collected: a best effort only (README).
+    this.registry = typeof FinalizationRegistry === 'function'
+      ? new FinalizationRegistry((handle) => this.release(handle, null))
+      : null;
   }
 
-  bytes() { return new Uint8Array(this.x.memory.buffer); }  // fresh: memory may have grown
-  f64(ptr, n) { return new Float64Array(this.x.memory.buffer, ptr, n); }
-  i32(ptr, n) { return new Int32Array(this.x.memory.buffer, ptr, n); }
+  enter(f, args) {
+    if (this.failure) throw this.failure;
+    let result;
+    try {
+      result = f(...args);
+    } catch (e) {
+      this.stop(e);
+      throw this.failure;
+    }
+    // An exit thrown through C++'s catch (...) (which catches JavaScript exceptions too) returns.
+    if (this.failure) throw this.failure;
+    return result;
+  }
+
+  // The module trapped or exited in the middle of a call: its memory may be inconsistent
+  // (half-built objects, its stack pointer not restored), so nothing may run in it any more.
+  stop(cause) {
+    if (this.failure) return;
+    const what = cause instanceof WasmExit ? `exited with status ${cause.exitCode}`
+                                           : `stopped (${cause})`;
+    // Near the 2 GiB maximum the cause was memory (an allocation inside a noexcept function).
+    const full = this.memory.buffer.byteLength > kMaxBytes - (64 << 20);
+    this.failure = full
+      ? new CbrdfError(kInternal, kOutOfMemory, `out of memory: cbrdf.wasm ${what} with its ` +
+                       `2 GiB full (${this.liveModels} models open); this instance cannot be ` +
+                       'used any more: load() a new one, and free() models when done with them')
+      : new CbrdfError(kInternal, kAborted, `cbrdf.wasm ${what}: this instance cannot be used ` +
+                       'any more: load() a new one');
+    this.failure.cause = cause;
+  }
+
+  bytes() { return new Uint8Array(this.memory.buffer); }  // fresh: memory may have grown
+  f64(ptr, n) { return new Float64Array(this.memory.buffer, ptr, n); }
+  i32(ptr, n) { return new Int32Array(this.memory.buffer, ptr, n); }
 
   string(ptr) {
     const b = this.bytes();
@@ -65,9 +143,20 @@ class Runtime {
     return this.decoder.decode(b.subarray(ptr, end));
   }
 
+  outOfMemory(what) {
+    return new CbrdfError(kInternal, kOutOfMemory, `out of memory: ${what} (cbrdf.wasm holds at ` +
+                          `most 2 GiB; ${this.liveModels} models are open: free() those no ` +
+                          'longer needed)');
+  }
+
+  // size bytes of the module's heap. Every caller has checked its sizes (checkedBytes); this
+  // check stands behind them, so that no size can wrap on its way to malloc.
   malloc(size) {
+    if (!Number.isSafeInteger(size) || size < 0 || size >= kMaxBytes) {
+      throw argumentError(`malloc: ${size} bytes: not a size below 2^31`);
+    }
     const p = this.x.malloc(Math.max(size, 1));
-    if (p === 0) throw new CbrdfError(kInternal, 'internal', 'out of memory');
+    if (p === 0) throw this.outOfMemory(`${size} bytes could not be allocated`);
     return p;
   }
 
@@ -81,23 +170,43 @@ class Runtime {
         return p;
       });
     } finally {
-      for (const p of blocks) this.x.free(p);
+      if (!this.failure) for (const p of blocks) this.x.free(p);
     }
   }
 
   lastError() {
     const code = this.x.cbrdf_last_error_code();
-    return new CbrdfError(code, this.string(this.x.cbrdf_status_name(code)),
-                          this.string(this.x.cbrdf_last_error_message()));
+    const message = this.string(this.x.cbrdf_last_error_message());
+    // The C API reports std::bad_alloc as CBRDF_ERROR_INTERNAL "out of memory" (cbrdf_decode.h).
+    if (code === kInternal && message === 'out of memory') {
+      return this.outOfMemory('the library could not allocate');
+    }
+    return new CbrdfError(code, this.string(this.x.cbrdf_status_name(code)), message);
   }
 
   check(status) {
     if (status !== 0) throw this.lastError();
   }
-}
 
-function argumentError(message) {
-  return new CbrdfError(kInvalidArgument, 'invalid-argument', message);
+  adopt(handle) {
+    const model = new Model(this, handle);
+    ++this.liveModels;
+    this.registry?.register(model, handle, model);
+    return model;
+  }
+
+  // Frees a model's handle (model: null from the finalizer). Never throws: it runs in finally
+  // blocks and finalizers; a stopped instance's memory is beyond use anyway.
+  release(handle, model) {
+    if (model) this.registry?.unregister(model);
+    --this.liveModels;
+    if (this.failure) return;
+    try {
+      this.x.cbrdf_model_free(handle);
+    } catch {
+      // stop() has recorded why; every later call throws that.
+    }
+  }
 }
 
 // A typed array's elements as doubles at p (Float32 values convert exactly).
@@ -140,6 +249,7 @@ export class Model {
 
   live() {
     if (this.handle === 0) throw argumentError('model: used after free()');
+    if (this.rt.failure) throw this.rt.failure;
     return this.handle;
   }
 
@@ -210,8 +320,9 @@ export class Model {
     if (triples('wo', wo) !== n) {
       throw argumentError(`wo: ${wo.length / 3} directions for ${n} in wi`);
     }
+    const bytes = checkedBytes('eval', n, 8 * 9);  // wi 3n, wo 3n, rgb 3n
     return rt.scoped((alloc) => {
-      const p = alloc(8 * 9 * n);
+      const p = alloc(bytes);
       put(rt, p, wi);
       put(rt, p + 24 * n, wo);
       rt.check(rt.x.cbrdf_model_eval_batch(h, n, p, p + 24 * n, p + 48 * n, 1));
@@ -232,14 +343,15 @@ export class Model {
       n = triples('wo', wo);
       if (!isBatch(u) || u.length !== 2 * n) {
         throw argumentError(`u: expected a Float64Array or Float32Array of ${2 * n} numbers ` +
-                            '(two per direction in wo)');
+                            `(two per direction in wo), got ${isBatch(u) ? u.length : typeof u}`);
       }
     } else {
       single('wo', wo, 3);
       single('u', u, 2);
     }
+    const bytes = checkedBytes('sample', n, 8 * 12);  // wo 3n, u 2n, wi 3n, pdf n, weight 3n
     return rt.scoped((alloc) => {
-      const p = alloc(8 * 12 * n);  // wo 3n, u 2n, wi 3n, pdf n, weight 3n
+      const p = alloc(bytes);
       const pu = p + 24 * n, pwi = pu + 16 * n, ppdf = pwi + 24 * n, pw = ppdf + 8 * n;
       put(rt, p, wo);
       put(rt, pu, u);
@@ -275,33 +387,64 @@ export class Model {
     const { rt } = this;
     const h = this.live();
     const count = rt.x.cbrdf_merl_table_size();
+    const bytes = checkedBytes('table', count, 8);
     return rt.scoped((alloc) => {
-      const p = alloc(8 * count);
+      const p = alloc(bytes);
       rt.check(rt.x.cbrdf_model_table(h, p, count));
       return new Float64Array(rt.f64(p, count));
     });
   }
 
-  // Frees the model's memory in the module; the model cannot be used afterwards. Idempotent.
+  // Frees the model's memory in the module now; the model cannot be used afterwards. Idempotent;
+  // never throws. Call it (or use withModel, or `using` where the runtime has it) for every model:
+  // the finalizer frees a dropped model only if the garbage collector gets to it (README).
   free() {
-    if (this.handle !== 0) this.rt.x.cbrdf_model_free(this.handle);
+    const h = this.handle;
+    if (h === 0) return;
     this.handle = 0;
+    this.rt.release(h, this);
   }
+}
+// `using model = cbrdf.open(bytes);` frees at the end of the block, where the runtime has
+// explicit resource management (Symbol.dispose); elsewhere free() or withModel.
+if (typeof Symbol.dispose === 'symbol') {
+  Model.prototype[Symbol.dispose] = function dispose() { this.free(); };
+}
+
+// Runs fn(model) and frees the model when fn returns, throws or (for a promise) settles.
+function freeAfter(model, fn) {
+  let result;
+  try {
+    result = fn(model);
+  } catch (e) {
+    model.free();
+    throw e;
+  }
+  if (result !== null && typeof result === 'object' && typeof result.then === 'function') {
+    return Promise.resolve(result).finally(() => model.free());
+  }
+  model.free();
+  return result;
 }
 
 // Creates an instance of cbrdf.wasm. `source`: its bytes (ArrayBuffer, typed array) or a compiled
 // WebAssembly.Module; by default cbrdf.wasm beside this file (read from disk under node, fetched
-// in a browser). Returns { open(bytes), version }: open decodes synchronously.
+// in a browser). Returns { open(bytes), withModel(bytes, fn), version, liveModels, failure,
+// exports }: open decodes synchronously. Running out of memory throws a CbrdfError "out-of-memory"
+// and the instance stays usable; if the module itself aborts (a trap, an exit), that call and
+// every later one on this instance and its models throw a CbrdfError ("aborted", or
+// "out-of-memory" if memory was full), `failure` holds it, and a new instance is needed.
 export async function load(source) {
-  let memory = null;
+  let rt = null;
+  const memory = () => rt.memory;
   const wasi = {
     // stdout/stderr (the library writes nothing there; a failed assertion would).
     fd_write(fd, iovs, count, written) {
-      const view = new DataView(memory.buffer);
+      const view = new DataView(memory().buffer);
       let text = '', total = 0;
       for (let i = 0; i < count; ++i) {
         const ptr = view.getUint32(iovs + 8 * i, true), len = view.getUint32(iovs + 8 * i + 4, true);
-        text += new TextDecoder().decode(new Uint8Array(memory.buffer, ptr, len));
+        text += new TextDecoder().decode(new Uint8Array(memory().buffer, ptr, len));
         total += len;
       }
       (fd === 1 ? console.log : console.error)(text.replace(/\n$/, ''));
@@ -310,7 +453,7 @@ export async function load(source) {
     },
     // An empty environment (link-time-optimized builds ask for it).
     environ_sizes_get(count, size) {
-      const view = new DataView(memory.buffer);
+      const view = new DataView(memory().buffer);
       view.setUint32(count, 0, true);
       view.setUint32(size, 0, true);
       return 0;
@@ -318,7 +461,11 @@ export async function load(source) {
     environ_get: () => 0,
     fd_close: () => 0,
     fd_seek: () => 70,  // ESPIPE: no seekable streams
-    proc_exit(code) { throw new Error(`cbrdf.wasm exited with status ${code}`); },
+    proc_exit(code) {
+      const exit = new WasmExit(code);
+      rt?.stop(exit);  // before a C++ catch (...) in between can swallow the throw
+      throw exit;
+    },
   };
   const imports = {
     env: { emscripten_notify_memory_growth() {} },  // views are made afresh at every use
@@ -328,16 +475,18 @@ export async function load(source) {
   const { instance } = bytes instanceof WebAssembly.Module
     ? { instance: await WebAssembly.instantiate(bytes, imports) }
     : await WebAssembly.instantiate(bytes, imports);
-  memory = instance.exports.memory;
-  instance.exports._initialize();  // static constructors (a WASI reactor)
-  instance.exports.cbrdf_wasm_init();
-  const rt = new Runtime(instance);
-  const registry = typeof FinalizationRegistry === 'function'
-    ? new FinalizationRegistry((handle) => rt.x.cbrdf_model_free(handle))
-    : null;
-  return {
+  rt = new Runtime(instance);
+  rt.x._initialize();  // static constructors (a WASI reactor)
+  rt.x.cbrdf_wasm_init();
+  const api = {
     version: rt.string(rt.x.cbrdf_version_string()),
-    exports: rt.x,  // the module's raw exports (the viewer's cbrdf_viewer_*: viewer_tables.cc)
+    // The module's exports (the viewer's cbrdf_viewer_*: viewer_tables.cc), each function through
+    // the same guard as this module's calls (a trap stops the instance); sizes unchecked.
+    exports: rt.x,
+    // Models opened and not yet freed (by free(), withModel, dispose or the finalizer).
+    get liveModels() { return rt.liveModels; },
+    // null, or the CbrdfError that stopped this instance.
+    get failure() { return rt.failure; },
     // Decodes a .cbrdf file (Uint8Array, ArrayBuffer or other typed array) with the C API's full
     // validation (cbrdf_model_open_memory); throws a CbrdfError for a bad file.
     open(fileBytes) {
@@ -345,6 +494,11 @@ export async function load(source) {
       if (b instanceof ArrayBuffer) b = new Uint8Array(b);
       else if (ArrayBuffer.isView(b)) b = new Uint8Array(b.buffer, b.byteOffset, b.byteLength);
       else throw argumentError('open: expected the file as a Uint8Array or ArrayBuffer');
+      if (rt.failure) throw rt.failure;
+      if (b.length >= kMaxBytes) {
+        throw argumentError(`open: ${b.length} bytes is too large: cbrdf.wasm holds less than ` +
+                            '2^31 (and a .cbrdf file has at most 64 MiB)');
+      }
       const handle = rt.scoped((alloc) => {
         const p = alloc(b.length);
         rt.bytes().set(b, p);
@@ -352,25 +506,49 @@ export async function load(source) {
         if (m === 0) throw rt.lastError();
         return m;
       });
-      const model = new Model(rt, handle);
-      if (registry) {
-        // A model dropped without free() is freed when collected.
-        const free = model.free.bind(model);
-        registry.register(model, handle, model);
-        model.free = () => {
-          if (model.handle !== 0) registry.unregister(model);
-          free();
-        };
-      }
-      return model;
+      return rt.adopt(handle);
+    },
+    // fn(model) with the file opened, the model freed when fn returns or throws (or, when fn
+    // returns a promise, when that settles); returns what fn returns.
+    withModel(fileBytes, fn) {
+      return freeAfter(api.open(fileBytes), fn);
     },
   };
+  return api;
 }
 
 let shared = null;
 
+// The instance shared by open() and withModel(), made on first use and made afresh after it
+// stopped (its models then throw its failure).
+async function sharedInstance() {
+  shared ??= load();
+  let instance;
+  try {
+    instance = await shared;
+  } catch (e) {
+    shared = null;  // a failed fetch or compile is tried again by the next call
+    throw e;
+  }
+  if (instance.failure) {
+    shared = load();
+    instance = await shared;
+  }
+  return instance;
+}
+
 // Decodes a .cbrdf file with a module instance shared by every call (made on first use).
 export async function open(fileBytes) {
-  shared ??= load();
-  return (await shared).open(fileBytes);
+  return (await sharedInstance()).open(fileBytes);
+}
+
+// Opens the file, runs fn(model) (which may be async) and frees the model in `finally`: memory is
+// returned when fn is done, whatever happens. Returns (a promise of) what fn returns.
+export async function withModel(fileBytes, fn) {
+  const model = await open(fileBytes);
+  try {
+    return await fn(model);
+  } finally {
+    model.free();
+  }
 }
