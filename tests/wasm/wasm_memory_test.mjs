@@ -138,6 +138,7 @@ const drawn = other.sample(wo1, [0.3, 0.7]);
 // open 52 MB models until the memory runs out.
 {
   const x = cbrdf.exports;
+  check(x.memory instanceof WebAssembly.Memory, 'exports keeps the memory (the viewer reads it)');
   const ballast = [];
   for (let p; (p = x.malloc(64 << 20)) !== 0;) ballast.push(p);
   check(ballast.length > 20, `ballast: ${ballast.length} blocks of 64 MiB before malloc failed`);

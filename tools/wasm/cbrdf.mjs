@@ -139,7 +139,7 @@ class Runtime {
   string(ptr) {
     const b = this.bytes();
     let end = ptr;
-    while (b[end] !== 0) ++end;
+    while (end < b.length && b[end] !== 0) ++end;  // bounded even for a bad pointer
     return this.decoder.decode(b.subarray(ptr, end));
   }
 
