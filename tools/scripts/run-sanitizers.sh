@@ -27,7 +27,7 @@
 #   ReportNoise.LadderAgainstTheTruth...,
 #   Ladder.MeasuresEveryMethod..., ReportLossless.*), which repeat encodes and decodes the
 #   library's own tests run here (the report's other tests, and its option checks, run here);
-# - the WebAssembly tests (wasm_build, wasm_node), which compare cbrdf.wasm with the native library;
+# - the WebAssembly tests (wasm_build, wasm_node, wasm_memory), which compare cbrdf.wasm with the native library;
 # - with clang, the two checks against GCC's extended types: frank_grid_test (quad precision,
 #   libquadmath) and Float16.MatchesTheCompilersConversion (_Float16); the code they check runs here.
 # Those of them that ran here before took 828 of the suite's 2,063 test-seconds under the
@@ -75,6 +75,7 @@ excluded+='|ReportLossless\..*'
 excluded+='|NoiseLadder\.RealFabricAtThreePercent'
 excluded+='|wasm_build'
 excluded+='|wasm_node'
+excluded+='|wasm_memory'
 wasm_build_dir=${CBRDF_WASM_BUILD_DIR:-}
 if [[ -z $wasm_build_dir || ! -f $wasm_build_dir/wasm/cbrdf.wasm ]]; then
   echo "run-sanitizers: viewer_browser left out: no cbrdf.wasm in CBRDF_WASM_BUILD_DIR" \
