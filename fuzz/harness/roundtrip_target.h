@@ -445,12 +445,14 @@ inline void check_masses(const std::vector<double>& src, const std::vector<doubl
   }
 }
 
-// base: the file is 1.3 (BASE), whose parameters and K are binary32 (spec 4.8).
+// base: the file is 1.3 (BASE), whose parameters are binary32 and K binary32 or, where one K
+// has no normal binary32, all binary64 (spec 4.8).
 inline void check_roundtrip(const Model& a, const Model& b, int bits, bool base, Result* r) {
   if (a.slices.size() != b.slices.size()) {
     r->check(false, "the slice count changed");
     return;
   }
+  const bool wide = base && base_wide_scales(a);
   for (std::size_t s = 0; s < a.slices.size(); ++s) {
     const Slice &sa = a.slices[s], &sb = b.slices[s];
     r->check(sa.theta_d_begin == sb.theta_d_begin && sa.theta_d_end == sb.theta_d_end,
@@ -469,7 +471,7 @@ inline void check_roundtrip(const Model& a, const Model& b, int bits, bool base,
         const double theta =
             base ? double(parameter_f32(std::uint8_t(x.family), x.theta, x.scale).value_or(NAN))
                  : x.theta;
-        const double scale = base ? double(float(x.scale)) : x.scale;
+        const double scale = base ? base_scale(x.scale, wide) : x.scale;
         r->check(std::memcmp(&theta, &y.theta, 8) == 0, name + ": parameter changed");
         r->check(std::memcmp(&scale, &y.scale, 8) == 0, name + ": K changed");
         check_masses(x.pdf_h, y.pdf_h, bits, base, name + " theta_h", r);

@@ -328,8 +328,8 @@ TEST(BaseCoding, MalformedFilesAreRefused) {
   // BASE's fields: bits, flags, slice ends, family, parameter, coded stream.
   expect_error(edit_payload(f, "BASE", [](Bytes* p) { (*p)[0] = 17; }), ErrorCode::kCorrupt,
                "bits per code 17 is outside 6..16");
-  expect_error(edit_payload(f, "BASE", [](Bytes* p) { (*p)[1] = 2; }), ErrorCode::kCorrupt,
-               "flags byte at payload offset 1 is 2");
+  expect_error(edit_payload(f, "BASE", [](Bytes* p) { (*p)[1] = 4; }), ErrorCode::kCorrupt,
+               "flags byte at payload offset 1 is 4");
   expect_error(edit_payload(f, "BASE", [](Bytes* p) { (*p)[2] = 0; }), ErrorCode::kCorrupt,
                "slice 0 ends at theta_d bin 0");
   // First component record at 2 + 6: family, f32 theta, f32 K.

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// BASE (spec 4.7, container version 1.3): MODL and MARG in one chunk, the parameters as binary32
-// and the marginal tables predicted and range coded (range_coder.h). Reader and writer.
+// BASE (spec 4.8, container version 1.3): MODL and MARG in one chunk, the parameters as binary32
+// (K as binary64 where binary32 would lose it) and the marginal tables predicted and range coded
+// (range_coder.h). Reader and writer.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -127,14 +128,29 @@ struct PeekSink {
 // Binary32 of a parameter inside the format's range: the nearest, or its neighbour towards the
 // inside when the nearest falls outside (Frank's upper end ln 2 is not a binary32).
 std::optional<float> parameter_f32(std::uint8_t family, double theta, double scale) {
+  const double k = base_scale(scale, !scale_fits_f32(scale));
   const float f = float(theta);
   for (float g : {f, std::nextafter(f, -std::numeric_limits<float>::infinity()),
                   std::nextafter(f, std::numeric_limits<float>::infinity())}) {
-    if (std::isfinite(g) && check_channel_params(family, double(g), double(float(scale))).ok()) {
-      return g;
-    }
+    if (std::isfinite(g) && check_channel_params(family, double(g), k).ok()) return g;
   }
   return std::nullopt;
+}
+
+bool scale_fits_f32(double k) {
+  return k == 0.0 || std::isnormal(float(k));
+}
+
+bool base_wide_scales(const Model& model) {
+  bool wide = false;
+  for_each_component(model.slices, [&](std::size_t s, int c, int k) {
+    wide = wide || !scale_fits_f32(model.slices[s].channel[std::size_t(c)].component(k).scale);
+  });
+  return wide;
+}
+
+double base_scale(double k, bool wide) {
+  return wide ? k : double(float(k));
 }
 
 namespace base_codes {
@@ -270,7 +286,8 @@ std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, i
   ByteWriter w;
   w.u8(std::uint8_t(bits));
   const bool mixtures = has_mixtures(model);
-  w.u8(mixtures ? kBaseFlagComponents : 0);
+  const bool wide = base_wide_scales(model);
+  w.u8(std::uint8_t((mixtures ? kBaseFlagComponents : 0) | (wide ? kBaseFlagWideScales : 0)));
   for (const Slice& s : model.slices) w.u8(std::uint8_t(s.theta_d_end));
   if (mixtures) {
     for (const Slice& s : model.slices) {
@@ -288,7 +305,11 @@ std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, i
     }
     w.u8(std::uint8_t(comp.family));
     w.f32(*theta);
-    w.f32(float(comp.scale));
+    if (wide) {
+      w.f64(comp.scale);
+    } else {
+      w.f32(float(comp.scale));
+    }
   });
   if (!representable) return std::nullopt;
 
@@ -372,10 +393,12 @@ Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
                                           std::to_string(kMinMarginalBits) + ".." +
                                           std::to_string(kMaxMarginalBits));
   }
-  if ((flags & ~kBaseFlagComponents) != 0) {
-    return error(ErrorCode::kCorrupt, "flags byte at payload offset 1 is " + std::to_string(flags) +
-                                          "; only bit 0 (further components) is defined");
+  if ((flags & ~(kBaseFlagComponents | kBaseFlagWideScales)) != 0) {
+    return error(ErrorCode::kCorrupt,
+                 "flags byte at payload offset 1 is " + std::to_string(flags) +
+                     "; only bits 0 (further components) and 1 (K as binary64) are defined");
   }
+  const bool wide = (flags & kBaseFlagWideScales) != 0;
   CBRDF_RETURN_IF_ERROR(read_slice_bounds(r, slice_count, slices));
   if (flags & kBaseFlagComponents) CBRDF_RETURN_IF_ERROR(read_component_counts(r, slices));
   Status st;
@@ -386,11 +409,16 @@ Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
   for_each_component(*slices, [&](std::size_t s, int c, int k) {
     if (!st.ok()) return;
     std::uint8_t family = 0;
-    float theta = 0.0f, scale = 0.0f;
+    float theta = 0.0f, scale32 = 0.0f;
+    double scale = 0.0;
     st = r.u8(&family, "copula family");
     if (st.ok()) st = r.f32(&theta, "copula parameter");
-    if (st.ok()) st = r.f32(&scale, "scale K");
-    if (st.ok()) st = check_channel_params(family, double(theta), double(scale));
+    if (st.ok() && wide) st = r.f64(&scale, "scale K");
+    if (st.ok() && !wide) {
+      st = r.f32(&scale32, "scale K");
+      scale = double(scale32);
+    }
+    if (st.ok()) st = check_channel_params(family, double(theta), scale);
     if (!st.ok()) {
       st = st.with_context(name(s, c, k));
       return;
@@ -398,7 +426,7 @@ Status decode_base_chunk(std::span<const std::uint8_t> payload, int slice_count,
     Component& comp = (*slices)[s].channel[std::size_t(c)].component(k);
     comp.family = CopulaFamily(family);
     comp.theta = double(theta);
-    comp.scale = double(scale);
+    comp.scale = scale;
   });
   CBRDF_RETURN_IF_ERROR(st);
 

@@ -27,8 +27,11 @@ inline constexpr std::uint8_t kThetaHMappingMerlSqrt = 0;
 // Version 1.3's HEAD names the grid by number: 0 is MERL's (90x90x180, square-root theta_h
 // mapping, RGB with MERL's scales), the only one version 1 holds.
 inline constexpr std::uint8_t kGridMerl = 0;
-// BASE's flags: bit 0, the further-component counts follow the slice ends.
+// BASE's flags: bit 0, the further-component counts follow the slice ends; bit 1, every K is a
+// binary64 (spec 4.8: the writer sets it only where some K has no normal binary32, so that a
+// table's scale survives anywhere in the supported range, 1e-250 to 1e250).
 inline constexpr std::uint8_t kBaseFlagComponents = 1;
+inline constexpr std::uint8_t kBaseFlagWideScales = 2;
 inline constexpr const char* kChannelNames[kChannels] = {"R", "G", "B"};
 inline constexpr std::size_t kMaskBits = std::size_t{kChannels} * kBinsPerChannel;
 inline constexpr std::size_t kMaskBytes = kMaskBits / 8;  // 4,374,000 bits: no padding
@@ -170,9 +173,17 @@ Status decode_metadata_chunk(std::span<const std::uint8_t> payload,
                              std::vector<std::pair<std::string, std::string>>* out);
 
 std::vector<std::uint8_t> encode_header_chunk(const Model& model, bool compact);
-// The binary32 BASE holds for a parameter (spec 4.8) with K as float(scale): the nearest, or its
+// The binary32 BASE holds for a parameter (spec 4.8) with K as BASE stores it: the nearest, or its
 // neighbour towards the inside of the family's range; nullopt when neither is inside it.
 std::optional<float> parameter_f32(std::uint8_t family, double theta, double scale);
+// Whether K keeps binary32's relative precision (2^-24) as a binary32: 0, or a normal binary32
+// after rounding to nearest. A table scaled by 1e-50 has K near 1e-47, which binary32 rounds to
+// 0 (issue 40: such files decoded to zeros).
+bool scale_fits_f32(double k);
+// Whether BASE holds the model's K as binary64 (flags bit 1): some K does not fit binary32.
+bool base_wide_scales(const Model& model);
+// The K a BASE chunk holds for k: binary32's nearest, or k itself when its K are binary64.
+double base_scale(double k, bool wide);
 // Version 1.3: MODL and MARG in one chunk; nullopt when a parameter has no binary32 inside its
 // family's range (the writer then uses the 1.2 chunks).
 std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, int bits);
