@@ -4,10 +4,12 @@ written from spec/container.md (2.2, 4.4, 4.6, 4.8, 4.9) alone, against the libr
 chunks at the same offsets, parameters bit for bit, every marginal mass equal, and the residual
 codes the C++ decoder reads."""
 import math
+import re
 import struct
 import subprocess
 from pathlib import Path
 
+import numpy
 import pytest
 
 import cbrdf
@@ -178,8 +180,10 @@ def decode_base(payload, slice_count):
     for s in range(slice_count):
         for c in range(3):
             for k in range(1 + counts[s][c]):
-                fam, theta, scale = struct.unpack_from("<Bff", payload, pos)
-                pos += 9
+                # Flags bit 1: every K a binary64 (a table far from 1 in scale).
+                layout = "<Bfd" if flags & 2 else "<Bff"
+                fam, theta, scale = struct.unpack_from(layout, payload, pos)
+                pos += struct.calcsize(layout)
                 comps.append((s, c, k, fam, theta, scale))
     dec, ctx = RangeDecoder(payload[pos:]), {}
     top = (1 << bits) - 1
@@ -247,10 +251,50 @@ def test_spec_decoder_reads_what_the_library_reads(tmp_path):
                 t += 1
 
 
+def sphere_psnr_tonemapped(encode_output):
+    """The tone-mapped sphere PSNR `cbrdf encode` prints."""
+    m = re.search(r"([0-9.]+) dB tone-mapped", encode_output)
+    assert m, encode_output
+    return float(m.group(1))
+
+
+def test_spec_decoder_reads_binary64_k(tmp_path):
+    """BASE flags bit 1 (every K a binary64, spec 4.8). A table scaled by 1e-50, written by the
+    command's defaults, keeps its PSNR (with K as binary32 every K was 0 and the file decoded to
+    zeros, issue 40), and the spec's decoder reads its K, and the golden file's, as the library."""
+    binary = tmp_path / "plastic.binary"
+    run_cli("sample", "plastic", "-o", binary)
+    raw = binary.read_bytes()
+    values = numpy.frombuffer(raw, dtype="<f8", offset=12).copy()
+    values[values >= 0] *= 1e-50
+    tiny = tmp_path / "tiny.binary"
+    tiny.write_bytes(raw[:12] + values.tobytes())
+    psnr = {}
+    for name, source in (("unit", binary), ("tiny", tiny)):
+        out = tmp_path / f"{name}.cbrdf"
+        p = run_cli("encode", source, "-o", out, "--slices", "2", "--bits", "8")
+        psnr[name] = sphere_psnr_tonemapped(p.stdout + p.stderr)
+    assert abs(psnr["tiny"] - psnr["unit"]) <= 0.05, psnr
+    golden = Path(__file__).resolve().parents[1] / "data" / "golden" / "v1.3-wide-k-frank6-b10.cbrdf"
+    for data in ((tmp_path / "tiny.cbrdf").read_bytes(), golden.read_bytes()):
+        minor, ch, _ = chunks(data)
+        assert minor == 3 and ch["BASE"][1] & 2
+        bits, comps, tables = decode_base(ch["BASE"], ch["HEAD"][1])
+        model = cbrdf.decode(data)
+        t = 0
+        for s, c, k, fam, theta, scale in comps:
+            comp = model.slices[s].channels[c].components[k]
+            assert comp.theta == theta and comp.scale == scale
+            for axis in (comp.pdf_h, comp.pdf_d, comp.pdf_p):
+                assert list(axis) == tables[t]
+                t += 1
+    assert min(c[5] for c in comps) < 1e-50  # the golden file's channel B: no binary32
+
+
 def test_spec_framing_reads_the_golden_files_and_refuses_damage():
     golden = Path(__file__).resolve().parents[1] / "data" / "golden"
     files = sorted(golden.glob("v1.3-*.cbrdf"))
-    assert len(files) == 6
+    assert len(files) == 7
     for f in files:
         data = f.read_bytes()
         minor, ch, layout = chunks(data)
