@@ -157,7 +157,7 @@ console.log(`cbrdf view serves ${url}`);
   check(list.status === 200 && JSON.parse(list.body).length === files.length, `files.json lists the ${files.length} files`);
   const wasmFile = await get('/cbrdf.wasm');
   check(wasmFile.status === 200 && wasmFile.type === 'application/wasm', 'cbrdf.wasm is served as application/wasm');
-  check((await get('/../CMakeLists.txt')).status === 404 && (await get('/files/99')).status === 404, 'paths outside the page and unknown files: 404');
+  check((await get('/../CMakeLists.txt')).status === 400 && (await get('/files/99')).status === 404, 'paths outside the page: 400, unknown files: 404');
   check((await get('/', 'evil.example:80')).status === 403, 'a Host header not naming the loopback: 403');
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "view_allowlist.h"
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <system_error>
 
@@ -67,7 +68,8 @@ Expected<ViewAllowlist> ViewAllowlist::build(const fs::path& viewer_dir, const f
   // The folder's files, its subfolders' too (symlinked folders are not entered). A file is
   // served only when its real path, symlinks resolved, is inside the folder; dot files
   // (editors' temporaries, .git) are left out.
-  fs::recursive_directory_iterator it(viewer, ec), end;
+  fs::recursive_directory_iterator it(viewer, fs::directory_options::skip_permission_denied, ec),
+      end;
   for (; !ec && it != end; it.increment(ec)) {
     const fs::path rel = it->path().lexically_relative(viewer);
     const std::string name = rel.filename().string();
