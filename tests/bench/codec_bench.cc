@@ -5,10 +5,12 @@
 // built-in one). Compare figures as ratios within one run.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <random>
 #include <string>
 #include <utility>
@@ -16,10 +18,12 @@
 
 #include "cbrdf/cbrdf_c.h"
 #include "cbrdf/codec.h"
+#include "cbrdf/container_writer.h"
 #include "cbrdf/encoder.h"
 #include "cbrdf/file_io.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
+#include "cbrdf/parallel.h"
 #include "cbrdf/samples.h"
 #include "cbrdf/sampling.h"
 
@@ -501,6 +505,128 @@ BENCHMARK(BM_CSampleBatch)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// ---- Parameter grid: every copula family from small parameters to the largest a file may hold
+// ---- A synthetic file of 90 one-bin slices x 3 channels x 8 components (the most a file holds),
+// all of one family at one parameter, encoded in memory. Per file, four operations on one thread:
+// open (decode_model and the evaluator), table() (decode to the MERL table), 2,000 samples with
+// weights including the sampler's warm-up (a new sampler each time, its tables built by the draws)
+// and one albedo. The summary at the end gives each file's time over the slowest Frank file's (the
+// encoder's default family) for the same operation, from this one run.
+struct ParamCase {
+  cbrdf::CopulaFamily family;
+  double theta;
+};
+constexpr ParamCase kParamCases[] = {
+    {cbrdf::CopulaFamily::kIndependence, 0.0}, {cbrdf::CopulaFamily::kFrank, -200.0},
+    {cbrdf::CopulaFamily::kFrank, -20.0},      {cbrdf::CopulaFamily::kFrank, -1.0},
+    {cbrdf::CopulaFamily::kFrank, 0.6931},     {cbrdf::CopulaFamily::kClayton, 0.01},
+    {cbrdf::CopulaFamily::kClayton, 2.0},      {cbrdf::CopulaFamily::kClayton, 10.0},
+    {cbrdf::CopulaFamily::kClayton, 50.0},     {cbrdf::CopulaFamily::kGumbel, 1.01},
+    {cbrdf::CopulaFamily::kGumbel, 2.0},       {cbrdf::CopulaFamily::kGumbel, 5.0},
+    {cbrdf::CopulaFamily::kGumbel, 20.0},      {cbrdf::CopulaFamily::kJoe, 1.01},
+    {cbrdf::CopulaFamily::kJoe, 2.0},          {cbrdf::CopulaFamily::kJoe, 5.0},
+    {cbrdf::CopulaFamily::kJoe, 20.0}};
+constexpr int kParamCaseCount = int(std::size(kParamCases));
+constexpr const char* kParamOps[] = {"open", "table", "sample2000", "albedo"};
+
+std::vector<double> lobe(int bins, double center, double width, double floor) {
+  std::vector<double> t(std::size_t(bins), 0.0);
+  double sum = 0;
+  for (int i = 0; i < bins; ++i) {
+    const double x = (i + 0.5) / bins - center;
+    t[std::size_t(i)] = std::exp(-x * x / (width * width)) + floor;
+    sum += t[std::size_t(i)];
+  }
+  for (double& v : t) v /= sum;
+  return t;
+}
+
+const std::vector<std::uint8_t>& param_file(int index) {
+  static std::vector<std::uint8_t> files[kParamCaseCount];
+  std::vector<std::uint8_t>& f = files[index];
+  if (!f.empty()) return f;
+  const ParamCase pc = kParamCases[index];
+  cbrdf::Model m;
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int j = 0; j < cbrdf::kThetaDBins; ++j) {
+    cbrdf::Slice slice;
+    slice.theta_d_begin = j;
+    slice.theta_d_end = j + 1;
+    for (cbrdf::ChannelSlice& cs : slice.channel) {
+      for (int r = 0; r < 8; ++r) {
+        cbrdf::Component c;
+        c.family = pc.family;
+        c.theta = pc.theta;
+        c.scale = 10.0 + 100.0 * u(rng);
+        c.pdf_h = lobe(cbrdf::kThetaHBins, 0.1 * u(rng), 0.02 + 0.3 * u(rng), 1e-5);
+        c.pdf_d = {1.0};
+        c.pdf_p = lobe(cbrdf::kPhiDBins, 0.5, 0.2 + 0.5 * u(rng), 1e-2);
+        if (r == 0) {
+          static_cast<cbrdf::Component&>(cs) = c;
+        } else {
+          cs.extra.push_back(c);
+        }
+      }
+    }
+    m.slices.push_back(slice);
+  }
+  auto bytes = cbrdf::encode_model(m, cbrdf::ContainerSettings{});
+  if (!bytes.ok()) {
+    std::fprintf(stderr, "param_file %d: %s\n", index, bytes.status().message().c_str());
+    std::abort();
+  }
+  f = std::move(bytes).value();
+  return f;
+}
+
+void BM_ParamGrid(benchmark::State& state) {
+  const int index = int(state.range(0)), op = int(state.range(1));
+  const std::vector<std::uint8_t>& file = param_file(index);
+  const auto wo = random_directions(2000);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> ud(0, 1);
+  std::vector<double> u(4000);
+  for (double& v : u) v = ud(rng);
+  cbrdf::set_thread_limit(1);  // every operation on the calling thread: CPU time is the cost
+  std::shared_ptr<const cbrdf::ModelEvaluator> ev;
+  if (op != 0) ev = std::make_shared<const cbrdf::ModelEvaluator>(*cbrdf::decode_model(file));
+  for (auto _ : state) {
+    switch (op) {
+      case 0:
+        benchmark::DoNotOptimize(cbrdf::ModelEvaluator(*cbrdf::decode_model(file)));
+        break;
+      case 1:
+        benchmark::DoNotOptimize(ev->table());
+        break;
+      case 2: {
+        const cbrdf::BrdfSampler s = cbrdf::make_model_sampler(ev);
+        double w[3];
+        for (int k = 0; k < 2000; ++k) {
+          benchmark::DoNotOptimize(
+              s.sample(wo[std::size_t(k)], u[2 * std::size_t(k)], u[2 * std::size_t(k) + 1], w));
+        }
+        break;
+      }
+      default: {
+        double rgb[3];
+        ev->albedo(0.7, rgb, 1);
+        benchmark::DoNotOptimize(rgb);
+      }
+    }
+  }
+  cbrdf::set_thread_limit(0);
+  const ParamCase pc = kParamCases[index];
+  state.SetLabel(std::string(cbrdf::family_name(pc.family)) + " " + std::to_string(pc.theta) + " " +
+                 kParamOps[op]);
+}
+BENCHMARK(BM_ParamGrid)
+    ->ArgsProduct({benchmark::CreateDenseRange(0, kParamCaseCount - 1, 1), {0, 1, 2, 3}})
+    ->ArgNames({"case", "op"})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(1);
+
 // The measured table's nearest-bin lookup (the reference reader's), the baseline the model's
 // evaluation is compared with.
 void BM_LookupMeasuredNearest(benchmark::State& state) {
@@ -542,6 +668,9 @@ class RatioReporter : public benchmark::ConsoleReporter {
   void ReportRuns(const std::vector<Run>& runs) override {
     ConsoleReporter::ReportRuns(runs);
     for (const Run& r : runs) {
+      if (r.run_type == Run::RT_Iteration && r.benchmark_name().rfind("BM_ParamGrid/", 0) == 0) {
+        grid_.push_back({r.benchmark_name(), r.report_label, r.GetAdjustedCPUTime()});
+      }
       // Single runs, or the median of repetitions; the counter is in seconds per pair.
       if (r.run_type == Run::RT_Aggregate && r.aggregate_name != "median") continue;
       auto it = r.counters.find("ns_per_pair");
@@ -566,6 +695,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
   }
   void Finalize() override {
     ConsoleReporter::Finalize();
+    grid_summary();
     double nearest = 0;
     for (const auto& [name, ns] : ns_) {
       if (name.find("LookupMeasuredNearest") != std::string::npos) nearest = ns;
@@ -621,6 +751,35 @@ class RatioReporter : public benchmark::ConsoleReporter {
   }
 
  private:
+  // BM_ParamGrid: per operation, each file's CPU time over the slowest Frank file's.
+  struct GridRun {
+    std::string name, label;
+    double ms;
+  };
+  void grid_summary() const {
+    if (grid_.empty()) return;
+    std::printf("\n%-34s %12s %12s\n", "parameter grid (90 slices x 8)", "cpu ms",
+                "/ slowest Frank");
+    for (const char* op : kParamOps) {
+      const std::string suffix = std::string(" ") + op;
+      auto is_op = [&](const GridRun& g) {
+        return g.label.size() >= suffix.size() &&
+               g.label.compare(g.label.size() - suffix.size(), suffix.size(), suffix) == 0;
+      };
+      double frank = 0, worst = 0;
+      for (const GridRun& g : grid_) {
+        if (is_op(g) && g.label.rfind("frank ", 0) == 0) frank = std::max(frank, g.ms);
+      }
+      for (const GridRun& g : grid_) {
+        if (!is_op(g)) continue;
+        const double ratio = frank > 0 ? g.ms / frank : 0.0;
+        worst = std::max(worst, ratio);
+        std::printf("%-34s %12.1f %12.2f\n", g.label.c_str(), g.ms, ratio);
+      }
+      std::printf("%-34s %12s %12.2f\n", (std::string("worst ") + op).c_str(), "", worst);
+    }
+  }
+  std::vector<GridRun> grid_;
   std::vector<std::pair<std::string, double>> ns_;
   std::vector<std::pair<std::string, double>> cpu_;  // ms per iteration
   std::vector<double> cpu_ns_;                       // CPU ns per pair, as ns_
@@ -631,8 +790,12 @@ class RatioReporter : public benchmark::ConsoleReporter {
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (argc > 1) g_material = argv[1];
-  encoded();  // make, read and encode the material before timing anything
-  model4();
+  // Make, read and encode the material before timing anything (the parameter grid alone, as
+  // --benchmark_filter=ParamGrid runs it, uses none of it: it encodes its files before timing).
+  if (benchmark::GetBenchmarkFilter().find("ParamGrid") == std::string::npos) {
+    encoded();
+    model4();
+  }
   RatioReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   benchmark::Shutdown();
