@@ -162,9 +162,10 @@ TEST(ScaleRange, TablesBeyondTheRangeAreRefusedInEveryVersion) {
 
 // The residual layer's bound is relative (log1p over a knee, spec 4.6). Below a largest value of 1
 // the knee scales with the table, so a tiny table gets what the same table at 1/2 gets; from 1 up
-// the knee is the measured 1e-4 stored units, relatively lower on brighter tables, which only
-// tightens the bound: the PSNR stays at least the unscaled table's.
-double residual_psnr(const BrdfTable& unit, double k, std::size_t* bytes = nullptr) {
+// the knee is the measured 1e-4 stored units, far below a bright table's values, which then gets
+// the same too (measured: 55.27 dB tone-mapped and 14.2 KB at 1/2, 1e-50 and 1e250; 55.14 dB at
+// 1, where the knee is inside the table's range).
+double residual_psnr(const BrdfTable& unit, double k) {
   SCOPED_TRACE("scale " + text(k));
   const BrdfTable t = scaled(unit, k);
   Expected<EncodeResult> r = encode_table(t, settings("auto", 0.05));
@@ -175,7 +176,6 @@ double residual_psnr(const BrdfTable& unit, double k, std::size_t* bytes = nullp
   EXPECT_TRUE(m.ok()) << m.status().message();
   if (!m.ok()) return 0;
   EXPECT_TRUE(m->residual.present());
-  if (bytes) *bytes = r->bytes.size();
   return SphereScorer(t).score(*m).psnr_tonemapped;
 }
 
@@ -184,7 +184,7 @@ TEST(ScaleRange, ResidualLayerKeepsItsPsnrAtEveryScale) {
   const double below_one = residual_psnr(unit, 0.5);
   EXPECT_GT(below_one, 40.0);
   EXPECT_NEAR(residual_psnr(unit, 1e-50), below_one, 0.05);
-  EXPECT_GE(residual_psnr(unit, 1e250), residual_psnr(unit, 1.0) - 0.05);
+  EXPECT_NEAR(residual_psnr(unit, 1e250), below_one, 0.05);
 }
 
 // The noise estimate is a relative deviation: the same at every scale.
