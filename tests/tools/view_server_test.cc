@@ -310,6 +310,16 @@ TEST_F(ViewServerTest, ServesTheViewerTheWasmAndTheGivenFilesAndNothingElse) {
     EXPECT_FALSE(contains(r.body, "root:")) << target;
     EXPECT_FALSE(contains(r.body, "outside")) << target;
   }
+  EXPECT_EQ(transact(port, "GET /app.mjs HTTP/1.1\r\nHost: LocalHost:" + std::to_string(port) +
+                               "\r\nConnection: close\r\n\r\n")
+                .status,
+            200);
+  // A file of the folder replaced by a symlink out of it after start-up is not followed.
+  fs::remove(viewer_ / "app.mjs");
+  fs::create_symlink(tmp_ / "outside" / "secret.mjs", viewer_ / "app.mjs");
+  const Reply swapped = get(port, "/app.mjs");
+  EXPECT_EQ(swapped.status, 404);
+  EXPECT_FALSE(contains(swapped.body, "outside"));
   EXPECT_EQ(get(port, "//etc/passwd").status, 400);
   EXPECT_EQ(get(port, "/..%2f..%2fetc/passwd").status, 400);
   EXPECT_EQ(get(port, "/leak.mjs").status, 404);

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <string>
@@ -71,6 +72,12 @@ struct ViewServer::Impl {
   HttpServer http;
   std::string host_ip, host_name;  // the Host headers accepted
 
+  // Host names are case-insensitive ("LOCALHOST:8642" is this server too).
+  bool host_ok(std::string host) const {
+    for (char& c : host) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return host == host_ip || host == host_name;
+  }
+
   httplib::Server::HandlerResponse handle(const Request& req, Response& res) {
     if (!target_is_acceptable(req.target)) {
       respond_text(res, 400,
@@ -80,9 +87,7 @@ struct ViewServer::Impl {
     } else if (req.method != "GET" && req.method != "HEAD") {
       res.set_header("Allow", "GET, HEAD");
       respond_text(res, 405, "GET and HEAD only\n", true);
-    } else if (req.get_header_value_count("Host") != 1 ||
-               (req.get_header_value("Host") != host_ip &&
-                req.get_header_value("Host") != host_name)) {
+    } else if (req.get_header_value_count("Host") != 1 || !host_ok(req.get_header_value("Host"))) {
       respond_text(res, 403, "the Host header must name " + host_ip + " or " + host_name + "\n",
                    true);
     } else {
@@ -113,8 +118,12 @@ struct ViewServer::Impl {
         res.set_header("Retry-After", "1");
         respond_text(res, 503, "out of file descriptors: try again\n", true);
       } else {
-        respond_text(res, e == ENOENT ? 404 : 500,
-                     "cannot open " + path + ": " + std::strerror(e) + "\n", false);
+        // ELOOP: a symlink where a file of the folder was at start-up (O_NOFOLLOW).
+        const bool gone = e == ENOENT || e == ENOTDIR || e == ELOOP;
+        respond_text(res, gone ? 404 : 500,
+                     gone ? "not found: " + path + "\n"
+                          : "cannot open " + path + ": " + std::strerror(e) + "\n",
+                     false);
       }
       return;
     }
