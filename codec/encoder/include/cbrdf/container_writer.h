@@ -25,9 +25,10 @@ struct ContainerSettings {
   int zstd_level = 19;         ///< 1..22: the effort knob
   std::string source_name;     ///< recorded in the metadata chunk (e.g. the .binary's file name)
   bool write_metadata = true;  ///< the ancillary 'mETA' chunk: source, encoder, settings
-  /// The container's coding. kAuto: version 1.3 (BASE: parameters as binary32, range-coded
-  /// marginal tables) when its model chunks are smaller than 1.2's, else the lowest of 1.0-1.2
-  /// that holds the model, byte for byte as before. kV12: never 1.3. kV13: 1.3 whenever the
+  /// The container's coding. kAuto: version 1.3 (BASE: parameters as binary32, each K as binary32
+  /// or, when one K has no normal binary32, all K as binary64; range-coded marginal tables) when
+  /// its model chunks are smaller than 1.2's, else the lowest of 1.0-1.2 that holds the model,
+  /// byte for byte as before. Both keep K at any scale. kV12: never 1.3. kV13: 1.3 whenever the
   /// parameters have binary32 forms (always for fitted models). kV12 here keeps this struct's
   /// files as before; encoder_settings (the command, the report) defaults to kAuto.
   enum class Format {
