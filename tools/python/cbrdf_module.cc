@@ -30,6 +30,7 @@
 #include "cbrdf/coords.h"
 #include "cbrdf/encoder.h"
 #include "cbrdf/file_io.h"
+#include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/model.h"
 #include "cbrdf/noise.h"
@@ -56,22 +57,48 @@ py::object& error_class() {
   return *cls;
 }
 
-// Raises cbrdf.Error(message, code, code_name, exit_code): exit_code is what `cbrdf` would exit
-// with (1 bad data, 2 bad usage).
-[[noreturn]] void raise_status(const Status& s, int exit_code = 1) {
-  py::object cls = error_class();
+// cbrdf.ArgumentTypeError (cbrdf.Error and TypeError) for an argument of the wrong type.
+py::object& type_error_class() {
+  static py::object* cls = new py::object(py::reinterpret_borrow<py::object>(PyExc_TypeError));
+  return *cls;
+}
+
+// Message text: a path's bytes need not be UTF-8, and a message must still become a str.
+py::str text(const std::string& s) {
+  return py::reinterpret_steal<py::str>(
+      PyUnicode_DecodeUTF8(s.data(), py::ssize_t(s.size()), "backslashreplace"));
+}
+
+[[noreturn]] void raise_as(const py::object& cls, const Status& s, int exit_code) {
   py::object inst;
-  if (cls.ptr() == PyExc_ValueError) {
-    inst = cls(s.message());
+  if (cls.ptr() == PyExc_ValueError || cls.ptr() == PyExc_TypeError) {
+    inst = cls(text(s.message()));
   } else {
-    inst = cls(s.message(), int(s.code()), error_code_name(s.code()), exit_code);
+    inst = cls(text(s.message()), int(s.code()), error_code_name(s.code()), exit_code);
   }
   PyErr_SetObject(cls.ptr(), inst.ptr());
   throw py::error_already_set();
 }
 
+// Raises cbrdf.Error(message, code, code_name, exit_code): exit_code is what `cbrdf` would exit
+// with (1 bad data, 2 bad usage).
+[[noreturn]] void raise_status(const Status& s, int exit_code = 1) {
+  raise_as(error_class(), s, exit_code);
+}
+
 [[noreturn]] void raise_invalid(const std::string& message, int exit_code = 1) {
   raise_status(error(ErrorCode::kInvalidArgument, message), exit_code);
+}
+
+// An argument of the wrong type (None, a list, a str for a number): bad usage, exit code 2.
+[[noreturn]] void raise_type(const std::string& message) {
+  raise_as(type_error_class(), error(ErrorCode::kInvalidArgument, message), 2);
+}
+
+// The repr of a Python value, for messages (at most about 80 characters).
+std::string repr_text(const py::handle& v) {
+  std::string r = py::reinterpret_steal<py::str>(PyObject_ASCII(v.ptr())).cast<std::string>();
+  return r.size() > 80 ? r.substr(0, 77) + "..." : r;
 }
 
 template <typename T>
@@ -84,7 +111,10 @@ std::vector<std::uint8_t> bytes_of(const py::handle& b) {
   // Any buffer, in its logical (C) order: a strided view (memoryview(x)[::-1], [::2]) is copied
   // element by element as bytes(view) does, never read as if it were contiguous.
   Py_buffer view;
-  if (PyObject_GetBuffer(b.ptr(), &view, PyBUF_FULL_RO) != 0) throw py::error_already_set();
+  if (PyObject_GetBuffer(b.ptr(), &view, PyBUF_FULL_RO) != 0) {
+    PyErr_Clear();
+    raise_type("data must be bytes-like (bytes, bytearray, memoryview), not " + repr_text(b));
+  }
   std::vector<std::uint8_t> out(std::size_t(view.len));
   const int rc = PyBuffer_ToContiguous(out.data(), &view, view.len, 'C');
   PyBuffer_Release(&view);
@@ -95,16 +125,34 @@ std::vector<std::uint8_t> bytes_of(const py::handle& b) {
 // A path from Python: an embedded NUL would cut it short at the system call, so refuse it as
 // Python's open() does.
 const std::string& checked_path(const std::string& path) {
-  if (path.find('\0') != std::string::npos) {
-    PyErr_SetString(PyExc_ValueError, "embedded null byte in the path");
-    throw py::error_already_set();
-  }
+  if (path.find('\0') != std::string::npos) raise_invalid("path must not hold a NUL byte", 2);
   return path;
 }
 
-// The repr of a Python value, for messages.
-std::string repr_text(const py::handle& v) {
-  return std::string(py::str(py::repr(v)));
+// A path argument (str, bytes or os.PathLike) as the bytes the system call gets: os.fsencode, so
+// a name os.listdir gave with undecodable bytes (surrogate-escaped) names that same file.
+std::string path_arg(const py::handle& v, const char* name = "path") {
+  PyObject* p = PyOS_FSPath(v.ptr());
+  if (p == nullptr) {
+    PyErr_Clear();
+    raise_type(std::string(name) + " must be a str, bytes or os.PathLike, not " + repr_text(v));
+  }
+  py::object fs = py::reinterpret_steal<py::object>(p);
+  if (py::isinstance<py::str>(fs)) {
+    PyObject* b = PyUnicode_EncodeFSDefault(fs.ptr());
+    if (b == nullptr) {
+      PyErr_Clear();
+      raise_invalid(std::string(name) + " " + repr_text(fs) +
+                        " cannot be a file name (a lone surrogate no encoding can write)",
+                    2);
+    }
+    fs = py::reinterpret_steal<py::object>(b);
+  }
+  std::string path = fs.cast<std::string>();
+  if (path.find('\0') != std::string::npos) {
+    raise_invalid(std::string(name) + " must not hold a NUL byte, not " + repr_text(v), 2);
+  }
+  return path;
 }
 
 // An int argument in lo..hi: a Python int or a NumPy integer (not a bool, not a float), any size.
@@ -112,8 +160,7 @@ long long int_arg(const py::handle& v, const char* name, long long lo, long long
                   int exit_code = 2) {
   const std::string range = std::to_string(lo) + " to " + std::to_string(hi);
   if (py::isinstance<py::bool_>(v) || !PyIndex_Check(v.ptr()) || py::isinstance<py::float_>(v)) {
-    raise_invalid(std::string(name) + " must be an int from " + range + ", not " + repr_text(v),
-                  exit_code);
+    raise_type(std::string(name) + " must be an int from " + range + ", not " + repr_text(v));
   }
   py::object i = py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr()));
   if (!i) throw py::error_already_set();
@@ -125,12 +172,20 @@ long long int_arg(const py::handle& v, const char* name, long long lo, long long
   return x;
 }
 
-// A str argument (not None, not a number).
+// A str argument (not None, not a number), text UTF-8 can hold (no lone surrogate).
 std::string str_arg(const py::handle& v, const char* name, int exit_code = 2) {
   if (!py::isinstance<py::str>(v)) {
-    raise_invalid(std::string(name) + " must be a str, not " + repr_text(v), exit_code);
+    raise_type(std::string(name) + " must be a str, not " + repr_text(v));
   }
-  return v.cast<std::string>();
+  py::ssize_t size = 0;
+  const char* utf8 = PyUnicode_AsUTF8AndSize(v.ptr(), &size);
+  if (utf8 == nullptr) {
+    PyErr_Clear();
+    raise_invalid(std::string(name) + " must be text UTF-8 can hold, not " + repr_text(v) +
+                      " (a lone surrogate)",
+                  exit_code);
+  }
+  return std::string(utf8, std::size_t(size));
 }
 
 // The `threads` argument of the batch methods: 0 (the library's limit) to 256, as --threads.
@@ -364,17 +419,17 @@ Dirs<T> dirs_of(const py::handle& obj, const char* name, std::size_t width = 3) 
   try {
     given = py::module_::import("numpy").attr("asarray")(obj);
   } catch (py::error_already_set&) {
-    raise_invalid(std::string(name) + " must be an array of numbers, not " + repr_text(obj));
+    raise_type(std::string(name) + " must be an array of numbers, not " + repr_text(obj));
   }
   const char kind = given.dtype().kind();
   if (kind != 'f' && kind != 'i' && kind != 'u') {
-    raise_invalid(std::string(name) + " must hold real numbers (float or int), not dtype " +
-                  std::string(py::str(given.dtype())));
+    raise_type(std::string(name) + " must hold real numbers (float or int), not dtype " +
+               std::string(py::str(given.dtype())) + " (" + repr_text(obj) + ")");
   }
   d.array = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(given);
   if (!d.array) {
     PyErr_Clear();
-    raise_invalid(std::string(name) + " must be an array of numbers");
+    raise_type(std::string(name) + " must be an array of numbers");
   }
   const py::ssize_t w = py::ssize_t(width);
   d.width = width;
@@ -483,13 +538,22 @@ py::tuple nearest_bins(const py::handle& wi_obj, const py::handle& wo_obj) {
   return py::make_tuple(h, d, p);
 }
 
+py::array_t<std::int64_t> index_array(const py::object& v, const char* name);
+
 // The direction pair (wi, wo) at bins' grid angles (phi_h = 0), as the metrics and the table use.
 py::tuple bin_directions(const py::object& theta_h, const py::object& theta_d,
                          const py::object& phi_d) {
   py::module_ np = py::module_::import("numpy");
-  py::tuple b = np.attr("broadcast_arrays")(np.attr("asarray")(theta_h, "int64"),
-                                            np.attr("asarray")(theta_d, "int64"),
-                                            np.attr("asarray")(phi_d, "int64"));
+  py::tuple b;
+  const auto h_in = index_array(theta_h, "theta_h"), d_in = index_array(theta_d, "theta_d"),
+             p_in = index_array(phi_d, "phi_d");
+  try {
+    b = np.attr("broadcast_arrays")(h_in, d_in, p_in);
+  } catch (py::error_already_set&) {
+    raise_invalid(
+        "theta_h, theta_d and phi_d must broadcast together, not shapes " +
+        repr_text(py::make_tuple(h_in.attr("shape"), d_in.attr("shape"), p_in.attr("shape"))));
+  }
   using I64 = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
   const I64 h = I64::ensure(b[0]), d = I64::ensure(b[1]), p = I64::ensure(b[2]);
   std::vector<py::ssize_t> shape(h.shape(), h.shape() + h.ndim());
@@ -501,8 +565,9 @@ py::tuple bin_directions(const py::object& theta_h, const py::object& theta_d,
   for (std::size_t k = 0; k < n; ++k) {
     const std::int64_t hh = h.data()[k], dd = d.data()[k], pp = p.data()[k];
     if (hh < 0 || hh >= kThetaHBins || dd < 0 || dd >= kThetaDBins || pp < 0 || pp >= kPhiDBins) {
-      raise_invalid("bin (" + std::to_string(hh) + ", " + std::to_string(dd) + ", " +
-                    std::to_string(pp) + ") is outside the MERL grid (90, 90, 180)");
+      raise_invalid("bin (theta_h, theta_d, phi_d) = (" + std::to_string(hh) + ", " +
+                    std::to_string(dd) + ", " + std::to_string(pp) +
+                    ") is outside the MERL grid (90, 90, 180)");
     }
     HalfDiff hd;
     hd.theta_h = theta_h_of(double(hh));
@@ -562,9 +627,10 @@ std::unique_ptr<PyModel> model_from_bytes(const std::vector<std::uint8_t>& bytes
   return m;
 }
 
-std::unique_ptr<PyModel> model_from_path(const std::string& path) {
+// `file` is the path as the caller gave it (Model.file), `path` its bytes.
+std::unique_ptr<PyModel> model_from_path(const std::string& path, py::object file) {
   auto bytes = take(read_file(checked_path(path), kMaxContainerBytes));
-  return model_from_bytes(bytes, path, py::str(path));
+  return model_from_bytes(bytes, path, std::move(file));
 }
 
 template <typename T>
@@ -709,11 +775,11 @@ py::array_t<std::int64_t> index_array(const py::object& v, const char* name) {
   try {
     a = py::module_::import("numpy").attr("asarray")(v);
   } catch (py::error_already_set&) {
-    raise_invalid(std::string(name) + " must be an int or an integer array, not " + repr_text(v));
+    raise_type(std::string(name) + " must be an int or an integer array, not " + repr_text(v));
   }
   const char kind = a.dtype().kind();
   if (kind != 'i' && kind != 'u') {
-    raise_invalid(std::string(name) + " must be an int or an integer array, not " + repr_text(v));
+    raise_type(std::string(name) + " must be an int or an integer array, not " + repr_text(v));
   }
   if (kind == 'u' && a.size() > 0 &&
       a.attr("max")().cast<std::uint64_t>() > std::uint64_t(INT64_MAX)) {
@@ -860,9 +926,10 @@ Expected<std::vector<std::uint8_t>> interruptible_job(Job job) {
   return std::move(state->result);
 }
 
-std::string count_text(const py::object& v, const char* name) {
+// A count (an int from lo to hi) or "auto", as the text the command's option parser takes.
+std::string count_text(const py::object& v, const char* name, int lo, int hi) {
   if (py::isinstance<py::bool_>(v)) {
-    raise_invalid(std::string(name) + " must be an int or 'auto', not a bool", 2);
+    raise_type(std::string(name) + " must be an int or 'auto', not a bool");
   }
   if (PyIndex_Check(v.ptr()) && !py::isinstance<py::float_>(v)) {
     // Any size: a value beyond long long is out of range, not an internal cast failure.
@@ -876,27 +943,43 @@ std::string count_text(const py::object& v, const char* name) {
     }
     return std::to_string(x);
   }
-  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
-  raise_invalid(
-      std::string(name) + " must be an int or 'auto', not " + std::string(py::str(py::repr(v))), 2);
+  if (py::isinstance<py::str>(v)) {
+    // "auto" only: a count is an int, as the stubs say ("3" would be an easy slip to accept).
+    if (str_arg(v, name) != "auto") {
+      raise_invalid(std::string(name) + " must be " + std::to_string(lo) + " to " +
+                        std::to_string(hi) + " or 'auto', not " + repr_text(v),
+                    2);
+    }
+    return "auto";
+  }
+  raise_type(std::string(name) + " must be an int or 'auto', not " + repr_text(v));
 }
 
 // A real number (int, float or a NumPy real scalar such as np.float32; not a bool, str or
-// complex), or nullopt.
+// complex), or nullopt; an int too large for a double is infinite (refused as out of range).
 std::optional<double> real_value(const py::object& v) {
   if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v)) return std::nullopt;
   static py::object* real = new py::object(py::module_::import("numbers").attr("Real"));
   if (!py::isinstance(v, *real) || py::isinstance(v, py::module_::import("numpy").attr("bool_"))) {
     return std::nullopt;
   }
-  return py::float_(v).cast<double>();
+  const double x = PyFloat_AsDouble(v.ptr());
+  if (x == -1.0 && PyErr_Occurred()) {
+    if (!PyErr_ExceptionMatches(PyExc_OverflowError)) throw py::error_already_set();
+    PyErr_Clear();
+    return std::numeric_limits<double>::infinity();
+  }
+  return x;
 }
 
 // As `cbrdf encode --target-bytes/--target-psnr`: a positive finite number up to max.
 double target_value(const py::object& v, const char* name, double max, const char* max_text,
                     double min = 0.0, const char* min_text = nullptr) {
   const std::optional<double> x = real_value(v);
-  const bool ok = x && std::isfinite(*x) && (min_text ? *x >= min : *x > 0) && *x <= max;
+  if (!x) {
+    raise_type(std::string(name) + " must be a number (an int or a float), not " + repr_text(v));
+  }
+  const bool ok = std::isfinite(*x) && (min_text ? *x >= min : *x > 0) && *x <= max;
   if (!ok) {
     raise_invalid(std::string(name) + " must be a number " +
                       (min_text ? std::string("from ") + min_text + " to "
@@ -937,7 +1020,9 @@ std::string keyword_names(std::string message) {
   return message;
 }
 
-py::bytes encode(const PyTable& t, const py::object& bits, const py::object& components,
+// `make_table()` gives the cbrdf._Table, called once every option has been checked: reading or
+// converting a table takes a while, and a bad option is refused at once.
+py::bytes encode(const py::object& make_table, const py::object& bits, const py::object& components,
                  const py::object& slices, const py::object& family, const py::object& loss,
                  const py::object& level, const py::object& placement, bool naive_marginals,
                  const py::object& threads, const py::object& target_bytes,
@@ -945,16 +1030,15 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
                  const py::object& source_name, const py::object& mixture_copulas,
                  const py::object& format_version, const py::object& metadata,
                  const py::object& residual_steps) {
-  t.ok();
   EncoderOptions o;
   if (!mixture_copulas.is_none()) o.mixture_copulas = str_arg(mixture_copulas, "mixture_copulas");
   o.format_version = str_arg(format_version, "format_version");
   o.metadata = str_arg(metadata, "metadata");
-  o.slices = count_text(slices, "slices");
-  o.components = count_text(components, "components");
+  o.slices = count_text(slices, "slices", 1, kThetaDBins);
+  o.components = count_text(components, "components", 1, kMaxComponents);
   o.family = str_arg(family, "family");
   o.loss = str_arg(loss, "loss");
-  const std::string bits_text = count_text(bits, "bits");
+  const std::string bits_text = count_text(bits, "bits", 6, 16);
   const auto bits_value = parse_count_or_auto(bits_text, 6, 16, true);
   if (!bits_value) raise_invalid("bits must be 6 to 16 or 'auto', not '" + bits_text + "'", 2);
   o.bits = bits_value->is_auto ? kAutoBits : bits_value->count;
@@ -962,7 +1046,7 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
   o.placement = str_arg(placement, "placement");
   o.naive_marginals = naive_marginals;
   o.threads = int(int_arg(threads, "threads", 0, 256));
-  o.source_name = source_name.is_none() ? t.source_name : str_arg(source_name, "source_name");
+  if (!source_name.is_none()) o.source_name = str_arg(source_name, "source_name");
   if (!max_error.is_none()) {
     o.max_error = target_value(max_error, "max_error", 16.0, "16", 1e-6, "1e-06");
   }
@@ -979,11 +1063,15 @@ py::bytes encode(const PyTable& t, const py::object& bits, const py::object& com
     target.min_psnr = target_value(target_psnr, "target_psnr", 1000.0, "1000");
   }
   const bool targeted = target.max_bytes > 0 || target.min_psnr > 0;
+  if (!residual_steps.is_none()) o.residual_steps = str_arg(residual_steps, "residual_steps");
   if (auto conflict = residual_option_conflict(
           {targeted, !max_error.is_none(), lossless, !residual_steps.is_none()})) {
     raise_invalid(keyword_names(*conflict), 2);
   }
-  if (!residual_steps.is_none()) o.residual_steps = str_arg(residual_steps, "residual_steps");
+  const py::object table_obj = make_table();
+  const PyTable& t = table_obj.cast<const PyTable&>();
+  t.ok();
+  if (source_name.is_none()) o.source_name = t.source_name;
   if (lossless && t.folded_from_360) {
     raise_invalid(t.name +
                       ": lossless cannot keep a 90x90x360 file exactly (it is read as 180 phi_d "
@@ -1129,8 +1217,13 @@ PYBIND11_MODULE(_cbrdf, m) {
   m.doc() = "The C++ half of the cbrdf module (use `import cbrdf`).";
 
   m.def(
-      "_set_error_class", [](py::object cls) { error_class() = std::move(cls); },
-      "Sets the exception class raised for library errors (cbrdf.Error).");
+      "_set_error_class",
+      [](py::object cls, py::object type_cls) {
+        error_class() = std::move(cls);
+        type_error_class() = std::move(type_cls);
+      },
+      "Sets the exception classes raised for library errors (cbrdf.Error) and arguments of the "
+      "wrong type (cbrdf.ArgumentTypeError).");
   m.attr("__version__") = version_string();
   m.attr("CONTAINER_VERSION") =
       py::make_tuple(kContainerMajorVersion, kContainerMinorVersion);  // the newest it writes
@@ -1152,7 +1245,8 @@ PYBIND11_MODULE(_cbrdf, m) {
 
   py::class_<PyTable>(m, "_Table", "A MERL table held in C++ (internal).")
       .def_static(
-          "read", [](const std::string& path) { return read_table(path); }, py::arg("path"))
+          "read", [](const py::object& path) { return read_table(path_arg(path)); },
+          py::arg("path"))
       .def_static(
           "parse",
           [](const py::buffer& b, const std::string& name) {
@@ -1190,9 +1284,9 @@ PYBIND11_MODULE(_cbrdf, m) {
           py::arg("name"))
       .def("arrays", [](const PyTable& t) { return table_arrays(t.ok().table); })
       .def("write",
-           [](const PyTable& t, const std::string& path) {
+           [](const PyTable& t, const py::object& path_obj) {
              t.ok();
-             checked_path(path);
+             const std::string path = path_arg(path_obj);
              Status s;
              {
                py::gil_scoped_release release;
@@ -1227,10 +1321,11 @@ PYBIND11_MODULE(_cbrdf, m) {
 
   m.def(
       "_info_path",
-      [](const std::string& path) {
-        auto bytes = take(read_file(
-            checked_path(path), std::max<std::uint64_t>(kMaxContainerBytes, 2 * kMerlFileBytes)));
-        return info_of_bytes(bytes, path, py::str(path));
+      [](const py::object& file) {
+        const std::string path = path_arg(file);
+        auto bytes =
+            take(read_file(path, std::max<std::uint64_t>(kMaxContainerBytes, 2 * kMerlFileBytes)));
+        return info_of_bytes(bytes, path, file);
       },
       py::arg("path"));
   m.def(
@@ -1268,8 +1363,11 @@ PYBIND11_MODULE(_cbrdf, m) {
         "reader's nearest-bin lookup.");
   m.def("bin_directions", &bin_directions, py::arg("theta_h"), py::arg("theta_d"), py::arg("phi_d"),
         "The direction pairs (wi, wo), arrays (..., 3), at MERL bins' grid angles (phi_h = 0).");
-  m.def("set_thread_limit", &set_thread_limit, py::arg("n"),
-        "Caps the threads every parallel loop of the library uses (0: one per hardware thread).");
+  m.def(
+      "set_thread_limit",
+      [](const py::object& n) { set_thread_limit(int(int_arg(n, "n", 0, kMaxThreadLimit))); },
+      py::arg("n"),
+      "Caps the threads every parallel loop of the library uses (0: one per hardware thread).");
   m.def("thread_limit", &thread_limit, "The thread limit in force.");
 
   py::class_<PyModel>(m, "_Model", "A decoded .cbrdf model (internal base of cbrdf.Model).")
@@ -1278,12 +1376,13 @@ PYBIND11_MODULE(_cbrdf, m) {
                  py::isinstance<py::memoryview>(source)) {
                return model_from_bytes(bytes_of(source), "<bytes>", py::none());
              }
-             if (py::isinstance<py::str>(source))
-               return model_from_path(source.cast<std::string>());
-             py::object fspath = py::module_::import("os").attr("fspath");
-             py::object p = fspath(source);
-             if (!py::isinstance<py::str>(p)) p = p.attr("decode")("utf-8", "surrogateescape");
-             return model_from_path(p.cast<std::string>());
+             // A path: Model.file is the str the caller gave (os.fspath's, os.fsdecode'd).
+             const std::string path = path_arg(source, "source");
+             py::object fspath = py::module_::import("os").attr("fspath")(source);
+             if (!py::isinstance<py::str>(fspath)) {
+               fspath = py::module_::import("os").attr("fsdecode")(fspath);
+             }
+             return model_from_path(path, fspath);
            }),
            py::arg("source"))
       .def_property_readonly("info",
@@ -1340,9 +1439,9 @@ PYBIND11_MODULE(_cbrdf, m) {
            })
       .def(
           "write_merl",
-          [](PyModel& self, const std::string& path) {
+          [](PyModel& self, const py::object& path_obj) {
             auto ev = self.ev();
-            checked_path(path);
+            const std::string path = path_arg(path_obj);
             Status s;
             {
               py::gil_scoped_release release;
@@ -1354,14 +1453,16 @@ PYBIND11_MODULE(_cbrdf, m) {
       .def("eval", &model_eval, py::arg("wi"), py::arg("wo"), py::arg("threads") = 0)
       .def(
           "eval_pair",
-          [](PyModel& self, std::array<double, 3> wi, std::array<double, 3> wo) {
+          [](PyModel& self, const py::object& wi_obj, const py::object& wo_obj) {
             auto ev = self.ev();
-            const Dirs<double> a = dirs_of<double>(py::cast(wi), "wi");
-            const Dirs<double> b = dirs_of<double>(py::cast(wo), "wo");
+            const Dirs<double> a = dirs_of<double>(wi_obj, "wi");
+            const Dirs<double> b = dirs_of<double>(wo_obj, "wo");
+            if (!a.single) raise_invalid("wi must be one direction, shape (3,)");
+            if (!b.single) raise_invalid("wo must be one direction, shape (3,)");
             check_directions(a, 1, "wi");
             check_directions(b, 1, "wo");
             double rgb[3];
-            ev->eval(Vec3{wi[0], wi[1], wi[2]}, Vec3{wo[0], wo[1], wo[2]}, rgb);
+            ev->eval(vec3(a.data), vec3(b.data), rgb);
             return py::make_tuple(rgb[0], rgb[1], rgb[2]);
           },
           py::arg("wi"), py::arg("wo"))

@@ -17,12 +17,17 @@ Quick tour::
     wi, pdf, weight = model.sample(wo, u)                # importance sampling
     cbrdf.sphere_psnr(table, model)                      # the report's tone-mapped sphere PSNR
 
-Errors of the library raise :class:`cbrdf.Error` (a ``ValueError``) carrying the
-stable error code and the message the ``cbrdf`` command prints.
+Every error raises :class:`cbrdf.Error` (a ``ValueError``) carrying the stable
+error code and the message the ``cbrdf`` command prints; an argument of the wrong
+type raises its subclass :class:`cbrdf.ArgumentTypeError`, also a ``TypeError``.
 """
 
 from __future__ import annotations
 
+import functools as _functools
+import math as _math
+import numbers as _numbers
+import operator as _operator
 import os as _os
 from typing import Any as _Any
 
@@ -32,6 +37,7 @@ from . import _cbrdf
 
 __all__ = [
     "Error",
+    "ArgumentTypeError",
     "ErrorCode",
     "MerlArray",
     "Model",
@@ -121,7 +127,144 @@ class Error(ValueError):
         return f"cbrdf.Error({self.message!r}, code={self.code} ({self.code_name}))"
 
 
-_cbrdf._set_error_class(Error)
+class ArgumentTypeError(Error, TypeError):
+    """An argument of the wrong type: None, a list, a str where a number goes, a float where an
+    int goes, an array of strings or complex numbers.
+
+    A :class:`cbrdf.Error` (``code`` ``ErrorCode.INVALID_ARGUMENT``, ``exit_code`` 2) and a
+    ``TypeError``, so ``except cbrdf.Error`` and ``except TypeError`` both catch it.  A value of
+    the right type outside its domain (``level=99``, ``2**64``, a NaN, a str with a lone
+    surrogate) raises a plain :class:`cbrdf.Error`, a ``ValueError``.
+    """
+
+    def __init__(self, message: str, code: int = ErrorCode.INVALID_ARGUMENT,
+                 code_name: str | None = None, exit_code: int = 2) -> None:
+        super().__init__(message, code, code_name, exit_code)
+
+    def __repr__(self) -> str:
+        return f"cbrdf.ArgumentTypeError({self.message!r})"
+
+
+_cbrdf._set_error_class(Error, ArgumentTypeError)
+
+
+# ---- Arguments: each public entry point checks its own, naming the function and the argument --
+
+def _describe(v: _Any) -> str:
+    if isinstance(v, _np.ndarray):
+        return f"an array of dtype {v.dtype} and shape {v.shape}"
+    r = ascii(v)  # ascii: a lone surrogate in the message would make it unprintable
+    return r if len(r) <= 80 else r[:77] + "..."
+
+
+def _usage(fn: str, message: str) -> Error:
+    """A value of the right type outside its domain: bad usage, as the command's exit status 2."""
+    return Error(f"{fn}: {message}", ErrorCode.INVALID_ARGUMENT, "invalid-argument", 2)
+
+
+def _wrong_type(fn: str, name: str, expected: str, v: _Any) -> ArgumentTypeError:
+    return ArgumentTypeError(f"{fn}: {name} must be {expected}, not {_describe(v)}")
+
+
+def _named(fn: str, name: str, err: Error) -> Error:
+    """The library's error about an argument, prefixed with the function and argument names."""
+    cls = ArgumentTypeError if isinstance(err, ArgumentTypeError) else Error
+    return cls(f"{fn}: {name}: {err.message}", err.code, err.code_name, err.exit_code)
+
+
+def _entry(fn):
+    """The public entry point `fn`, raising only cbrdf.Error.
+
+    Each function checks its arguments itself, with messages naming them; this is the net
+    under those checks: a TypeError (a wrong argument count or keyword, a conversion nobody
+    foresaw) becomes ArgumentTypeError, a ValueError, OverflowError or UnicodeError a
+    cbrdf.Error, and anything else Python raises an Error with code INTERNAL (a bug in cbrdf).
+    MemoryError and KeyboardInterrupt pass through.
+    """
+    name = fn.__qualname__.replace(".__init__", "")
+
+    def text(e: BaseException) -> str:
+        return (str(e) or type(e).__name__).encode("utf-8", "backslashreplace").decode()
+
+    @_functools.wraps(fn)
+    def call(*args, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except Error:
+            raise
+        except TypeError as e:
+            raise ArgumentTypeError(f"{name}: {text(e)}") from e
+        except (ValueError, ArithmeticError, LookupError) as e:
+            raise _usage(name, text(e)) from e
+        except (RuntimeError, SystemError, AttributeError, BufferError) as e:
+            raise Error(f"{name}: {type(e).__name__}: {text(e)}", ErrorCode.INTERNAL,
+                        "internal", 1) from e
+
+    return call
+
+
+def _text(fn: str, name: str, v: _Any, none_ok: bool = False) -> str | None:
+    if v is None and none_ok:
+        return None
+    if not isinstance(v, str):
+        raise _wrong_type(fn, name, "a str or None" if none_ok else "a str", v)
+    try:
+        v.encode("utf-8")
+    except UnicodeEncodeError as e:
+        raise _usage(fn, f"{name} must be text UTF-8 can hold, not {_describe(v)} (a lone "
+                         f"surrogate at index {e.start})") from None
+    return v
+
+
+def _int(fn: str, name: str, v: _Any, lo: int, hi: int) -> int:
+    if isinstance(v, (bool, _np.bool_)) or not hasattr(type(v), "__index__"):
+        raise _wrong_type(fn, name, f"an int from {lo} to {hi}", v)
+    i = _operator.index(v)
+    if not lo <= i <= hi:
+        raise _usage(fn, f"{name} must be {lo} to {hi}, not {i}")
+    return i
+
+
+def _real(fn: str, name: str, v: _Any, finite: bool = True) -> float:
+    if isinstance(v, (bool, _np.bool_)) or not isinstance(v, _numbers.Real):
+        raise _wrong_type(fn, name, "a real number", v)
+    try:
+        x = float(v)
+    except OverflowError:  # an int beyond the doubles
+        x = _math.inf if v > 0 else -_math.inf
+    if finite and not _math.isfinite(x):
+        raise _usage(fn, f"{name} must be a finite number, not {_describe(v)}")
+    return x
+
+
+def _flag(fn: str, name: str, v: _Any) -> bool:
+    """True or False (or 1 and 0): a truthy str such as "no" is refused, not read as True."""
+    if isinstance(v, (bool, _np.bool_)):
+        return bool(v)
+    if isinstance(v, _numbers.Integral):
+        if v in (0, 1):
+            return bool(v)
+        raise _usage(fn, f"{name} must be True or False, not {_describe(v)}")
+    raise _wrong_type(fn, name, "True or False", v)
+
+
+def _path(fn: str, name: str, v: _Any) -> str:
+    """A path as os.fspath gives it, decoded as os.fsdecode (a non-UTF-8 name stays that name)."""
+    try:
+        p = _os.fspath(v)
+    except TypeError:
+        raise _wrong_type(fn, name, "a path (str, bytes or os.PathLike)", v) from None
+    try:
+        b = _os.fsencode(p)
+    except UnicodeEncodeError:
+        raise _usage(fn, f"{name} {_describe(p)} cannot be a file name (a lone surrogate no "
+                         "encoding can write)") from None
+    if b"\0" in b:
+        raise _usage(fn, f"{name} must not hold a NUL byte: {_describe(p)}")
+    return p if isinstance(p, str) else _os.fsdecode(p)
+
+
+_DATA = (bytes, bytearray, memoryview)
 
 
 class MerlArray(_np.ndarray):
@@ -168,27 +311,22 @@ def _stored_array(stored: _np.ndarray) -> _np.ndarray:
     return stored
 
 
-def _check_units(units: str) -> None:
-    if units not in ("physical", "stored"):
-        raise Error(f"units must be 'physical' or 'stored', not {units!r}",
-                    ErrorCode.INVALID_ARGUMENT, "invalid-argument", 2)
+def _check_units(fn: str, units: _Any) -> None:
+    if _text(fn, "units", units) not in ("physical", "stored"):
+        raise _usage(fn, f"units must be 'physical' or 'stored', not {_describe(units)}")
 
 
 def _is_pathlike(x: _Any) -> bool:
     return isinstance(x, (str, _os.PathLike))
 
 
-def _fspath(x: _Any) -> str:
-    p = _os.fspath(x)
-    return p.decode("utf-8", "surrogateescape") if isinstance(p, bytes) else p
-
-
-def _read_table(source: _Any):
-    if isinstance(source, (bytes, bytearray, memoryview)):
+def _read_table(fn: str, name: str, source: _Any):
+    if isinstance(source, _DATA):
         return _cbrdf._Table.parse(source, "<bytes>")
-    return _cbrdf._Table.read(_fspath(source))
+    return _cbrdf._Table.read(_path(fn, name, source))
 
 
+@_entry
 def read_merl(source: _Any, *, units: str = "physical") -> _np.ndarray:
     """Read a MERL .binary file (a path, or the file's bytes) as a (3, 90, 90, 180) array.
 
@@ -207,38 +345,87 @@ def read_merl(source: _Any, *, units: str = "physical") -> _np.ndarray:
         Error: what ``cbrdf info FILE`` would report (not-found, truncated,
             corrupt dims, unsupported dims, +Inf values ...).
     """
-    _check_units(units)
-    physical, stored = _read_table(source).arrays()
+    _check_units("read_merl", units)
+    physical, stored = _read_table("read_merl", "source", source).arrays()
     if units == "stored":
         return _stored_array(stored)
     return _physical_array((physical, stored))
 
 
-def _mask_array(mask: _Any) -> _np.ndarray | None:
+def _shape_text(shape: tuple) -> str:
+    return "(" + ", ".join(map(str, shape)) + ("," if len(shape) == 1 else "") + ")"
+
+
+def _real_array(fn: str, name: str, v: _Any, kinds: str, what: str) -> _np.ndarray:
+    """`v` as an array of SHAPE whose dtype kind is one of `kinds`."""
+    try:
+        a = _np.asarray(v)
+    except (TypeError, ValueError) as e:
+        raise _wrong_type(fn, name, what, v) from e
+    if a.dtype.kind not in kinds:
+        raise _wrong_type(fn, name, what, v)
+    if a.shape != SHAPE:
+        raise _usage(fn, f"{name} must have the shape (3, 90, 90, 180) (channel, theta_h, "
+                         f"theta_d, phi_d), not {_shape_text(a.shape)}")
+    return a
+
+
+def _mask_array(fn: str, mask: _Any) -> _np.ndarray | None:
     if mask is None:
         return None
-    return _np.ascontiguousarray(mask, dtype=bool)
+    m = _real_array(fn, "mask", mask, "biu", "None or a boolean array (True = not measured)")
+    return _np.ascontiguousarray(m, dtype=bool)
+
+
+_TABLE_TYPES = "a table (an array of real numbers, a path, bytes or a Model)"
 
 
 def _to_table(table: _Any, mask: _Any = None, *, units: str = "physical",
-              not_measured_value: float = -1.0):
+              not_measured_value: float = -1.0, fn: str = "", name: str = "table"):
     """Any table-like input as the C++ table: arrays, paths, bytes, Models, _Tables."""
+    return _table_maker(table, mask, units=units, not_measured_value=not_measured_value, fn=fn,
+                        name=name)()
+
+
+def _table_maker(table: _Any, mask: _Any = None, *, units: str = "physical",
+                 not_measured_value: float = -1.0, fn: str = "", name: str = "table"):
+    """What makes the C++ table of `table`, once the cheap checks (types, shapes) have passed:
+    a function taking two tables checks both before it converts either."""
     if isinstance(table, _cbrdf._Table):
-        return table
+        return lambda: table
     if isinstance(table, _cbrdf._Model):
-        return table._table()
-    if _is_pathlike(table) or isinstance(table, (bytes, bytearray, memoryview)):
-        return _read_table(table)
-    _check_units(units)
-    m = _mask_array(mask)
-    if units == "stored":
-        return _cbrdf._Table.from_stored(_np.asarray(table, dtype=_np.float64), m,
-                                         float(not_measured_value))
+        return table._table
+    if _is_pathlike(table) or isinstance(table, _DATA):
+        if not isinstance(table, _DATA):
+            table = _path(fn, name, table)
+        return lambda: _read_table(fn, name, table)
+    _check_units(fn, units)
+    m = _mask_array(fn, mask)
+    nmv = _real(fn, "not_measured_value", not_measured_value, finite=False)
+    if not (nmv < 0 or _math.isnan(nmv)):
+        raise _usage(fn, "not_measured_value must be negative or NaN (what MERL files store for "
+                         f"bins that were not measured), not {_describe(not_measured_value)}")
+    a = _real_array(fn, name, table, "fiub", _TABLE_TYPES)
+    # The stored values a MerlArray remembers; any other companion is ignored (it only keeps
+    # unchanged bins' bits).
     companion = getattr(table, "stored", None)
-    return _cbrdf._Table.from_physical(_np.asarray(table, dtype=_np.float64), m, companion,
-                                       float(not_measured_value))
+    if not (isinstance(companion, _np.ndarray) and companion.shape == SHAPE
+            and companion.dtype == _np.float64):
+        companion = None
+
+    def make():
+        try:
+            if units == "stored":
+                return _cbrdf._Table.from_stored(_np.asarray(a, dtype=_np.float64), m, nmv)
+            return _cbrdf._Table.from_physical(_np.asarray(a, dtype=_np.float64), m, companion,
+                                               nmv)
+        except Error as e:
+            raise _named(fn, name, e) from None
+
+    return make
 
 
+@_entry
 def write_merl(path: _Any, table: _Any, mask: _Any = None, *, units: str = "physical",
                not_measured_value: float = -1.0) -> None:
     """Write a table as a MERL .binary (90x90x180), byte-exact with the ``cbrdf`` command.
@@ -261,15 +448,20 @@ def write_merl(path: _Any, table: _Any, mask: _Any = None, *, units: str = "phys
         Error: a measured value that is negative, NaN (with a mask) or infinite, a
             wrong shape, or a failed write (naming the file).
     """
-    _to_table(table, mask, units=units, not_measured_value=not_measured_value).write(_fspath(path))
+    path = _path("write_merl", "path", path)
+    _to_table(table, mask, units=units, not_measured_value=not_measured_value, fn="write_merl",
+              name="table").write(path)
 
 
+@_entry
 def merl_bytes(table: _Any, mask: _Any = None, *, units: str = "physical",
                not_measured_value: float = -1.0) -> bytes:
     """The bytes :func:`write_merl` would write (34,992,012 of them)."""
-    return _to_table(table, mask, units=units, not_measured_value=not_measured_value).serialize()
+    return _to_table(table, mask, units=units, not_measured_value=not_measured_value,
+                     fn="merl_bytes", name="table").serialize()
 
 
+@_entry
 def samples(kind: str | None = None) -> list:
     """The built-in sample materials, as (name, description) pairs (``cbrdf sample --list``).
 
@@ -278,11 +470,12 @@ def samples(kind: str | None = None) -> list:
     Args:
         kind: ``"measured"`` or ``"analytic"`` lists only that kind; None lists all.
     """
-    if kind not in (None, "measured", "analytic"):
-        raise ValueError(f"kind must be 'measured', 'analytic' or None, not {kind!r}")
+    if _text("samples", "kind", kind, none_ok=True) not in (None, "measured", "analytic"):
+        raise _usage("samples", f"kind must be 'measured', 'analytic' or None, not {kind!r}")
     return [(n, d) for n, k, d in _cbrdf.samples() if kind is None or k == kind]
 
 
+@_entry
 def sample(name: str, *, units: str = "physical") -> _np.ndarray:
     """A built-in sample material as a table (what ``cbrdf sample NAME -o FILE`` writes).
 
@@ -290,11 +483,17 @@ def sample(name: str, *, units: str = "physical") -> _np.ndarray:
         name: one of :func:`samples` (e.g. ``"plastic"``).
         units: as in :func:`read_merl`.
     """
-    _check_units(units)
-    physical, stored = _cbrdf._Table.sample(name).arrays()
+    _text("sample", "name", name)
+    _check_units("sample", units)
+    try:
+        t = _cbrdf._Table.sample(name)
+    except Error as e:
+        raise _named("sample", "name", e) from None
+    physical, stored = t.arrays()
     return _stored_array(stored) if units == "stored" else _physical_array((physical, stored))
 
 
+@_entry
 def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, slices: int | str = 6,
            family: str = "frank", loss: str = "linear", level: int = 19,
            placement: str = "uniform", naive_marginals: bool = False, threads: int = 0,
@@ -366,16 +565,28 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
     Raises:
         Error: an option out of range (``exit_code`` 2, the message naming the
             option and its valid values) or a table the encoder refuses (``exit_code`` 1).
+        ArgumentTypeError: an option of the wrong type (a cbrdf.Error and a TypeError).
 
     The GIL is released while fitting, and Ctrl-C raises KeyboardInterrupt within
     about 20 ms (the interrupted fit finishes on its own thread, its result dropped;
     a normal interpreter exit waits for it).
     """
-    t = _to_table(table, mask)
-    return _cbrdf._encode(t, bits, components, slices, family, loss, level, placement,
-                          bool(naive_marginals), threads, target_bytes, target_psnr, max_error,
-                          bool(lossless), source_name, mixture_copulas, format_version,
+    naive_marginals = _flag("encode", "naive_marginals", naive_marginals)
+    lossless = _flag("encode", "lossless", lossless)
+    # The options are checked in C++ by the command's own rules, before the table is made.
+    return _cbrdf._encode(_table_maker(table, mask, fn="encode", name="table"), bits, components, slices, family, loss, level, placement,
+                          naive_marginals, threads, target_bytes, target_psnr, max_error,
+                          lossless, source_name, mixture_copulas, format_version,
                           metadata, residual_steps)
+
+
+def _record(fn: str, name: str, d: _Any, keys: tuple) -> None:
+    """A dict as Model.slices builds them, with every key."""
+    if not isinstance(d, dict):
+        raise _wrong_type(fn, name, "a dict", d)
+    missing = [k for k in keys if k not in d]
+    if missing:
+        raise _usage(fn, f"{name} lacks the keys {missing}")
 
 
 class Component:
@@ -391,7 +602,9 @@ class Component:
 
     __slots__ = ("family", "theta", "scale", "pdf_h", "pdf_d", "pdf_p")
 
+    @_entry
     def __init__(self, d: dict) -> None:
+        _record("Component", "d", d, self.__slots__)
         for k in self.__slots__:
             setattr(self, k, d[k])
 
@@ -408,7 +621,14 @@ class Channel:
 
     __slots__ = ("components",)
 
+    @_entry
     def __init__(self, comps: list) -> None:
+        if not isinstance(comps, (list, tuple)):
+            raise _wrong_type("Channel", "comps", "a list of component dicts", comps)
+        if not comps:
+            raise _usage("Channel", "comps must hold at least one component")
+        for i, c in enumerate(comps):
+            _record("Channel", f"comps[{i}]", c, Component.__slots__)
         self.components = [Component(c) for c in comps]
 
     family = property(lambda self: self.components[0].family)
@@ -430,7 +650,9 @@ class Slice:
 
     __slots__ = ("theta_d_begin", "theta_d_end", "channels")
 
+    @_entry
     def __init__(self, d: dict) -> None:
+        _record("Slice", "d", d, self.__slots__)
         self.theta_d_begin = d["theta_d_begin"]
         self.theta_d_end = d["theta_d_end"]
         self.channels = [Channel(c) for c in d["channels"]]
@@ -457,11 +679,24 @@ class Model(_cbrdf._Model):
     (the path, or None), ``closed``.
     """
 
+    @_entry
+    def __init__(self, source: _Any) -> None:
+        if not isinstance(source, _DATA):
+            _path("Model", "source", source)
+        super().__init__(source)
+
     @property
     def slices(self) -> list:
         """The slices with their families, parameters, scales and marginals."""
         return [Slice(s) for s in self._slices]
 
+    @_entry
+    def close(self) -> None:
+        """Frees the evaluator's tables now (also at the end of a ``with`` block); the model is
+        unusable afterwards (``closed`` is True)."""
+        super().close()
+
+    @_entry
     def table(self, *, units: str = "physical") -> _np.ndarray:
         """The full MERL table (as ``cbrdf decode -o`` writes it).
 
@@ -470,12 +705,13 @@ class Model(_cbrdf._Model):
         :class:`MerlArray`, so ``write_merl(path, model.table())`` writes the same
         bytes as ``cbrdf decode``.
         """
-        _check_units(units)
+        _check_units("Model.table", units)
         physical, stored = self._table_arrays()
         if units == "stored":
             return _stored_array(stored)
         return _physical_array((physical, stored))
 
+    @_entry
     def eval(self, wi: _Any, wo: _Any, threads: int = 0) -> _np.ndarray:  # noqa: D401
         """The BRDF value (physical RGB, 1/sr) at direction pairs.
 
@@ -496,11 +732,13 @@ class Model(_cbrdf._Model):
         """
         return super().eval(wi, wo, threads)
 
+    @_entry
     def eval_pair(self, wi: _Any, wo: _Any) -> tuple:
         """One pair through ``ModelEvaluator::eval`` directly: an (r, g, b) tuple (a reference
         for :meth:`eval`, which is equal to it bit for bit)."""
         return super().eval_pair(wi, wo)
 
+    @_entry
     def sample(self, wo: _Any, u: _Any, threads: int = 0) -> tuple:
         """Importance-sample incident directions (``cbrdf::BrdfSampler``, default settings).
 
@@ -516,10 +754,12 @@ class Model(_cbrdf._Model):
         """
         return super().sample(wo, u, threads)
 
+    @_entry
     def pdf(self, wo: _Any, wi: _Any, threads: int = 0) -> _np.ndarray:
         """The sampler's density of drawing wi given wo (note the order), 0 below the horizon."""
         return super().pdf(wo, wi, threads)
 
+    @_entry
     def bin_value(self, channel: _Any, theta_h: _Any, theta_d: _Any, phi_d: _Any):
         """The model's physical value at MERL bins (``ModelEvaluator::bin_value``).
 
@@ -529,9 +769,10 @@ class Model(_cbrdf._Model):
         """
         return super().bin_value(channel, theta_h, theta_d, phi_d)
 
+    @_entry
     def write_merl(self, path: _Any) -> None:
         """Write the model's table as a MERL .binary, byte-identical to ``cbrdf decode -o``."""
-        super().write_merl(_fspath(path))
+        super().write_merl(_path("Model.write_merl", "path", path))
 
     def __enter__(self) -> "Model":
         return self
@@ -547,6 +788,7 @@ class Model(_cbrdf._Model):
                 f"{self.nbytes} bytes, {len(self._slices)} slices, {self.bits} bits>")
 
 
+@_entry
 def decode(source: _Any) -> Model:
     """Decode a .cbrdf file (a path, or its bytes) into a :class:`Model`.
 
@@ -557,26 +799,41 @@ def decode(source: _Any) -> Model:
         Error: with the code and message ``cbrdf decode`` reports (e.g. code
             ``ErrorCode.CHECKSUM``, "x.cbrdf: chunk 'MARG' at offset 64: ...").
     """
-    if isinstance(source, (bytes, bytearray, memoryview)):
+    if isinstance(source, _DATA):
         return Model(bytes(source))
-    return Model(_fspath(source))
+    return Model(_path("decode", "source", source))
 
 
+@_entry
 def info(source: _Any) -> dict:
     """What ``cbrdf info --json`` prints for a .cbrdf or MERL .binary (a path or bytes), as a dict.
 
     ``json.loads(subprocess.check_output(["cbrdf", "info", "--json", path]))``
     equals ``cbrdf.info(path)`` (for bytes ``file`` is None).
     """
-    if isinstance(source, (bytes, bytearray, memoryview)):
+    if isinstance(source, _DATA):
         return _cbrdf._info_bytes(source)
-    return _cbrdf._info_path(_fspath(source))
+    return _cbrdf._info_path(_path("info", "source", source))
 
 
-def _metric_table(x: _Any):
-    return _to_table(x)
+def _metric_table(fn: str, name: str, x: _Any):
+    return _table_maker(x, fn=fn, name=name)
 
 
+def _size(fn: str, size: _Any) -> int:
+    return _int(fn, "size", size, 1, 8192)
+
+
+def _angles(fn: str, name: str, v: _Any) -> list:
+    if isinstance(v, (str, bytes)) or not hasattr(v, "__iter__"):
+        raise _wrong_type(fn, name, "a sequence of angles in degrees", v)
+    out = [_real(fn, f"{name}[{i}]", a) for i, a in enumerate(v)]
+    if not out:
+        raise _usage(fn, f"{name} must name at least one angle")
+    return out
+
+
+@_entry
 def sphere_metrics(reference: _Any, test: _Any, *, size: int = 256,
                    light_angles: tuple = (10.0, 45.0, 75.0)) -> dict:
     """Sphere-image PSNRs of ``test`` against ``reference`` (``cbrdf::sphere_psnr``).
@@ -590,10 +847,17 @@ def sphere_metrics(reference: _Any, test: _Any, *, size: int = 256,
         "psnr_linear": (r, g, b), "psnr_tonemapped": (r, g, b), "exposure"}]}``;
         means over lights and channels in dB, capped at 100 dB.
     """
-    return _cbrdf._sphere_metrics(_metric_table(reference), _metric_table(test), int(size),
-                                  [float(a) for a in light_angles])
+    return _sphere_metrics("sphere_metrics", reference, test, size, light_angles)
 
 
+def _sphere_metrics(fn: str, reference: _Any, test: _Any, size: _Any, light_angles: _Any):
+    size = _size(fn, size)
+    angles = _angles(fn, "light_angles", light_angles)
+    ref, tst = _metric_table(fn, "reference", reference), _metric_table(fn, "test", test)
+    return _cbrdf._sphere_metrics(ref(), tst(), size, angles)
+
+
+@_entry
 def sphere_psnr(reference: _Any, test: _Any, tonemapped: bool = True, *, size: int = 256,
                 light_angles: tuple = (10.0, 45.0, 75.0)) -> float:
     """The report's sphere PSNR in dB: tone-mapped (default) or linear.
@@ -602,10 +866,12 @@ def sphere_psnr(reference: _Any, test: _Any, tonemapped: bool = True, *, size: i
     input" and the report's ``psnr_tonemapped`` / ``psnr_linear`` columns.  See
     :func:`sphere_metrics` for the arguments.
     """
-    m = sphere_metrics(reference, test, size=size, light_angles=light_angles)
+    tonemapped = _flag("sphere_psnr", "tonemapped", tonemapped)
+    m = _sphere_metrics("sphere_psnr", reference, test, size, light_angles)
     return m["psnr_tonemapped"] if tonemapped else m["psnr_linear"]
 
 
+@_entry
 def brdf_metrics(reference: _Any, test: _Any) -> dict:
     """The report's BRDF-space errors over the reference's measured bins (``cbrdf::brdf_metrics``).
 
@@ -614,9 +880,12 @@ def brdf_metrics(reference: _Any, test: _Any) -> dict:
         report's columns), the per-channel ``"rel_rmse_rgb"``, ``"log_rmse_rgb"``,
         ``"cos_rmse_rgb"`` and ``"bins"`` (measured bins per channel).
     """
-    return _cbrdf._brdf_metrics(_metric_table(reference), _metric_table(test))
+    ref = _metric_table("brdf_metrics", "reference", reference)
+    tst = _metric_table("brdf_metrics", "test", test)
+    return _cbrdf._brdf_metrics(ref(), tst())
 
 
+@_entry
 def estimate_noise(table: _Any) -> dict:
     """The table's measurement noise, estimated from the table alone (``cbrdf::estimate_noise``).
 
@@ -630,11 +899,12 @@ def estimate_noise(table: _Any) -> dict:
         first's), ``"noisy"``, ``"psnr_ceiling_tonemapped"``, ``"psnr_ceiling_linear"``
         (dB: coding closer to the table than this reproduces its noise)``}``.
     """
-    d = _cbrdf._estimate_noise(_to_table(table))
+    d = _cbrdf._estimate_noise(_to_table(table, fn="estimate_noise", name="table"))
     del d["file"]
     return d
 
 
+@_entry
 def render_sphere(brdf: _Any, light_angle_deg: float = 45.0, *, size: int = 256) -> _np.ndarray:
     """The metrics' sphere image: a (size, size, 3) float32 linear radiance image.
 
@@ -642,11 +912,14 @@ def render_sphere(brdf: _Any, light_angle_deg: float = 45.0, *, size: int = 256)
     evaluated continuously (``ModelEvaluator::eval``).  View along -z, one light
     at ``light_angle_deg`` from the view direction (see ``cbrdf/metrics.h``).
     """
+    light = _real("render_sphere", "light_angle_deg", light_angle_deg)
+    size = _size("render_sphere", size)
     if isinstance(brdf, _cbrdf._Model):
-        return brdf._render(float(light_angle_deg), int(size))
-    return _cbrdf._render_table(_metric_table(brdf), float(light_angle_deg), int(size))
+        return brdf._render(light, size)
+    return _cbrdf._render_table(_metric_table("render_sphere", "brdf", brdf)(), light, size)
 
 
+@_entry
 def nearest_bin(wi: _Any, wo: _Any) -> tuple:
     """The MERL bins of direction pairs: ``(theta_h, theta_d, phi_d)`` int64 index arrays.
 
@@ -656,6 +929,7 @@ def nearest_bin(wi: _Any, wo: _Any) -> tuple:
     return _cbrdf.nearest_bin(wi, wo)
 
 
+@_entry
 def bin_directions(theta_h: _Any, theta_d: _Any, phi_d: _Any) -> tuple:
     """The direction pairs ``(wi, wo)`` at MERL bins' grid angles (phi_h = 0).
 
@@ -666,11 +940,14 @@ def bin_directions(theta_h: _Any, theta_d: _Any, phi_d: _Any) -> tuple:
     return _cbrdf.bin_directions(theta_h, theta_d, phi_d)
 
 
+@_entry
 def set_thread_limit(n: int) -> None:
-    """Cap the threads every parallel loop uses (fitting, eval, metrics); 0 = one per core."""
-    _cbrdf.set_thread_limit(int(n))
+    """Cap the threads every parallel loop uses (fitting, eval, metrics): 1 to 256; 0 = one per
+    hardware thread (the default)."""
+    _cbrdf.set_thread_limit(_int("set_thread_limit", "n", n, 0, 256))
 
 
+@_entry
 def thread_limit() -> int:
     """The thread limit in force."""
     return _cbrdf.thread_limit()
