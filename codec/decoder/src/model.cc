@@ -103,7 +103,7 @@ struct Term {
     internal::midpoint_cdf(c.pdf_h, &u1);
     internal::midpoint_cdf(c.pdf_d, &u2);
     internal::midpoint_cdf(c.pdf_p, &u3);
-    copula->prepare(theta, u1, u2, u3);
+    copula->prepare_density(theta, u1, u2, u3);  // values only: no derivative grid
     frank = internal::frank_grid_of(*copula);
   }
 
@@ -458,10 +458,10 @@ std::size_t ModelEvaluator::footprint_bytes() const {
       n += sizeof(Part) + part->terms.capacity() * sizeof(Term);
       for (const Term& t : part->terms) {
         // The grid's prepared per-axis arrays (density/): FrankGrid holds e, w, y, q and u per
-        // axis, the Archimedean grid two prepared grids of psi, log psi, log |psi'| and u.
+        // axis, the Archimedean grid (values only) psi, log psi, log |psi'| and u.
         const std::size_t bins = t.cs->pdf_h.size() + t.cs->pdf_d.size() + t.cs->pdf_p.size();
         const CopulaFamilyRow* row = family_row(t.cs->family);
-        const std::size_t arrays = t.frank ? 5 : row && row->has_parameter() ? 8 : 0;
+        const std::size_t arrays = t.frank ? 5 : row && row->has_parameter() ? 4 : 0;
         n += arrays * bins * sizeof(double) + 128;  // 128: the grid object itself, roughly
       }
     }

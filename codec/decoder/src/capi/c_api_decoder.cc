@@ -648,9 +648,12 @@ cbrdf_status cbrdf_model_albedo_table(const cbrdf_model* model, size_t n, double
     if (model == nullptr || rgb == nullptr) {
       return invalid_argument("cbrdf_model_albedo_table: model or rgb is NULL");
     }
-    if (n < 1 || n > 1024) {
+    // Each entry is a whole albedo (129,600 evaluations): the bound keeps one call to seconds.
+    constexpr std::size_t kMaxAlbedoEntries = 256;
+    if (n < 1 || n > kMaxAlbedoEntries) {
       return invalid_argument("cbrdf_model_albedo_table: n = " + std::to_string(n) +
-                              " is out of range (1 to 1024)");
+                              " is out of range (1 to " + std::to_string(kMaxAlbedoEntries) +
+                              "; each entry costs a whole cbrdf_model_albedo)");
     }
     std::vector<double> out(3 * n);  // rgb is written only on success
     for (std::size_t k = 0; k < n; ++k) {

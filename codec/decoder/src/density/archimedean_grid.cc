@@ -63,6 +63,7 @@ class PreparedGrid {
     }
   }
   double density(int i, int j, int k) const {
+    ++grid_work_counters().densities;
     const double s = axes_[0].psi[i] + axes_[1].psi[j] + axes_[2].psi[k];
     const double l = axes_[0].log_dpsi[i] + axes_[1].log_dpsi[j] + axes_[2].log_dpsi[k];
     double log_c;
@@ -104,17 +105,28 @@ class ArchimedeanGrid final : public GridCopula {
     other_theta_ = theta + step <= hi_ ? theta + step : theta - step;
     other_.prepare(copula_, other_theta_, u);
     span_ = other_theta_ - theta;
+    derivatives_ = true;
+  }
+  void prepare_density(double theta, const std::vector<double>& u1, const std::vector<double>& u2,
+                       const std::vector<double>& u3) override {
+    const std::vector<double>* u[3] = {&u1, &u2, &u3};
+    n3_ = int(u3.size());
+    grid_.prepare(copula_, theta, u);
+    derivatives_ = false;
   }
   double density(int i, int j, int k) const override { return grid_.density(i, j, k); }
   double density_and_derivative(int i, int j, int k, double* d) const override {
     const double c = grid_.density(i, j, k);
-    *d = (other_.density(i, j, k) - c) / span_;
+    *d = derivatives_ ? (other_.density(i, j, k) - c) / span_
+                      : std::numeric_limits<double>::quiet_NaN();
     return c;
   }
   void row(int i, int j, double* c, double* dc) const override {
     for (int k = 0; k < n3_; ++k) {
       c[k] = grid_.density(i, j, k);
-      if (dc) dc[k] = (other_.density(i, j, k) - c[k]) / span_;
+      if (dc)
+        dc[k] = derivatives_ ? (other_.density(i, j, k) - c[k]) / span_
+                             : std::numeric_limits<double>::quiet_NaN();
     }
   }
 
@@ -123,6 +135,7 @@ class ArchimedeanGrid final : public GridCopula {
   double hi_;
   int n3_ = 0;
   double other_theta_ = 0, span_ = 1;
+  bool derivatives_ = false;  // other_ prepared (prepare, not prepare_density)
   PreparedGrid grid_, other_;
 };
 

@@ -27,6 +27,13 @@ class GridCopula {
   double independence() const;
   virtual void prepare(double theta, const std::vector<double>& u1, const std::vector<double>& u2,
                        const std::vector<double>& u3) = 0;
+  // prepare for density() and row(i, j, c, nullptr) only, as an evaluator needs: a grid may then
+  // skip what the derivative in theta takes (the Archimedean grid's second prepared grid), and its
+  // derivatives are NaN.
+  virtual void prepare_density(double theta, const std::vector<double>& u1,
+                               const std::vector<double>& u2, const std::vector<double>& u3) {
+    prepare(theta, u1, u2, u3);
+  }
   virtual double density(int i, int j, int k) const = 0;
   virtual double density_and_derivative(int i, int j, int k, double* dc_dtheta) const = 0;
   // A whole phi_d row at (i, j): densities into c, derivatives into dc unless it is null.
@@ -50,9 +57,12 @@ std::unique_ptr<GridCopula> make_evaluation_grid(CopulaFamily family, double the
 // that bound the decoder's work (spec/container.md, "Resource bounds"): log_sum_paths formed log s
 // by a log-sum-exp (a few exp and a log more than the fast path), general_paths fell back to the
 // general Copula::log_density (about ten times the fast path). Reset them by assignment.
+// densities counts every density the Archimedean grid evaluated (tests that bound the evaluator's
+// work per pair: eval/interp_tables.h keeps a generic bin once computed).
 struct GridWorkCounters {
   std::uint64_t log_sum_paths = 0;
   std::uint64_t general_paths = 0;
+  std::uint64_t densities = 0;
 };
 GridWorkCounters& grid_work_counters();
 

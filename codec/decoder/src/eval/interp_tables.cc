@@ -12,7 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <memory>
+#include <mutex>
 #include <numbers>
 #include <type_traits>
 #include <utility>
@@ -67,12 +69,51 @@ double GenericTerm::value(int i, int j, int k) const {
   return saturate(cs.scale * copula->density(i, j, k) * f);
 }
 
+// A slice's generic sums: 3 channels per bin, bin (i, jl, k) at ((jl * kThetaHBins + i) *
+// kPhiDBins + k) * 3; NaN until computed (a sum is never NaN: every term is saturated).
+struct InterpTables::GenericStore {
+  std::once_flag once;
+  std::atomic<bool> ready{false};
+  std::unique_ptr<std::atomic<double>[]> v;
+};
+
+void InterpTables::generic_bin(std::size_t s, int i, int jl, int k, double out[3]) const {
+  GenericStore& g = generic_store_[s];
+  if (!g.ready.load(std::memory_order_acquire)) {
+    std::call_once(g.once, [&] {
+      const std::size_t n = std::size_t(kThetaHBins) *
+                            std::size_t(f64_[s].theta_d_end - f64_[s].theta_d_begin) * kPhiDBins *
+                            kChannels;
+      g.v.reset(new std::atomic<double>[n]);
+      for (std::size_t e = 0; e < n; ++e) {
+        g.v[e].store(std::numeric_limits<double>::quiet_NaN(), std::memory_order_relaxed);
+      }
+      generic_store_bytes_.fetch_add(n * sizeof(double), std::memory_order_relaxed);
+      g.ready.store(true, std::memory_order_release);
+    });
+  }
+  std::atomic<double>* e =
+      g.v.get() +
+      ((std::size_t(jl) * kThetaHBins + std::size_t(i)) * kPhiDBins + std::size_t(k)) * kChannels;
+  // Relaxed: two threads that miss the same bin compute and store the same values.
+  bool known = true;
+  for (int c = 0; c < kChannels; ++c) {
+    out[c] = e[c].load(std::memory_order_relaxed);
+    known = known && !(out[c] != out[c]);
+  }
+  if (known) return;
+  out[0] = out[1] = out[2] = 0.0;
+  for (const GenericTerm& t : generic_[s]) out[t.channel] += t.value(i, jl, k);
+  for (int c = 0; c < kChannels; ++c) e[c].store(out[c], std::memory_order_relaxed);
+}
+
 InterpTables::InterpTables(const Model& model) {
   for (int j = 0; j < kThetaDBins; ++j) slice_of_bin_[j] = model.slice_of(j);
   const std::size_t ns = model.slices.size();
   f64_.resize(ns);
   f32_.resize(ns);
   generic_.resize(ns);
+  generic_store_ = std::make_unique<GenericStore[]>(ns);
   std::vector<AxisTerms<double>> th, td, tp;
   for (std::size_t s = 0; s < ns; ++s) {
     const Slice& slice = model.slices[s];
@@ -109,12 +150,13 @@ InterpTables::InterpTables(const Model& model) {
           internal::midpoint_cdf(comp.pdf_h, &u1);
           internal::midpoint_cdf(comp.pdf_d, &u2);
           internal::midpoint_cdf(comp.pdf_p, &u3);
-          g.copula->prepare(theta, u1, u2, u3);
+          g.copula->prepare_density(theta, u1, u2, u3);
           generic_[s].push_back(std::move(g));
           any_generic_ = true;
           continue;  // its slot stays zero
         }
         if (comp.scale == 0.0) continue;
+        st.product = true;
         set_constants(&st, q, f.k);
         axis_terms(f, comp.pdf_h, &th);
         axis_terms(f, comp.pdf_d, &td);
@@ -128,6 +170,7 @@ InterpTables::InterpTables(const Model& model) {
     sf.theta_d_begin = st.theta_d_begin;
     sf.theta_d_end = st.theta_d_end;
     sf.slots_per_channel = R;
+    sf.product = st.product;
     sf.groups = st.groups;
     auto cast_all = [](const std::vector<double>& from, std::vector<float>* to) {
       to->resize(from.size());
@@ -174,14 +217,15 @@ std::size_t InterpTables::footprint_bytes() const {
                   batch_->f32.capacity() * sizeof(batch_->f32[0]);
   for (const auto& s : f64_) n += s.bytes();
   for (const auto& s : f32_) n += s.bytes();
+  n += generic_store_bytes_.load(std::memory_order_relaxed) + f64_.size() * sizeof(GenericStore);
   for (const auto& gs : generic_) {
     n += gs.capacity() * sizeof(GenericTerm);
     for (const GenericTerm& g : gs) {
-      // The grid's prepared per-axis arrays: Archimedean grids hold two prepared grids of four
+      // The grid's prepared per-axis arrays: an Archimedean grid prepared for values holds four
       // arrays per axis (generic terms are never FrankGrid).
       const std::size_t bins =
           g.component->pdf_h.size() + g.component->pdf_d.size() + g.component->pdf_p.size();
-      n += 2 * 4 * bins * sizeof(double) + 256;
+      n += 4 * bins * sizeof(double) + 256;
     }
   }
   return n;

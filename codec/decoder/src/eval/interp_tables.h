@@ -20,14 +20,20 @@
 //
 // Families without this product form (Clayton, Gumbel, Joe, and Frank beyond kFrankGridMinAlpha,
 // where the terms underflow) are evaluated as before: trilinear between the 8 surrounding bins'
-// values from their GridCopula. They are rare (the fitter's default is Frank); a slice holds them
-// in `generic`.
+// values from their GridCopula. A slice holds them in `generic`, and the sum of its generic terms
+// at a bin (per channel) is kept once computed: a bin costs their copula densities (15 to 100 ns
+// each, against the product form's few ns per slot) once, not at every pair that lands next to
+// it, so that sampling and the albedo of such a model cost about what a Frank model's do. The
+// store is sized on a slice's first evaluation (24 bytes per bin of the slice: at most 35 MB for
+// a model of generic terms only) and filled bin by bin, so a caller who evaluates few pairs pays
+// for few bins.
 //
 // Across a slice boundary (theta_d bins j and j + 1 in different slices) and across the phi_d
 // period (bin 179 to bin 0, where the CDF returns from 1 to 0) the terms are not interpolated: the
 // value is linear in position between the two bins' values, as before.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <memory>
 #include <vector>
@@ -76,6 +82,7 @@ template <class T>
 struct SliceTables {
   int theta_d_begin = 0, theta_d_end = 0;
   int slots_per_channel = 0;  // R
+  bool product = false;       // a slot holds a component (else every slot is zero: skipped)
   int groups = 0;             // G = ceil(3 R / kGroup)
   std::vector<T> h;           // kThetaHBins + 1 rows (the last repeated)
   std::vector<T> d;           // width + 1 rows (the last repeated)
@@ -155,11 +162,17 @@ class InterpTables {
   void prepare_batch();
   // The generic terms, trilinear between the 8 bins around the position.
   void add_generic(int i0, double fh, int j0, double fd, int k0, double fp, double rgb[3]) const;
+  // The sum of slice s's generic terms per channel at bin (i, jl, k) (jl inside the slice), from
+  // the slice's store (computed and kept on its first use; thread-safe).
+  void generic_bin(std::size_t s, int i, int jl, int k, double out[3]) const;
 
   std::vector<SliceTables<double>> f64_;
   std::vector<SliceTables<float>> f32_;
   std::vector<std::vector<GenericTerm>> generic_;  // per slice
   bool any_generic_ = false;
+  struct GenericStore;                             // interp_tables.cc
+  std::unique_ptr<GenericStore[]> generic_store_;  // per slice (generic_bin)
+  mutable std::atomic<std::size_t> generic_store_bytes_{0};
   int slice_of_bin_[kThetaDBins] = {};
   unsigned char last_in_slice_[kThetaDBins] = {};  // bin j + 1 is in another slice (or none)
   int max_slots_per_channel_ = 1;                  // R over all slices

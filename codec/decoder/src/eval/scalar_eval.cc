@@ -70,6 +70,7 @@ void InterpTables::eval_impl(const std::vector<SliceTables<T>>& tables, const Po
   // slice boundary (two slices' marginals and copulas), the terms are not interpolated: the value
   // is linear between the two bins' values, as trilinear interpolation has it.
   auto along_p = [&](const SliceTables<T>& sl, int jl, T fd_in, T weight) {
+    if (!sl.product) return;  // zero slots only (generic terms): their value is 0
     if (p0 + 1 < kPhiDBins || fp == 0) {
       add_slice(sl, h0, fh, jl, fd_in, p0, fp, weight, rgb);
     } else {
@@ -93,20 +94,21 @@ void InterpTables::add_generic(int i0, double fh, int j0, double fd, int k0, dou
     if (wb == 0.0) continue;
     const int j = j0 + b;
     const std::size_t s = std::size_t(slice_of_bin_[j]);
+    if (generic_[s].empty()) continue;
     const int jl = j - f64_[s].theta_d_begin;
-    for (const GenericTerm& g : generic_[s]) {
-      double v = 0;
-      for (int a = 0; a < 2; ++a) {
-        const double wa = a ? fh : 1 - fh;
-        if (wa == 0.0) continue;
-        for (int e = 0; e < 2; ++e) {
-          const double w = wa * (e ? fp : 1 - fp);
-          if (w == 0.0) continue;
-          v += w * g.value(i0 + a, jl, (k0 + e) % kPhiDBins);
-        }
+    double v[3] = {0, 0, 0};
+    for (int a = 0; a < 2; ++a) {
+      const double wa = a ? fh : 1 - fh;
+      if (wa == 0.0) continue;
+      for (int e = 0; e < 2; ++e) {
+        const double w = wa * (e ? fp : 1 - fp);
+        if (w == 0.0) continue;
+        double bin[3];
+        generic_bin(s, i0 + a, jl, (k0 + e) % kPhiDBins, bin);
+        for (int c = 0; c < kChannels; ++c) v[c] += w * bin[c];
       }
-      rgb[g.channel] += wb * v;
     }
+    for (int c = 0; c < kChannels; ++c) rgb[c] += wb * v[c];
   }
 }
 
