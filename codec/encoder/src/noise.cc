@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
+#include "bitstream/chunks.h"
 #include "metrics.h"
 #include "residual_encode.h"
 
@@ -100,8 +102,14 @@ NoiseEstimate estimate_noise(const BrdfTable& table, const NoiseOptions& options
       SphereSetup setup;
       setup.threads = options.threads;
       const ImageMetrics m = sphere_psnr(table, other, setup);
-      est.psnr_ceiling_tonemapped = m.psnr_tonemapped;
-      est.psnr_ceiling_linear = m.psnr_linear;
+      // Noise of many decades per bin (a table of values log-uniform over 1e-30..1e30) takes the
+      // other draw's renders past float's range: the PSNR is -inf or NaN, which says nothing
+      // about the table. It is not measurable: NaN.
+      const auto measured = [](double db) {
+        return std::isfinite(db) ? db : std::numeric_limits<double>::quiet_NaN();
+      };
+      est.psnr_ceiling_tonemapped = measured(m.psnr_tonemapped);
+      est.psnr_ceiling_linear = measured(m.psnr_linear);
     }
   }
   return est;
@@ -174,7 +182,9 @@ BrdfTable noise_floor_source(const BrdfTable& table, const BrdfTable& base) {
 }
 
 double noise_floor_error(const NoiseEstimate& estimate) {
-  return kFloorPerSigma * estimate.max_sigma();
+  // A file holds bounds up to kMaxResidualError: noise beyond it (tens of e-folds per bin) leaves
+  // nothing a coarser bound would code.
+  return std::min(kFloorPerSigma * estimate.max_sigma(), kMaxResidualError);
 }
 
 }  // namespace cbrdf

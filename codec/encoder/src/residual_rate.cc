@@ -49,7 +49,8 @@ constexpr double kSignalGainDb = 1.0;
 struct NoiseFloor {
   bool active = false;
   double smallest_error = 0;  // no bound below this: it would code what is left of the noise
-  double ceiling = 0;         // the estimate's tone-mapped PSNR ceiling (dB)
+  double sigma = 0;           // the estimate's largest channel sigma
+  double ceiling = 0;         // the estimate's tone-mapped PSNR ceiling (dB); NaN: not measurable
 };
 
 NoiseFloor noise_floor(const BrdfTable& table, const EncoderSettings& settings) {
@@ -59,7 +60,10 @@ NoiseFloor noise_floor(const BrdfTable& table, const EncoderSettings& settings) 
   NoiseFloor f;
   if (!e.noisy()) return f;
   f.active = true;
-  f.smallest_error = noise_floor_error(e);
+  // Within the bounds searched: noise of many decades per bin puts the floor above the largest
+  // (a table log-uniform over 1e-30..1e30: 21), where the search would start outside its range.
+  f.smallest_error = std::min(noise_floor_error(e), kLargestError);
+  f.sigma = e.max_sigma();
   f.ceiling = e.psnr_ceiling_tonemapped;
   return f;
 }
@@ -100,9 +104,11 @@ class ResidualSearch {
         floor_(floor) {}
 
   // A try at E: kept when it meets the target and beats the best so far. At a budget a try is
-  // listed in `tried` only once chosen (encode_to_target_ladder).
-  Expected<RateCandidate> attempt(double e) {
+  // listed in `tried` only once chosen (encode_to_target_ladder). None: the layer cannot hold E on
+  // this table (uncodable()), nor any finer bound.
+  Expected<std::optional<RateCandidate>> attempt(double e) {
     const bool by_bytes = target_.max_bytes > 0;
+    if (e <= uncodable_from_) return std::optional<RateCandidate>();
     EncodeResult encoded;
     if (!base_table_) {
       // The base is the same for every try: decoded once.
@@ -118,10 +124,18 @@ class ResidualSearch {
       }
     }
     double signal_psnr = 0;
-    auto c = try_error(source_ ? *source_ : table_, scorer_, *base_table_, settings_, model_,
-                       std::max(e, floor_.active ? floor_.smallest_error : 0.0), &encoded,
-                       signal_ ? &*signal_ : nullptr, &signal_psnr);
-    if (!c.ok()) return c;
+    e = std::max(e, floor_.active ? floor_.smallest_error : 0.0);
+    auto c = try_error(source_ ? *source_ : table_, scorer_, *base_table_, settings_, model_, e,
+                       &encoded, signal_ ? &*signal_ : nullptr, &signal_psnr);
+    if (!c.ok()) {
+      // kNumeric: more bins than RESD's escapes allow lie beyond the residual's range (values
+      // tens of e-folds from the model, as on a table log-uniform over 1e-30..1e30). A finer
+      // bound only adds such bins: no residual at or below E, and the closest file is found
+      // without one.
+      if (c.status().code() != ErrorCode::kNumeric) return c.status();
+      uncodable_from_ = std::max(uncodable_from_, e);
+      return std::optional<RateCandidate>();
+    }
     signal_psnr_.emplace_back(c->max_error, signal_psnr);
     if (!by_bytes) model_.tried.push_back(*c);
     if (meets(*c) && (!best_ || better(*c, best_->chosen))) {
@@ -130,8 +144,10 @@ class ResidualSearch {
                (!closest_ || c->psnr_tonemapped > closest_->chosen.psnr_tonemapped)) {
       closest_ = RateResult{std::move(encoded), *c, {}, false, model_.fits, model_.hals_sweeps, {}};
     }
-    return c;
+    return std::optional<RateCandidate>(*c);
   }
+  // Whether some bound was more than the residual layer can hold on this table.
+  bool uncodable() const { return uncodable_from_ > 0; }
   // A PSNR missed even by the smallest bound tried: that try.
   const std::optional<RateResult>& closest() const { return closest_; }
   bool meets(const RateCandidate& c) const {
@@ -169,6 +185,7 @@ class ResidualSearch {
   RateResult& model_;
   const NoiseFloor& floor_;
   std::optional<RateResult> best_, closest_;
+  double uncodable_from_ = 0;  // the largest bound the layer could not hold (0: none)
 };
 
 // The largest E reaching the PSNR: PSNR falls as log E grows.
@@ -178,11 +195,13 @@ Status search_psnr(ResidualSearch* search, const RateTarget& target, double smal
   const double aim = target.min_psnr + 0.5 * kPsnrTolerance;
   double x = std::log(std::max(kFirstError, smallest_error));
   for (int k = 0; k < kMaxTries; ++k) {
-    auto c = search->attempt(std::exp(x));
-    if (!c.ok()) return c.status();
-    const bool met = search->meets(*c);
-    if (met && c->psnr_tonemapped - target.min_psnr <= kPsnrTolerance) break;
-    secant.add(x, c->psnr_tonemapped, met);
+    auto tried = search->attempt(std::exp(x));
+    if (!tried.ok()) return tried.status();
+    if (!*tried) break;  // no residual at or below this bound
+    const RateCandidate& c = **tried;
+    const bool met = search->meets(c);
+    if (met && c.psnr_tonemapped - target.min_psnr <= kPsnrTolerance) break;
+    secant.add(x, c.psnr_tonemapped, met);
     const std::optional<double> next = secant.next(aim);
     if (!next) break;
     x = *next;
@@ -203,11 +222,13 @@ Status search_bytes(ResidualSearch* search, const RateTarget& target, const Rate
   for (int k = 0; k < kMaxTries; ++k) {
     const std::optional<double> next = secant.next(aim);
     if (!next) break;
-    auto c = search->attempt(std::exp(*next));
-    if (!c.ok()) return c.status();
-    const bool met = search->meets(*c);
-    if (met && c->bytes >= target.max_bytes * (1 - kBudgetTolerance)) break;
-    secant.add(*next, value(c->bytes), met);
+    auto tried = search->attempt(std::exp(*next));
+    if (!tried.ok()) return tried.status();
+    if (!*tried) break;  // no residual at or below this bound
+    const RateCandidate& c = **tried;
+    const bool met = search->meets(c);
+    if (met && c.bytes >= target.max_bytes * (1 - kBudgetTolerance)) break;
+    secant.add(*next, value(c.bytes), met);
   }
   return ok_status();
 }
@@ -234,10 +255,10 @@ Expected<RateResult> cheap_base(const BrdfTable& table, const EncoderSettings& b
 }
 
 // At a budget: a residual on the cheap base, within the budget, when it beats `model_only` (the
-// best model alone); else model_only.
+// best model alone); else model_only. *uncodable: some bound was more than the layer can hold.
 Expected<RateResult> residual_within_budget(const BrdfTable& table, const EncoderSettings& base,
                                             const RateTarget& target, RateResult model_only,
-                                            const NoiseFloor& floor) {
+                                            const NoiseFloor& floor, bool* uncodable) {
   Expected<RateResult> cheap = cheap_base(table, base);
   if (!cheap.ok()) return cheap.status();
   model_only.fits += cheap->fits;
@@ -247,19 +268,22 @@ Expected<RateResult> residual_within_budget(const BrdfTable& table, const Encode
   // (the best PSNR) is then found and weighed against the model alone.
   auto c = search.attempt(kLargestError);
   if (!c.ok()) return c.status();
-  if (!search.best()) return model_only;
+  *uncodable = search.uncodable();
+  if (!*c || !search.best()) return model_only;
   model_only.tried.push_back(search.best()->chosen);
-  bool at_floor = false;
-  if (floor.active) {
-    // A budget that holds the noise floor's file ends the search there.
+  // A budget that holds the noise floor's file ends the search there (the first try, when the
+  // floor is the largest bound).
+  bool at_floor = floor.active && floor.smallest_error >= kLargestError;
+  if (floor.active && !at_floor) {
     auto f = search.attempt(floor.smallest_error);
     if (!f.ok()) return f.status();
-    at_floor = search.meets(*f);
+    at_floor = *f && search.meets(**f);
   }
   if (!at_floor) {
     CBRDF_RETURN_IF_ERROR(
-        search_bytes(&search, target, *c, floor.active ? floor.smallest_error : kSmallestError));
+        search_bytes(&search, target, **c, floor.active ? floor.smallest_error : kSmallestError));
   }
+  *uncodable = search.uncodable();
   RateResult best = *search.best();
   if (best.chosen.max_error != kLargestError) model_only.tried.push_back(best.chosen);
   // On a noisy table the PSNR against the input does not tell signal from noise: the smoothed
@@ -285,22 +309,47 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
   // The model alone reaches the PSNR, or leaves no room in the budget for a better file.
   if (!by_bytes && rc->met) return rc;
   const NoiseFloor floor = noise_floor(table, base);
+  bool uncodable = false;  // a bound tried was more than the residual layer holds on this table
   const auto with_note = [&](Expected<RateResult> r) -> Expected<RateResult> {
-    if (!r.ok() || !floor.active) return r;
+    if (!r.ok()) return r;
+    // Why the model alone, when the layer could not be written at all.
+    constexpr const char* kUncodable =
+        "no residual layer can be written on this table (more bins lie beyond its range from the "
+        "model than it stores exactly: values tens of e-folds from any smooth BRDF); the model "
+        "alone is the closest file";
+    const bool model_alone = r->chosen.max_error == 0;
+    if (!floor.active) {
+      if (uncodable && model_alone) r->note = kUncodable;
+      return r;
+    }
     r->residual_of_smoothed_input = r->encoded.model.residual.present();
-    char text[320];
-    const double sigma = 100 * floor.smallest_error / kFloorPerSigma;
+    char text[512];
+    // Per cent per bin: "3" for 3%, "4225" (not "4.2e+03") for noise of many decades.
+    char sigma[32];
+    if (100 * floor.sigma < 100) {
+      std::snprintf(sigma, sizeof sigma, "%.2g", 100 * floor.sigma);
+    } else {
+      std::snprintf(sigma, sizeof sigma, "%.0f", 100 * floor.sigma);
+    }
     if (r->chosen.max_error > 0 && r->chosen.max_error <= floor.smallest_error) {
-      std::snprintf(
-          text, sizeof text,
-          "the input is noisy (about %.2g%% per bin, see cbrdf info): stopped at its "
-          "noise floor (residual bound %.3g); PSNR against the input beyond about %.1f dB "
-          "would be bought by coding noise",
-          sigma, floor.smallest_error, floor.ceiling);
-      r->note = text;
-    } else if (r->chosen.max_error == 0 && !by_bytes) {
+      char beyond[96] = "";
+      if (std::isfinite(floor.ceiling)) {
+        std::snprintf(beyond, sizeof beyond, "beyond about %.1f dB ", floor.ceiling);
+      }
       std::snprintf(text, sizeof text,
-                    "the input is noisy (about %.2g%% per bin, see cbrdf info): the model alone is "
+                    "the input is noisy (about %s%% per bin, see cbrdf info): stopped at its "
+                    "noise floor (residual bound %.3g); PSNR against the input %swould be bought "
+                    "by coding noise",
+                    sigma, floor.smallest_error, beyond);
+      r->note = text;
+    } else if (uncodable && model_alone) {
+      std::snprintf(text, sizeof text,
+                    "the input is noisy (about %s%% per bin, see cbrdf info); %s", sigma,
+                    kUncodable);
+      r->note = text;
+    } else if (model_alone && !by_bytes) {
+      std::snprintf(text, sizeof text,
+                    "the input is noisy (about %s%% per bin, see cbrdf info): the model alone is "
                     "as close to its signal as a residual layer gets; more bytes would code noise",
                     sigma);
       r->note = text;
@@ -309,7 +358,8 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
   };
   RateResult result = std::move(rc).value();
   if (by_bytes) {
-    return with_note(residual_within_budget(table, base, target, std::move(result), floor));
+    return with_note(
+        residual_within_budget(table, base, target, std::move(result), floor, &uncodable));
   }
   ResidualSearch search(table, base, target, &result, floor);
   if (floor.active && target.min_psnr >= floor.ceiling) {
@@ -320,6 +370,7 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
     CBRDF_RETURN_IF_ERROR(
         search_psnr(&search, target, floor.active ? floor.smallest_error : kSmallestError));
   }
+  uncodable = search.uncodable();
   if (!search.best()) {
     // Nothing met the PSNR: the closest file, with the residual or without.
     const auto& closest = search.closest();

@@ -119,8 +119,12 @@ typedef struct cbrdf_noise_estimate {
   double grazing_growth;          /**< last band's sigma over the first's, mean over channels */
   double psnr_ceiling_tonemapped; /**< the tone-mapped sphere PSNR (dB) of the table against
                                        itself with another draw of its noise: beyond it a coder
-                                       reproduces noise; 100 for a smooth table */
-  double psnr_ceiling_linear;     /**< the same ceiling in linear sphere PSNR (dB) */
+                                       reproduces noise; 100 for a smooth table; NaN (test with
+                                       isnan) when not measurable: noise of many decades per bin
+                                       takes that draw's renders past their range */
+  double psnr_ceiling_linear;     /**< the same ceiling in linear sphere PSNR (dB), NaN when not
+                                       measurable (values log-uniform over 1e-30..1e30: a finite
+                                       tone-mapped ceiling, NaN here); never an infinity */
   int noisy;                      /**< 1: some channel's sigma is above 0.002; 0: a smooth table */
 } cbrdf_noise_estimate;
 

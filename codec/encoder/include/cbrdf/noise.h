@@ -41,9 +41,13 @@ struct NoiseEstimate {
   double grazing_growth = 1.0;
   /// The tone-mapped sphere PSNR (metrics.h) of the table against itself with another draw of
   /// noise of the estimated size: about the PSNR of the table against the noise-free truth, so
-  /// beyond it a coder reproduces noise, not signal. kPsnrCapDb when noise-free.
+  /// beyond it a coder reproduces noise, not signal. kPsnrCapDb when noise-free. NaN when not
+  /// measurable: noise so large (many decades per bin) that the other draw's renders leave the
+  /// range of a float image.
   double psnr_ceiling_tonemapped = 0.0;
-  /// The same in linear sphere PSNR.
+  /// The same in linear sphere PSNR; NaN when not measurable, as above (the linear renders
+  /// overflow first: values log-uniform over 1e-30..1e30 give a finite tone-mapped ceiling and
+  /// NaN here).
   double psnr_ceiling_linear = 0.0;
   /// Five-bin runs the estimate used (per channel, summed).
   std::size_t samples = 0;
@@ -80,7 +84,7 @@ inline constexpr double kFloorPerSigma = 0.5;
 /// smooth_residual_target(table, base, the residual's knee, kDenoiseRadius).
 BrdfTable noise_floor_source(const BrdfTable& table, const BrdfTable& base);
 /// The smallest residual bound E worth coding for a table of this noise: kFloorPerSigma times
-/// estimate.max_sigma().
+/// estimate.max_sigma(), at most 16 (the largest bound a file holds).
 double noise_floor_error(const NoiseEstimate& estimate);
 
 }  // namespace cbrdf

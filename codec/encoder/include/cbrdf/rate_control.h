@@ -50,7 +50,8 @@ struct RateResult {
   int fits = 0;
   long long hals_sweeps = 0;
   ///@}
-  /// encode_to_target_ladder on a noisy table that stopped at its noise floor: one line saying so
+  /// encode_to_target_ladder on a noisy table that stopped at its noise floor, or that chose the
+  /// model alone because no residual layer can be written on the table: one line saying so
   /// (printed by `cbrdf encode`); empty otherwise.
   std::string note;
   /// The residual layer codes the input with its measurement noise smoothed out (a noisy table
@@ -91,8 +92,12 @@ Expected<RateResult> encode_to_target(const BrdfTable& table, const EncoderSetti
 /// reaches the PSNR, the residual goes on the one-component model at the settings' slice count and
 /// --bits auto's bits (a third to a half of the bytes of one on the closest model on the real
 /// materials); a PSNR more than any mixture adds (8 dB) above the best one-component row fits no
-/// mixture. When even the smallest E misses the PSNR, the closest file is chosen.
-/// chosen.max_error > 0 names the layer.
+/// mixture. When even the smallest E misses the PSNR, the closest file is chosen. On a noisy table
+/// no E is below its noise floor (noise_floor_error(), or 1 when that is larger). A bound the layer
+/// cannot hold on the table (more bins tens of e-folds from the model than RESD stores exactly:
+/// values log-uniform over 1e-30..1e30) ends the search with the closest file so far, or the model
+/// alone, and a note: an unreachable target on any valid table gives the closest file (met false),
+/// not an error. chosen.max_error > 0 names the layer.
 Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const EncoderSettings& base,
                                              const RateTarget& target);
 
