@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 // `cbrdf info`: describe a .cbrdf container or a MERL .binary.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
@@ -131,10 +133,23 @@ void print_noise(const NoiseEstimate& e) {
                 100 * (s[0] + s[1] + s[2]) / 3);
   }
   std::printf(" (x%.2f towards grazing)\n", e.grazing_growth);
+  // A ceiling is NaN when the noise is too large to render (noise.h): said, not printed as nan.
+  const auto db = [](double ceiling, const char* what) {
+    char text[64];
+    if (std::isfinite(ceiling)) {
+      std::snprintf(text, sizeof text, "%.1f dB %s", ceiling, what);
+    } else {
+      std::snprintf(text, sizeof text, "%s not measurable", what);
+    }
+    return std::string(text);
+  };
+  const bool unmeasured =
+      !std::isfinite(e.psnr_ceiling_tonemapped) || !std::isfinite(e.psnr_ceiling_linear);
   std::printf(
-      "  noise floor: sphere PSNR %.1f dB tone-mapped, %.1f dB linear; coding closer than this "
-      "reproduces noise\n",
-      e.psnr_ceiling_tonemapped, e.psnr_ceiling_linear);
+      "  noise floor: sphere PSNR %s, %s%s; coding closer than this reproduces noise\n",
+      db(e.psnr_ceiling_tonemapped, "tone-mapped").c_str(),
+      db(e.psnr_ceiling_linear, "linear").c_str(),
+      unmeasured ? " (the noise, many decades per bin, takes the renders past their range)" : "");
 }
 
 int info_merl(const InfoOptions& o, const std::vector<std::uint8_t>& bytes) {

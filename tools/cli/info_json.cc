@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "info_json.h"
 
+#include <cmath>
+
 #include "cbrdf/container.h"
 
 namespace cbrdf::cli {
@@ -91,8 +93,13 @@ nlohmann::json noise_json(const NoiseEstimate& e) {
   }
   j["grazing_growth"] = e.grazing_growth;
   j["noisy"] = e.noisy();
-  j["psnr_ceiling_tonemapped"] = e.psnr_ceiling_tonemapped;
-  j["psnr_ceiling_linear"] = e.psnr_ceiling_linear;
+  // NaN (noise too large to render, noise.h) would print as null: said instead.
+  const auto ceiling = [](double db) -> nlohmann::json {
+    if (std::isfinite(db)) return db;
+    return "not measurable";
+  };
+  j["psnr_ceiling_tonemapped"] = ceiling(e.psnr_ceiling_tonemapped);
+  j["psnr_ceiling_linear"] = ceiling(e.psnr_ceiling_linear);
   return j;
 }
 

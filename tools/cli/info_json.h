@@ -23,7 +23,7 @@ nlohmann::json container_info_json(const ContainerInfo& info, std::size_t evalua
 nlohmann::json merl_info_json(const BrdfTable& table, const MerlInfo& mi);
 
 // The noise estimate (noise.h): "sigma" per channel, "bands" of theta_d, "grazing_growth",
-// "noisy", "psnr_ceiling_tonemapped", "psnr_ceiling_linear".
+// "noisy", "psnr_ceiling_tonemapped", "psnr_ceiling_linear" (dB, or the string "not measurable").
 nlohmann::json noise_json(const NoiseEstimate& estimate);
 
 // Stored bytes of the residual chunk 'RESD' (0 when absent).
