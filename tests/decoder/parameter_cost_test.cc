@@ -17,6 +17,7 @@
 #include "cbrdf/coords.h"
 #include "cbrdf/file_io.h"
 #include "cbrdf/model.h"
+#include "copula/registry.h"
 #include "density/grid_copula.h"
 #include "synthetic_model.h"
 
@@ -115,6 +116,49 @@ TEST(ParameterCost, GenericValuesAreTheTrilinearInterpolationOfBinValues) {
     }
   }
   EXPECT_EQ(checked, 900);
+}
+
+// The Archimedean grid's inline third derivative gives the family's prepared one's bits: every
+// bin of a grid of CDF values, each family from independence to beyond its file range.
+TEST(ParameterCost, GridDensityIsTheFamilysPreparedFormulaBitForBit) {
+  std::vector<double> u;
+  for (int i = 0; i < 40; ++i) u.push_back(std::pow(double(i + 1) / 41.0, 3.0));
+  u.push_back(1.0 - 1e-9);
+  const struct {
+    CopulaFamily family;
+    std::vector<double> thetas;
+  } cases[] = {{CopulaFamily::kClayton, {0.0, 1e-9, 0.5, 3.0, 50.0, 1e4}},
+               {CopulaFamily::kGumbel, {1.0, 1.0 + 1e-9, 2.0, 20.0, 300.0}},
+               {CopulaFamily::kJoe, {1.0, 1.5, 20.0, 300.0}}};
+  int checked = 0;
+  for (const auto& c : cases) {
+    const Copula& cop = copula_for(c.family);
+    for (double theta : c.thetas) {
+      auto grid = internal::make_archimedean_grid(c.family);
+      grid->prepare_density(theta, u, u, u);
+      const Copula::FastPath path = cop.prepare_fast_path(theta);
+      for (std::size_t i = 0; i < u.size(); i += 3) {
+        for (std::size_t j = 0; j < u.size(); j += 2) {
+          for (std::size_t k = 0; k < u.size(); ++k) {
+            const double s = std::exp(cop.log_generator(u[i], theta)) +
+                             std::exp(cop.log_generator(u[j], theta)) +
+                             std::exp(cop.log_generator(u[k], theta));
+            if (!std::isnormal(s)) continue;  // the log-sum path: not the inline one
+            const double l = cop.log_abs_generator_derivative(u[i], theta) +
+                             cop.log_abs_generator_derivative(u[j], theta) +
+                             cop.log_abs_generator_derivative(u[k], theta);
+            const double log_c = cop.log_abs_inverse_third_derivative(s, path) + l;
+            if (!std::isfinite(log_c)) continue;  // the general path
+            const double want = std::isfinite(std::exp(log_c)) ? std::exp(log_c) : 0.0;
+            ASSERT_EQ(grid->density(int(i), int(j), int(k)), want)
+                << family_name(c.family) << " " << theta << " " << i << " " << j << " " << k;
+            ++checked;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 20000);
 }
 
 TEST(ParameterCost, AlbedoTableRefusesATableBeyondItsBound) {

@@ -42,12 +42,71 @@ double log_sum_exp3(double a, double b, double c) {
   return m + std::log(sum);
 }
 
+// The family's prepared third derivative (Copula::prepared_third_derivative) for a positive, finite
+// s, inline: the same operations in the same order (so the same bits) with the parameter's
+// constants formed once, instead of two virtual calls, a domain check and three divisions per bin.
+// NaN: not handled here (take the family's own).
+struct InlineThird {
+  CopulaFamily family = CopulaFamily::kIndependence;
+  double theta = 0, k0 = 0, k1 = 0, a = 0, b = 0, c = 0;
+
+  void prepare(CopulaFamily f, double t, const Copula::FastPath& p) {
+    family = f;
+    theta = t;
+    k0 = p.k[0];
+    k1 = p.k[1];
+    const double alpha = 1.0 / t;
+    const double one_m_alpha = (t - 1.0) / t;
+    const double two_m_alpha = (2.0 * t - 1.0) / t;
+    if (f == CopulaFamily::kGumbel) {  // q3 = a y^2 + b y + c (gumbel.cc)
+      a = alpha * alpha;
+      b = 3.0 * alpha * one_m_alpha;
+      c = one_m_alpha * two_m_alpha;
+    } else if (f == CopulaFamily::kJoe) {  // b3 = c + b z + a z^2 (joe.cc)
+      a = alpha * alpha;
+      b = (2.0 * alpha - 1.0) * one_m_alpha;
+      c = one_m_alpha * two_m_alpha;
+    }
+  }
+  double operator()(double s) const {
+    switch (family) {
+      case CopulaFamily::kGumbel: {
+        const double log_s = std::log(s);
+        const double log_y = k0 * log_s;
+        const double y = std::exp(log_y);
+        return -y - 3.0 * log_s + k1 + log_y + std::log(a * y * y + b * y + c);
+      }
+      case CopulaFamily::kClayton: {
+        const double y = theta * s;
+        if (!std::isfinite(y)) break;
+        const double l = std::log1p(y);
+        const double l_over_theta = y < 1e-200 ? s : l / theta;
+        return k0 - l_over_theta - 3.0 * l;
+      }
+      case CopulaFamily::kJoe: {
+        const double z = -std::expm1(-s);
+        if (theta == 1.0 || !(z >= 1e-300)) break;
+        return k1 - s + (k0 - 3.0) * std::log(z) + std::log(c + b * z + a * z * z);
+      }
+      default:
+        break;
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  bool handles(double s) const {
+    return (family == CopulaFamily::kGumbel || family == CopulaFamily::kClayton ||
+            family == CopulaFamily::kJoe) &&
+           s > 0.0 && s < std::numeric_limits<double>::infinity();
+  }
+};
+
 class PreparedGrid {
  public:
   void prepare(const Copula& c, double theta, const std::vector<double>* u[3]) {
     copula_ = &c;
     theta_ = theta;
     path_ = c.prepare_fast_path(theta);
+    inline_.prepare(c.family(), theta, path_);
     for (int a = 0; a < 3; ++a) {
       AxisTerms& t = axes_[a];
       t.u = *u[a];
@@ -67,7 +126,11 @@ class PreparedGrid {
     const double s = axes_[0].psi[i] + axes_[1].psi[j] + axes_[2].psi[k];
     const double l = axes_[0].log_dpsi[i] + axes_[1].log_dpsi[j] + axes_[2].log_dpsi[k];
     double log_c;
-    if (std::isnormal(s) || s == std::numeric_limits<double>::infinity()) {
+    if (std::isnormal(s) && inline_.handles(s)) {
+      log_c = inline_(s);
+      if (log_c != log_c) log_c = copula_->log_abs_inverse_third_derivative(s, path_);
+      log_c += l;
+    } else if (std::isnormal(s) || s == std::numeric_limits<double>::infinity()) {
       log_c = copula_->log_abs_inverse_third_derivative(s, path_) + l;
     } else {
       ++grid_work_counters().log_sum_paths;
@@ -87,6 +150,7 @@ class PreparedGrid {
   const Copula* copula_ = nullptr;
   double theta_ = 0;
   Copula::FastPath path_;
+  InlineThird inline_;
   AxisTerms axes_[3];
 };
 
