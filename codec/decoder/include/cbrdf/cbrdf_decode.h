@@ -367,7 +367,7 @@ CBRDF_C_API cbrdf_status cbrdf_model_albedo(const cbrdf_model* model, const doub
  * finer than the albedo varies). A renderer interpolates it linearly in theta_o.
  * Cost: O(n) albedos, n x 129,600 evaluations: measured on one core (release build), about 33 ms
  * per entry for a file of 90 slices x 8 Frank components (n = 256: about 8.5 s), and for Clayton,
- * Gumbel or Joe components up to about 8x that for the first entries (their bins' densities are
+ * Gumbel or Joe components up to about 3.5x that for the first entries (their bins' densities are
  * computed on first use and kept), whatever the parameter; divide by the threads given.
  * Returns CBRDF_OK, or CBRDF_ERROR_INVALID_ARGUMENT (a NULL pointer, n out of range), or
  * CBRDF_ERROR_INTERNAL. */
