@@ -429,6 +429,29 @@ TEST_F(ViewServerTest, KeepsServingThroughMoreIdleConnectionsThanDescriptors) {
   }
 }
 
+// The same when the descriptors run out below the server's own cap on connections (its limit
+// lowered while it runs, as another part of a process could use them up): accept() fails with
+// EMFILE, and the server closes its oldest idle connection to make room instead of stopping.
+TEST_F(ViewServerTest, SurvivesAcceptRunningOutOfDescriptors) {
+  ViewProcess view(args({small_}), tmp_ / "err.txt");
+  ASSERT_GT(view.port(), 0) << view.err();
+  const rlimit lowered{200, 200};
+  ASSERT_EQ(::prlimit(view.pid(), RLIMIT_NOFILE, &lowered, nullptr), 0) << std::strerror(errno);
+  std::vector<int> idle;
+  for (int i = 0; i < 300; ++i) {
+    const int fd = connect_to(view.port());
+    if (fd < 0) break;
+    idle.push_back(fd);
+  }
+  EXPECT_EQ(idle.size(), 300u) << "connections refused: " << view.err();
+  const Reply r = get(view.port(), "/index.html");
+  EXPECT_EQ(r.status, 200) << view.err();
+  EXPECT_TRUE(view.running()) << view.err();
+  EXPECT_TRUE(contains(view.err(), "out of file descriptors")) << view.err();
+  for (const int fd : idle) ::close(fd);
+  EXPECT_EQ(view.stop(SIGTERM), 0) << view.err();
+}
+
 // 20 clients ask for a 35 MB file and never read: the server streams it, so its memory stays
 // bounded, and a normal client is served meanwhile.
 TEST_F(ViewServerTest, SlowReadersOfALargeFileKeepTheServerSmallAndResponsive) {
