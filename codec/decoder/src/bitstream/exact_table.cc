@@ -345,15 +345,21 @@ struct ChannelStreams {
   std::vector<std::uint8_t> bits;
 };
 
-Expected<ChannelStreams> read_channel_streams(ByteReader* r, int c) {
+// `coded` is the channel's bins that are not exceptions: each holds exactly one symbol, so a
+// symbol stream is refused before it is decompressed when it would pass what the earlier ones
+// leave (a hostile table was otherwise sized 8 x 1.46 MB of symbols per channel; spec 7, the
+// decode peak). Too few symbols are found while decoding ("ends early").
+Expected<ChannelStreams> read_channel_streams(ByteReader* r, int c, std::size_t coded) {
   ChannelStreams s;
+  std::size_t left = coded;
   for (int ctx = 0; ctx < kContexts; ++ctx) {
-    auto sym = get_stream(r, channel_stream(c, "symbol stream", ctx), kBinsPerChannel, false);
+    auto sym = get_stream(r, channel_stream(c, "symbol stream", ctx), left, false);
     if (!sym.ok()) return sym.status();
+    left -= sym->size();
     s.symbols[std::size_t(ctx)] = std::move(*sym);
   }
-  // At most 62 low bits per bin.
-  auto bits = get_stream(r, channel_stream(c, "low-bit stream"), kBinsPerChannel * 62 / 8, false);
+  // At most 62 low bits per coded bin.
+  auto bits = get_stream(r, channel_stream(c, "low-bit stream"), (coded * 62 + 7) / 8, false);
   if (!bits.ok()) return bits.status();
   s.bits = std::move(*bits);
   return s;
@@ -555,22 +561,24 @@ Expected<BrdfTable> decode_streams(std::span<const std::uint8_t> bytes) {
   ByteReader r(bytes, 0, "exact table offset");
   auto shared = read_shared_streams(&r);
   if (!shared.ok()) return shared.status();
-  std::array<ChannelStreams, kChannels> streams;
-  for (int c = 0; c < kChannels; ++c) {
-    auto s = read_channel_streams(&r, c);
-    if (!s.ok()) return s.status();
-    streams[std::size_t(c)] = std::move(*s);
-  }
-  if (!r.at_end()) {
-    return error(ErrorCode::kCorrupt,
-                 "exact table: " + std::to_string(r.remaining()) + " bytes follow the last stream");
-  }
+  // Each channel's exceptions: where its values start, and how many bins it codes.
   std::array<std::size_t, kChannels + 1> first{};
   for (int c = 0; c < kChannels; ++c) {
     std::size_t n = 0;
     for (std::size_t i = 0; i < kBinsPerChannel; ++i)
       n += bit_set(shared->bitmap, std::size_t(c) * kBinsPerChannel + i) ? 1 : 0;
     first[std::size_t(c) + 1] = first[std::size_t(c)] + n;
+  }
+  std::array<ChannelStreams, kChannels> streams;
+  for (int c = 0; c < kChannels; ++c) {
+    const std::size_t exceptions = first[std::size_t(c) + 1] - first[std::size_t(c)];
+    auto s = read_channel_streams(&r, c, kBinsPerChannel - exceptions);
+    if (!s.ok()) return s.status();
+    streams[std::size_t(c)] = std::move(*s);
+  }
+  if (!r.at_end()) {
+    return error(ErrorCode::kCorrupt,
+                 "exact table: " + std::to_string(r.remaining()) + " bytes follow the last stream");
   }
   BrdfTable table;
   std::array<Status, kChannels> status;

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
@@ -25,7 +26,7 @@ std::string where(const ParsedContainer& pc, int index) {
 Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
   Expected<ParsedContainer> parsed = parse_container(bytes);
   if (!parsed.ok()) return parsed.status();
-  const ParsedContainer& pc = *parsed;
+  ParsedContainer& pc = *parsed;
   const std::uint16_t minor = pc.layout.minor;
   Decoded d;
   d.info.layout = pc.layout;
@@ -35,6 +36,9 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
   const int marg = pc.find(kTagMarginals), mask = pc.find(kTagMask), meta = pc.find(kTagMetadata);
   const int resd = pc.find(kTagResidual), base = pc.find(kTagBase);
   auto payload = [&](int i) { return std::span<const std::uint8_t>(pc.payloads[std::size_t(i)]); };
+  // A payload is freed once its reader is done: the 36 MiB MASK then does not coexist with the
+  // 40 MiB RESD and its codes (spec 7, the decode peak).
+  auto release = [&](int i) { std::vector<std::uint8_t>().swap(pc.payloads[std::size_t(i)]); };
 
   HeaderFields header;
   Status st = decode_header_chunk(payload(head), minor, base >= 0, &header);
@@ -45,17 +49,20 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
     // Version 1.3 (parse_container has checked the version and that MODL and MARG are absent).
     st = decode_base_chunk(payload(base), header.slice_count, &d.model.slices, &d.info.bits);
     if (!st.ok()) return st.with_context(where(pc, base));
+    release(base);
   } else {
     st = decode_model_chunk(payload(modl), minor, header.slice_count, &d.model.slices);
     if (!st.ok()) return st.with_context(where(pc, modl));
 
     st = decode_marginals_chunk(payload(marg), minor, &d.model.slices, &d.info.bits);
     if (!st.ok()) return st.with_context(where(pc, marg));
+    release(marg);
   }
 
   MaskFields mask_fields;
   st = decode_mask_chunk(payload(mask), minor, &d.model.not_measured, &mask_fields);
   if (!st.ok()) return st.with_context(where(pc, mask));
+  release(mask);
 
   if (resd >= 0) {
     // The chunk is new in 1.2: an older file that holds it was not written by a valid writer.
