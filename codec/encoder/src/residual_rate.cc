@@ -318,8 +318,10 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
         "model than it stores exactly: values tens of e-folds from any smooth BRDF); the model "
         "alone is the closest file";
     const bool model_alone = r->chosen.max_error == 0;
+    // (Not when the model alone is already exact at the metric's cap: nothing was lost.)
+    const bool say_uncodable = uncodable && model_alone && r->chosen.psnr_tonemapped < kPsnrCapDb;
     if (!floor.active) {
-      if (uncodable && model_alone) r->note = kUncodable;
+      if (say_uncodable) r->note = kUncodable;
       return r;
     }
     r->residual_of_smoothed_input = r->encoded.model.residual.present();
@@ -342,7 +344,7 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
                     "by coding noise",
                     sigma, floor.smallest_error, beyond);
       r->note = text;
-    } else if (uncodable && model_alone) {
+    } else if (say_uncodable) {
       std::snprintf(text, sizeof text,
                     "the input is noisy (about %s%% per bin, see cbrdf info); %s", sigma,
                     kUncodable);
