@@ -341,13 +341,16 @@ void roundtrip_seeds(Writer& w) {
     b[3] &= 0xFE;  // valid: the residual is checked
     cbrdf::fuzz::ByteSource in({b.data(), b.size()});
     for (int k = 0; k < 4; ++k) in.u8();  // bits, level, metadata, breakage
-    const Model m = cbrdf::fuzz::build_model(in);
+    const Model m = cbrdf::fuzz::build_model(in, true);
     const int mode = m.residual.row_shift.empty() ? 0
                      : m.residual.middle_steps()  ? 3
                      : m.residual.interpolated()  ? 2
                                                   : 1;
     if (!m.residual.present() || have[mode]) continue;
-    if (mode == 3 && cbrdf::fuzz::run_roundtrip(b).outcome != cbrdf::fuzz::Outcome::kAccepted) {
+    cbrdf::fuzz::RoundtripOptions with_residual;
+    with_residual.always_residual = true;
+    if (mode == 3 &&
+        cbrdf::fuzz::run_roundtrip(b, with_residual).outcome != cbrdf::fuzz::Outcome::kAccepted) {
       continue;
     }
     have[mode] = true;

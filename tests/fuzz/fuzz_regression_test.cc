@@ -92,11 +92,17 @@ TEST_P(FuzzReplay, NoBrokenInvariantAndRecordedOutcome) {
     options.always_table = true;  // the full reconstruction for every replayed file
     r = fuzz::run_decode(span, options);
   } else if (input.target == "fuzz_merl") {
-    r = fuzz::run_merl(span);
+    fuzz::MerlOptions options;
+    options.always_full_read = true;  // every valid-size template patch read in full
+    r = fuzz::run_merl(span, options);
   } else if (input.target == "fuzz_roundtrip") {
-    r = fuzz::run_roundtrip(span);
+    fuzz::RoundtripOptions options;
+    options.always_residual = true;  // every seed's residual layer, however rare when fuzzing
+    r = fuzz::run_roundtrip(span, options);
   } else if (input.target == "fuzz_capi") {
-    r = fuzz::run_capi(span);
+    fuzz::CapiOptions options;
+    options.always_full = true;  // the whole file, sampled at 48 distinct directions
+    r = fuzz::run_capi(span, options);
   } else {
     FAIL() << "no fuzz target named " << input.target << " (directory of " << input.path << ")";
   }
