@@ -288,7 +288,7 @@ def test_spec_decoder_reads_binary64_k(tmp_path):
             for axis in (comp.pdf_h, comp.pdf_d, comp.pdf_p):
                 assert list(axis) == tables[t]
                 t += 1
-    assert min(c[5] for c in comps) < 1e-50  # the golden file's channel B: no binary32
+    assert min(c[5] for c in comps) < 1e-50  # the golden file's slice 0 channel B: no binary32
 
 
 def test_spec_framing_reads_the_golden_files_and_refuses_damage():
