@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -39,10 +40,16 @@ double mib(std::size_t bytes) {
   return double(bytes) / double(kMiB);
 }
 
-Bytes zero_frame(std::uint32_t bytes) {
-  Expected<Bytes> frame = zstd_compress(Bytes(bytes, 0), 1);
-  EXPECT_TRUE(frame.ok());
-  return frame.ok() ? *frame : Bytes{};
+// A zstd frame of `bytes` zeros, compressed once per size (the tests use the same few sizes).
+const Bytes& zero_frame(std::uint32_t bytes) {
+  static std::map<std::uint32_t, Bytes> frames;
+  auto it = frames.find(bytes);
+  if (it == frames.end()) {
+    Expected<Bytes> frame = zstd_compress(Bytes(bytes, 0), 1);
+    EXPECT_TRUE(frame.ok());
+    it = frames.emplace(bytes, frame.ok() ? *frame : Bytes{}).first;
+  }
+  return it->second;
 }
 
 // A file of the given chunks, each a zstd frame of zeros declaring its tag's maximum payload.
@@ -50,7 +57,7 @@ Bytes zero_chunks_at_maximum(std::uint16_t minor, std::initializer_list<std::str
   Bytes file = container_file_header(kContainerMajorVersion, minor);
   for (std::string_view tag : tags) {
     const std::uint32_t p = max_chunk_payload_bytes(tag);
-    const Bytes frame = zero_frame(p);
+    const Bytes& frame = zero_frame(p);
     if (uses_compact_framing(minor)) {
       append_compact_chunk(&file, tag, kChunkFlagZstd, frame, p);
     } else {
