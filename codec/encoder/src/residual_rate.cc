@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "bitstream/chunks.h"
 #include "cbrdf/encoder.h"
 #include "cbrdf/noise.h"
 #include "cbrdf/rate_control.h"
@@ -19,9 +20,13 @@
 namespace cbrdf {
 namespace {
 
-// The residual's bounds searched: from about the base model's error to near-lossless.
+// The residual's bounds searched: from about the base model's error to near-lossless (up to a noisy
+// table's floor where that is larger).
 constexpr double kLargestError = 1.0;
 constexpr double kSmallestError = 1e-5;
+// Tried once when a finer bound cannot be written on the table (ResidualSearch::attempt): the
+// format's largest, which needs the fewest bins stored exactly.
+constexpr double kCoarsestError = kMaxResidualError;
 // A try (write, decode, check and measure a file) costs about 1.5 default encodes, so the bound is
 // not bisected (10 tries) but found by the secant on the curve of PSNR or bytes against log E,
 // which is smooth: about 3 tries.
@@ -60,9 +65,10 @@ NoiseFloor noise_floor(const BrdfTable& table, const EncoderSettings& settings) 
   NoiseFloor f;
   if (!e.noisy()) return f;
   f.active = true;
-  // Within the bounds searched: noise of many decades per bin puts the floor above the largest
-  // (a table log-uniform over 1e-30..1e30: 21), where the search would start outside its range.
-  f.smallest_error = std::min(noise_floor_error(e), kLargestError);
+  // At most 16 (noise_floor_error): noise of many decades per bin (a table log-uniform over
+  // 1e-30..1e30: 0.5 sigma = 21) would put it past what a file holds. Above kLargestError the
+  // searches take the floor as their largest bound.
+  f.smallest_error = noise_floor_error(e);
   f.sigma = e.max_sigma();
   f.ceiling = e.psnr_ceiling_tonemapped;
   return f;
@@ -105,8 +111,20 @@ class ResidualSearch {
 
   // A try at E: kept when it meets the target and beats the best so far. At a budget a try is
   // listed in `tried` only once chosen (encode_to_target_ladder). None: the layer cannot hold E on
-  // this table (uncodable()), nor any finer bound.
+  // this table, nor any finer bound, nor (tried at once) the coarsest, kCoarsestError.
   Expected<std::optional<RateCandidate>> attempt(double e) {
+    auto c = attempt_once(e);
+    if (!c.ok() || *c || coarsest_tried_ || uncodable_from_ >= kCoarsestError) return c;
+    coarsest_tried_ = true;
+    return attempt_once(kCoarsestError);
+  }
+  // Whether the layer could not be written even at the coarsest bound.
+  bool uncodable() const { return uncodable_from_ >= kCoarsestError; }
+  // Whether some bound tried could not be written (coarser ones may have been).
+  bool some_uncodable() const { return uncodable_from_ > 0; }
+
+ private:
+  Expected<std::optional<RateCandidate>> attempt_once(double e) {
     const bool by_bytes = target_.max_bytes > 0;
     if (e <= uncodable_from_) return std::optional<RateCandidate>();
     EncodeResult encoded;
@@ -130,8 +148,7 @@ class ResidualSearch {
     if (!c.ok()) {
       // kNumeric: more bins than RESD's escapes allow lie beyond the residual's range (values
       // tens of e-folds from the model, as on a table log-uniform over 1e-30..1e30). A finer
-      // bound only adds such bins: no residual at or below E, and the closest file is found
-      // without one.
+      // bound only adds such bins: no residual at or below E (attempt() tries the coarsest).
       if (c.status().code() != ErrorCode::kNumeric) return c.status();
       uncodable_from_ = std::max(uncodable_from_, e);
       return std::optional<RateCandidate>();
@@ -146,8 +163,8 @@ class ResidualSearch {
     }
     return std::optional<RateCandidate>(*c);
   }
-  // Whether some bound was more than the residual layer can hold on this table.
-  bool uncodable() const { return uncodable_from_ > 0; }
+
+ public:
   // A PSNR missed even by the smallest bound tried: that try.
   const std::optional<RateResult>& closest() const { return closest_; }
   bool meets(const RateCandidate& c) const {
@@ -186,18 +203,21 @@ class ResidualSearch {
   const NoiseFloor& floor_;
   std::optional<RateResult> best_, closest_;
   double uncodable_from_ = 0;  // the largest bound the layer could not hold (0: none)
+  bool coarsest_tried_ = false;
 };
 
 // The largest E reaching the PSNR: PSNR falls as log E grows.
 Status search_psnr(ResidualSearch* search, const RateTarget& target, double smallest_error) {
-  internal::Secant secant(std::log(smallest_error), std::log(kLargestError), -kDbPerLogError);
+  internal::Secant secant(std::log(smallest_error),
+                          std::log(std::max(kLargestError, smallest_error)), -kDbPerLogError);
   // Aim a little above the target, so that a try on the curve's estimate meets it.
   const double aim = target.min_psnr + 0.5 * kPsnrTolerance;
   double x = std::log(std::max(kFirstError, smallest_error));
   for (int k = 0; k < kMaxTries; ++k) {
     auto tried = search->attempt(std::exp(x));
     if (!tried.ok()) return tried.status();
-    if (!*tried) break;  // no residual at or below this bound
+    // No residual at or below this bound (and the coarsest tried instead): nothing finer either.
+    if (!*tried || search->some_uncodable()) break;
     const RateCandidate& c = **tried;
     const bool met = search->meets(c);
     if (met && c.psnr_tonemapped - target.min_psnr <= kPsnrTolerance) break;
@@ -217,14 +237,14 @@ Status search_bytes(ResidualSearch* search, const RateTarget& target, const Rate
   const auto value = [&](double bytes) { return std::log(std::max(bytes - base_bytes, 1.0)); };
   const double aim = value(target.max_bytes * (1 - 0.5 * kBudgetTolerance));
   // The residual's bytes against E on the real materials: about E^-0.7.
-  internal::Secant secant(std::log(smallest_error), std::log(kLargestError), -0.7);
-  secant.add(std::log(kLargestError), value(cheapest.bytes), true);
+  internal::Secant secant(std::log(smallest_error), std::log(cheapest.max_error), -0.7);
+  secant.add(std::log(cheapest.max_error), value(cheapest.bytes), true);
   for (int k = 0; k < kMaxTries; ++k) {
     const std::optional<double> next = secant.next(aim);
     if (!next) break;
     auto tried = search->attempt(std::exp(*next));
     if (!tried.ok()) return tried.status();
-    if (!*tried) break;  // no residual at or below this bound
+    if (!*tried || search->some_uncodable()) break;  // as in search_psnr
     const RateCandidate& c = **tried;
     const bool met = search->meets(c);
     if (met && c.bytes >= target.max_bytes * (1 - kBudgetTolerance)) break;
@@ -255,7 +275,8 @@ Expected<RateResult> cheap_base(const BrdfTable& table, const EncoderSettings& b
 }
 
 // At a budget: a residual on the cheap base, within the budget, when it beats `model_only` (the
-// best model alone); else model_only. *uncodable: some bound was more than the layer can hold.
+// best model alone); else model_only. *uncodable: no bound, not even the coarsest, could be
+// written.
 Expected<RateResult> residual_within_budget(const BrdfTable& table, const EncoderSettings& base,
                                             const RateTarget& target, RateResult model_only,
                                             const NoiseFloor& floor, bool* uncodable) {
@@ -285,7 +306,7 @@ Expected<RateResult> residual_within_budget(const BrdfTable& table, const Encode
   }
   *uncodable = search.uncodable();
   RateResult best = *search.best();
-  if (best.chosen.max_error != kLargestError) model_only.tried.push_back(best.chosen);
+  if (best.chosen.max_error != (**c).max_error) model_only.tried.push_back(best.chosen);
   // On a noisy table the PSNR against the input does not tell signal from noise: the smoothed
   // residual is kept (closer to the truth than the model alone,
   // tests/encoder/noise_ladder_test.cc).
@@ -309,14 +330,14 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
   // The model alone reaches the PSNR, or leaves no room in the budget for a better file.
   if (!by_bytes && rc->met) return rc;
   const NoiseFloor floor = noise_floor(table, base);
-  bool uncodable = false;  // a bound tried was more than the residual layer holds on this table
+  bool uncodable = false;  // the residual layer could not be written at any bound tried
   const auto with_note = [&](Expected<RateResult> r) -> Expected<RateResult> {
     if (!r.ok()) return r;
     // Why the model alone, when the layer could not be written at all.
     constexpr const char* kUncodable =
-        "no residual layer can be written on this table (more bins lie beyond its range from the "
-        "model than it stores exactly: values tens of e-folds from any smooth BRDF); the model "
-        "alone is the closest file";
+        "no residual layer can be written on this table, even at the largest bound 16 (more bins "
+        "lie beyond its range from the model than it stores exactly: values tens of e-folds from "
+        "any smooth BRDF); the model alone is the closest file";
     const bool model_alone = r->chosen.max_error == 0;
     // (Not when the model alone is already exact at the metric's cap: nothing was lost.)
     const bool say_uncodable = uncodable && model_alone && r->chosen.psnr_tonemapped < kPsnrCapDb;

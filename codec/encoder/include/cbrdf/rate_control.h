@@ -93,11 +93,11 @@ Expected<RateResult> encode_to_target(const BrdfTable& table, const EncoderSetti
 /// --bits auto's bits (a third to a half of the bytes of one on the closest model on the real
 /// materials); a PSNR more than any mixture adds (8 dB) above the best one-component row fits no
 /// mixture. When even the smallest E misses the PSNR, the closest file is chosen. On a noisy table
-/// no E is below its noise floor (noise_floor_error(), or 1 when that is larger). A bound the layer
-/// cannot hold on the table (more bins tens of e-folds from the model than RESD stores exactly:
-/// values log-uniform over 1e-30..1e30) ends the search with the closest file so far, or the model
-/// alone, and a note: an unreachable target on any valid table gives the closest file (met false),
-/// not an error. chosen.max_error > 0 names the layer.
+/// no E is below its noise floor (noise_floor_error(): at most 16, which then also ends the range
+/// searched). A bound the layer cannot hold on the table (more bins tens of e-folds from the model
+/// than RESD stores exactly) is followed by one try at the largest, 16; when even that cannot be
+/// written, the model alone is chosen with a note. So an unreachable target on any valid table
+/// gives the closest file (met false), not an error. chosen.max_error > 0 names the layer.
 Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const EncoderSettings& base,
                                              const RateTarget& target);
 
