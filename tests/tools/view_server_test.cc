@@ -435,6 +435,9 @@ TEST_F(ViewServerTest, KeepsServingThroughMoreIdleConnectionsThanDescriptors) {
 TEST_F(ViewServerTest, SurvivesAcceptRunningOutOfDescriptors) {
   ViewProcess view(args({small_}), tmp_ / "err.txt");
   ASSERT_GT(view.port(), 0) << view.err();
+  // A server that has served a request already, as one does when its descriptors run out (and
+  // UBSan's type checks, which need a descriptor the first time a type is checked, have run).
+  ASSERT_EQ(get(view.port(), "/app.mjs").status, 200);
   const rlimit lowered{200, 200};
   ASSERT_EQ(::prlimit(view.pid(), RLIMIT_NOFILE, &lowered, nullptr), 0) << std::strerror(errno);
   std::vector<int> idle;

@@ -32,6 +32,8 @@ using std::chrono::milliseconds;
 
 // Waits are sliced so that a stop request ends them within this.
 constexpr milliseconds kStopSlice{100};
+// Descriptors kept free when accept() has run out of them: requests open files.
+constexpr std::size_t kSpareDescriptors = 8;
 
 struct Connection {
   explicit Connection(int f, std::atomic<std::size_t>* open_count)
@@ -285,7 +287,6 @@ Status ConnectionLoop::run() {
 
   std::deque<ConnectionPtr> idle;  // oldest first
   Clock::time_point accept_paused_until{};
-  bool told_fd_shortage = false;
   Status result;
   const auto evict_oldest = [&idle] {
     if (idle.empty()) return false;
@@ -345,7 +346,9 @@ Status ConnectionLoop::run() {
     // room; with none idle (every connection in a request), accepting pauses briefly: the
     // workers' timeouts bound how long that lasts.
     for (;;) {
-      if (s.open.load() >= s.limits.max_connections && !evict_oldest()) {
+      while (s.open.load() >= s.limits.max_connections && evict_oldest()) {
+      }
+      if (s.open.load() >= s.limits.max_connections) {
         accept_paused_until = Clock::now() + milliseconds(50);
         break;
       }
@@ -358,15 +361,20 @@ Status ConnectionLoop::run() {
       const int e = errno;
       if (e == EAGAIN || e == EWOULDBLOCK) break;
       if (e == EMFILE || e == ENFILE || e == ENOBUFS || e == ENOMEM) {
-        if (!told_fd_shortage) {
+        // The descriptors ran out below the cap (something else holds some): the cap drops to
+        // leave a few spare for the files requests open, and the oldest idle connections make
+        // room (at the top of the loop).
+        const std::size_t open = s.open.load();
+        const std::size_t cap = open > kSpareDescriptors ? open - kSpareDescriptors : 1;
+        if (cap < s.limits.max_connections) {
+          s.limits.max_connections = cap;
           std::fprintf(stderr,
-                       "cbrdf view: out of file descriptors at %zu connections (%s): the oldest "
-                       "idle ones are closed to admit new ones\n",
-                       s.open.load(), std::strerror(e));
-          told_fd_shortage = true;
+                       "cbrdf view: out of file descriptors at %zu connections (%s): at most %zu "
+                       "from now on, the oldest idle ones closed to admit new ones\n",
+                       open, std::strerror(e), cap);
+          continue;
         }
-        if (evict_oldest()) continue;
-        accept_paused_until = Clock::now() + milliseconds(50);
+        accept_paused_until = Clock::now() + milliseconds(50);  // none of ours to close
         break;
       }
       // A connection that failed before it was accepted is the client's problem (accept(2):

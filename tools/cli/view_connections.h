@@ -3,7 +3,8 @@
 // hands a connection to a bounded pool of workers only when a request has started to arrive, so
 // that idle connections (a browser's spares, or a flood of them) hold a file descriptor but no
 // thread. Every limit is explicit: connections (the oldest idle one is closed to admit a new one
-// at the cap, or when accept() runs out of file descriptors), threads, request head bytes, idle
+// at the cap; when accept() runs out of file descriptors below it, the cap drops to leave a few
+// spare for the files requests open), threads, request head bytes, idle
 // time, and the time a read or write may make no progress. HTTP itself is cpp-httplib's: a
 // worker runs the ServeOne callback over the connection's httplib::Stream.
 #pragma once
