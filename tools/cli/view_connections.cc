@@ -346,11 +346,17 @@ Status ConnectionLoop::run() {
     // room; with none idle (every connection in a request), accepting pauses briefly: the
     // workers' timeouts bound how long that lasts.
     for (;;) {
-      while (s.open.load() >= s.limits.max_connections && evict_oldest()) {
-      }
       if (s.open.load() >= s.limits.max_connections) {
-        accept_paused_until = Clock::now() + milliseconds(50);
-        break;
+        // Room is made only for a connection that is waiting (not, say, by closing the one
+        // just accepted while its request is on its way).
+        pollfd waiting{s.listen_fd, POLLIN, 0};
+        if (::poll(&waiting, 1, 0) <= 0) break;
+        while (s.open.load() >= s.limits.max_connections && evict_oldest()) {
+        }
+        if (s.open.load() >= s.limits.max_connections) {
+          accept_paused_until = Clock::now() + milliseconds(50);
+          break;
+        }
       }
       const int c = ::accept4(s.listen_fd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
       if (c >= 0) {
