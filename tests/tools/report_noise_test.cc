@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "cbrdf/merl_io.h"
@@ -108,6 +109,19 @@ TEST(ReportNoise, TruthNeedsTheLadder) {
                        (tmp / "out").string() + "'");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(testing::contains(r.err, "--truth")) << r.err;
+}
+
+// A ceiling that cannot be measured (NaN: noise.h) is written as cbrdf info --json writes it,
+// not as JSON null.
+TEST(ReportNoise, UnmeasurableCeilingIsSaidSoInTheJson) {
+  LadderMaterial m;
+  m.name = "wide";
+  m.noise_ceiling_tonemapped = std::nan("");
+  const nlohmann::json j = nlohmann::json::parse(ladder_json({m}));
+  EXPECT_EQ(j["materials"][0]["noise_ceiling_tonemapped"], "not measurable");
+  m.noise_ceiling_tonemapped = 41.5;
+  EXPECT_EQ(nlohmann::json::parse(ladder_json({m}))["materials"][0]["noise_ceiling_tonemapped"],
+            41.5);
 }
 
 }  // namespace

@@ -289,10 +289,15 @@ std::string ladder_json(const std::vector<LadderMaterial>& ladders) {
                                                    ? nlohmann::json()
                                                    : nlohmann::json(p.psnr_truth_tonemapped)}});
     }
-    j["materials"].push_back({{"name", m.name},
-                              {"points", pts},
-                              {"noise_sigma", m.noise_sigma},
-                              {"noise_ceiling_tonemapped", m.noise_ceiling_tonemapped}});
+    j["materials"].push_back(
+        {{"name", m.name},
+         {"points", pts},
+         {"noise_sigma", m.noise_sigma},
+         // As cbrdf info --json: a ceiling that cannot be measured is
+         // said so, not written as null.
+         {"noise_ceiling_tonemapped", std::isfinite(m.noise_ceiling_tonemapped)
+                                          ? nlohmann::json(m.noise_ceiling_tonemapped)
+                                          : nlohmann::json("not measurable")}});
   }
   nlohmann::json targets = nlohmann::json::array();
   for (const LadderTarget& t : ladder_targets(ladders)) {

@@ -897,7 +897,9 @@ def estimate_noise(table: _Any) -> dict:
         smooth table), ``"bands"`` (``[{"theta_d_begin", "theta_d_end", "sigma"}]``,
         six bands of 15 degrees), ``"grazing_growth"`` (the last band's sigma over the
         first's), ``"noisy"``, ``"psnr_ceiling_tonemapped"``, ``"psnr_ceiling_linear"``
-        (dB: coding closer to the table than this reproduces its noise)``}``.
+        (dB: coding closer to the table than this reproduces its noise; the string
+        ``"not measurable"`` where it cannot be measured, e.g. when the simulated noise
+        overflows a table whose values span 1e-30 to 1e30)``}``.
     """
     d = _cbrdf._estimate_noise(_to_table(table, fn="estimate_noise", name="table"))
     del d["file"]
