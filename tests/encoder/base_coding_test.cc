@@ -458,33 +458,7 @@ Model golden13_predicted_residual6() {
   return ranged_residual6({2, 1, 1}, 0.002, true);
 }
 
-// FNV-1a over the bit patterns of everything a decoded model holds.
-std::uint64_t model_hash(const Model& m) {
-  std::uint64_t h = 1469598103934665603ull;
-  auto mix = [&](std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) {
-      h ^= (v >> (8 * i)) & 0xFF;
-      h *= 1099511628211ull;
-    }
-  };
-  for (const Slice& s : m.slices) {
-    mix(std::uint64_t(s.theta_d_end));
-    for (const ChannelSlice& c : s.channel) {
-      for (int k = 0; k < c.components(); ++k) {
-        const Component& comp = c.component(k);
-        mix(std::uint64_t(comp.family));
-        mix(std::bit_cast<std::uint64_t>(comp.theta));
-        mix(std::bit_cast<std::uint64_t>(comp.scale));
-        for (const std::vector<double>* t : {&comp.pdf_h, &comp.pdf_d, &comp.pdf_p}) {
-          for (double v : *t) mix(std::bit_cast<std::uint64_t>(v));
-        }
-      }
-    }
-  }
-  for (std::uint64_t w : m.not_measured.bits) mix(w);
-  for (std::int32_t q : m.residual.codes) mix(std::uint64_t(std::int64_t(q)));
-  return h;
-}
+using testing::model_hash;
 
 // FNV-1a over the codes as little-endian int32: what tests/python/test_base_spec.py's decoder,
 // written from the spec alone, must get from the range-coded golden file too.

@@ -269,32 +269,7 @@ void expect_exact_scales(const Model& built, const Model& decoded) {
   }
 }
 
-// FNV-1a over the bit patterns of everything the decoded model holds (base_coding_test's hash).
-std::uint64_t model_hash(const Model& m) {
-  std::uint64_t h = 1469598103934665603ull;
-  auto mix = [&](std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) {
-      h ^= (v >> (8 * i)) & 0xFF;
-      h *= 1099511628211ull;
-    }
-  };
-  for (const Slice& s : m.slices) {
-    mix(std::uint64_t(s.theta_d_end));
-    for (const ChannelSlice& c : s.channel) {
-      for (int k = 0; k < c.components(); ++k) {
-        const Component& comp = c.component(k);
-        mix(std::uint64_t(comp.family));
-        mix(std::bit_cast<std::uint64_t>(comp.theta));
-        mix(std::bit_cast<std::uint64_t>(comp.scale));
-        for (const std::vector<double>* t : {&comp.pdf_h, &comp.pdf_d, &comp.pdf_p}) {
-          for (double v : *t) mix(std::bit_cast<std::uint64_t>(v));
-        }
-      }
-    }
-  }
-  for (std::uint64_t w : m.not_measured.bits) mix(w);
-  return h;
-}
+using testing::model_hash;
 
 constexpr const char* kWideGolden = "v1.3-wide-k-frank6-b10.cbrdf";
 constexpr std::uint64_t kWideGoldenHash = 0x8469a364737ed475ull;

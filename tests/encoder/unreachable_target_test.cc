@@ -16,29 +16,12 @@
 #include "cbrdf/encoder.h"
 #include "cbrdf/noise.h"
 #include "cbrdf/rate_control.h"
+#include "table_builder.h"
 
 namespace cbrdf {
 namespace {
 
-// Values exp(U(log lo, log hi)) at every bin above the horizon; the others not measured.
-BrdfTable log_uniform_table(double lo, double hi, unsigned seed) {
-  BrdfTable t;
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(std::log(lo), std::log(hi));
-  for (int th = 0; th < kThetaHBins; ++th) {
-    for (int td = 0; td < kThetaDBins; ++td) {
-      for (int p = 0; p < kPhiDBins; ++p) {
-        const std::size_t i = merl_index(th, td, p);
-        if (bin_below_horizon(th, td, p)) {
-          t.set_not_measured(i);
-          continue;
-        }
-        for (int c = 0; c < kChannels; ++c) t.set_physical(c, i, std::exp(u(rng)));
-      }
-    }
-  }
-  return t;
-}
+using testing::log_uniform_table;
 
 struct Case {
   const char* name;

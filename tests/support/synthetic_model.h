@@ -3,6 +3,7 @@
 // lobes, near-mirror peaks spanning 12 decades), every family, and the standard MERL mask.
 #pragma once
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -162,6 +163,35 @@ inline void add_sparse_residual(Model* m) {
 inline const std::vector<int>& six_slices() {
   static const std::vector<int> b = {0, 6, 15, 30, 50, 70, 90};
   return b;
+}
+
+// FNV-1a over the bit patterns of everything a decoded model holds (the golden files' pinned
+// hashes).
+inline std::uint64_t model_hash(const Model& m) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&](std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) {
+      h ^= (v >> (8 * i)) & 0xFF;
+      h *= 1099511628211ull;
+    }
+  };
+  for (const Slice& s : m.slices) {
+    mix(std::uint64_t(s.theta_d_end));
+    for (const ChannelSlice& c : s.channel) {
+      for (int k = 0; k < c.components(); ++k) {
+        const Component& comp = c.component(k);
+        mix(std::uint64_t(comp.family));
+        mix(std::bit_cast<std::uint64_t>(comp.theta));
+        mix(std::bit_cast<std::uint64_t>(comp.scale));
+        for (const std::vector<double>* t : {&comp.pdf_h, &comp.pdf_d, &comp.pdf_p}) {
+          for (double v : *t) mix(std::bit_cast<std::uint64_t>(v));
+        }
+      }
+    }
+  }
+  for (std::uint64_t w : m.not_measured.bits) mix(w);
+  for (std::int32_t q : m.residual.codes) mix(std::uint64_t(std::int64_t(q)));
+  return h;
 }
 
 }  // namespace cbrdf::testing

@@ -2,7 +2,9 @@
 // Synthetic MERL tables for the fitting tests, filled from a function of the bin indices.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
+#include <random>
 
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/coords.h"
@@ -21,6 +23,27 @@ BrdfTable make_table(F f, bool horizon_mask = true) {
       continue;
     }
     for (int c = 0; c < kChannels; ++c) t.set_physical(c, idx, f(c, b.theta_h, b.theta_d, b.phi_d));
+  }
+  return t;
+}
+
+// Values exp(U(log lo, log hi)) at every bin above the horizon (a valid table whose values span
+// many decades); the others not measured.
+inline BrdfTable log_uniform_table(double lo, double hi, unsigned seed) {
+  BrdfTable t;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(std::log(lo), std::log(hi));
+  for (int th = 0; th < kThetaHBins; ++th) {
+    for (int td = 0; td < kThetaDBins; ++td) {
+      for (int p = 0; p < kPhiDBins; ++p) {
+        const std::size_t i = merl_index(th, td, p);
+        if (bin_below_horizon(th, td, p)) {
+          t.set_not_measured(i);
+          continue;
+        }
+        for (int c = 0; c < kChannels; ++c) t.set_physical(c, i, std::exp(u(rng)));
+      }
+    }
   }
   return t;
 }

@@ -12,6 +12,7 @@
 
 #include "cbrdf/coords.h"
 #include "cbrdf/merl_io.h"
+#include "table_builder.h"
 #include "test_support.h"
 
 namespace cbrdf {
@@ -27,21 +28,7 @@ std::string q(const fs::path& p) {
 
 // Measured values exp(U(log 1e-30, log 1e30)); the bins below the horizon not measured.
 fs::path write_log_uniform(const TempDir& tmp) {
-  BrdfTable t;
-  std::mt19937_64 rng(40);
-  std::uniform_real_distribution<double> u(std::log(1e-30), std::log(1e30));
-  for (int th = 0; th < kThetaHBins; ++th) {
-    for (int td = 0; td < kThetaDBins; ++td) {
-      for (int p = 0; p < kPhiDBins; ++p) {
-        const std::size_t i = merl_index(th, td, p);
-        if (bin_below_horizon(th, td, p)) {
-          t.set_not_measured(i);
-          continue;
-        }
-        for (int c = 0; c < kChannels; ++c) t.set_physical(c, i, std::exp(u(rng)));
-      }
-    }
-  }
+  const BrdfTable t = testing::log_uniform_table(1e-30, 1e30, 40);
   const fs::path path = tmp / "log-uniform.binary";
   EXPECT_TRUE(write_merl(path, t).ok());
   return path;
