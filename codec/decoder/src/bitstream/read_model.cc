@@ -65,14 +65,10 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
   release(mask);
 
   if (resd >= 0) {
-    // The chunk is new in 1.2: an older file that holds it was not written by a valid writer.
+    // parse_container has refused RESD in a file older than 1.2 (before decompressing it).
     std::uint8_t predictor = 0;
-    st = minor >= 2 ? decode_residual_chunk(payload(resd), minor, d.model.not_measured,
-                                            &d.model.residual, &predictor)
-                    : error(ErrorCode::kCorrupt,
-                            "'RESD' needs container version 1.2 or later, "
-                            "the file is 1." +
-                                std::to_string(minor));
+    st = decode_residual_chunk(payload(resd), minor, d.model.not_measured, &d.model.residual,
+                               &predictor);
     if (!st.ok()) return st.with_context(where(pc, resd));
     const Residual& res = d.model.residual;
     d.info.residual_mode = res.exact               ? kResidualModeExact
