@@ -25,6 +25,7 @@ enum class ErrorCode : int {
   kInvalidArgument = 9,  ///< a caller passed a value outside its domain
   kNumeric = 10,         ///< NaN, Inf or a value outside a parameter's domain in the data
   kInternal = 11,        ///< a bug in cbrdf
+  kCancelled = 12,       ///< the caller cancelled the operation (a progress callback said stop)
 };
 
 /// The code's stable name ("kCorrupt" -> "corrupt"), for messages and JSON.

@@ -88,7 +88,9 @@ typedef enum cbrdf_status {
   CBRDF_ERROR_LIMIT = 8,            /**< a declared size exceeds a documented maximum */
   CBRDF_ERROR_INVALID_ARGUMENT = 9, /**< a caller passed a value outside its domain */
   CBRDF_ERROR_NUMERIC = 10,         /**< NaN, Inf or a value outside a parameter's domain */
-  CBRDF_ERROR_INTERNAL = 11         /**< a bug in cbrdf, or out of memory */
+  CBRDF_ERROR_INTERNAL = 11,        /**< a bug in cbrdf, or out of memory */
+  CBRDF_ERROR_CANCELLED = 12        /**< since 2.3: the caller cancelled (an encode's progress
+                                         callback returned nonzero) */
 } cbrdf_status;
 
 /** The calling thread's last error: CBRDF_OK after a successful call. */
@@ -98,7 +100,7 @@ CBRDF_C_API cbrdf_status cbrdf_last_error_code(void);
 CBRDF_C_API const char* cbrdf_last_error_message(void);
 /** A code's short name as `cbrdf` prints it ("ok", "io", "not-found", "truncated",
  * "bad-signature", "unsupported", "corrupt", "checksum", "limit", "invalid-argument", "numeric",
- * "internal"); "unknown" for any other value. Static; never NULL. */
+ * "internal", "cancelled"); "unknown" for any other value. Static; never NULL. */
 CBRDF_C_API const char* cbrdf_status_name(cbrdf_status status);
 
 /* ---- Threads ----------------------------------------------------------------------------------

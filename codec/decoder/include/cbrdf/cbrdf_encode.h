@@ -75,6 +75,13 @@ typedef struct cbrdf_encode_settings {
                          default: every measured bin within it) or
                          CBRDF_RESIDUAL_STEPS_VISIBILITY (the most visible rows within it, the
                          others coarser: fewer bytes for the same picture; needs max_error > 0) */
+  /* Since 2.3. A caller built against an older struct (a smaller struct_size) gets no callback. */
+  /** NULL (the default), or called on the calling thread at least every 50 ms of encoder work
+      with the share of the encode done (0 to 1, never decreasing; negative when it cannot be
+      estimated) and progress_user. Returning nonzero cancels: the encode stops within about
+      50 ms and fails with CBRDF_ERROR_CANCELLED ("cancelled"). Must not call the encoder. */
+  int (*progress)(void* user, double fraction);
+  void* progress_user; /**< passed to progress as it is (NULL by default) */
 } cbrdf_encode_settings;
 
 /** Sets every field to its default (as `cbrdf encode` without options, except threads = 1) and
@@ -90,8 +97,8 @@ CBRDF_C_API cbrdf_status cbrdf_encode_settings_init(cbrdf_encode_settings* setti
  * Returns CBRDF_OK, or CBRDF_ERROR_INVALID_ARGUMENT (a NULL pointer, another count,
  * settings->struct_size smaller than the first version of the struct, a setting out of its range:
  * the message names the field and the range), CBRDF_ERROR_NUMERIC (a +Inf value, or a channel
- * whose largest value is outside what the fit supports), CBRDF_ERROR_LIMIT, or
- * CBRDF_ERROR_INTERNAL. */
+ * whose largest value is outside what the fit supports), CBRDF_ERROR_LIMIT,
+ * CBRDF_ERROR_CANCELLED (settings->progress returned nonzero), or CBRDF_ERROR_INTERNAL. */
 CBRDF_C_API cbrdf_status cbrdf_encode_table(const double* stored_values, size_t count,
                                             const cbrdf_encode_settings* settings, void** out_bytes,
                                             size_t* out_size);
@@ -100,7 +107,8 @@ CBRDF_C_API cbrdf_status cbrdf_encode_table(const double* stored_values, size_t 
  * atomically. in_path and out_path may name the same file. Returns CBRDF_OK, or the codes of
  * cbrdf_encode_table, and CBRDF_ERROR_NOT_FOUND, CBRDF_ERROR_IO, CBRDF_ERROR_TRUNCATED,
  * CBRDF_ERROR_CORRUPT, CBRDF_ERROR_UNSUPPORTED (reading the input) or CBRDF_ERROR_IO (writing the
- * output; an existing output is left untouched). */
+ * output; an existing output is left untouched). When cancelled (CBRDF_ERROR_CANCELLED) nothing
+ * is written: an existing output is left untouched. */
 CBRDF_C_API cbrdf_status cbrdf_encode_merl_file(const char* in_path, const char* out_path,
                                                 const cbrdf_encode_settings* settings);
 

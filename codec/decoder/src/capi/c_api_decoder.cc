@@ -53,6 +53,7 @@ CBRDF_SAME_CODE(CBRDF_ERROR_LIMIT, kLimit);
 CBRDF_SAME_CODE(CBRDF_ERROR_INVALID_ARGUMENT, kInvalidArgument);
 CBRDF_SAME_CODE(CBRDF_ERROR_NUMERIC, kNumeric);
 CBRDF_SAME_CODE(CBRDF_ERROR_INTERNAL, kInternal);
+CBRDF_SAME_CODE(CBRDF_ERROR_CANCELLED, kCancelled);
 #undef CBRDF_SAME_CODE
 static_assert(int(CBRDF_FAMILY_INDEPENDENCE) == int(cbrdf::CopulaFamily::kIndependence));
 static_assert(int(CBRDF_FAMILY_FRANK) == int(cbrdf::CopulaFamily::kFrank));
@@ -285,7 +286,7 @@ const char* cbrdf_status_name(cbrdf_status status) {
   std::underlying_type_t<cbrdf_status> raw;
   std::memcpy(&raw, &status, sizeof raw);
   const long long code = static_cast<long long>(raw);
-  if (code < CBRDF_OK || code > CBRDF_ERROR_INTERNAL) return "unknown";
+  if (code < CBRDF_OK || code > CBRDF_ERROR_CANCELLED) return "unknown";
   return cbrdf::error_code_name(cbrdf::ErrorCode(code));
 }
 

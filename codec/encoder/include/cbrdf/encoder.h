@@ -17,6 +17,7 @@
 #include "cbrdf/container_writer.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/model.h"
+#include "cbrdf/progress.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf {
@@ -71,6 +72,9 @@ struct EncoderSettings {
   ContainerSettings container;  ///< quantization and compression
   ResidualSettings residual;    ///< the optional residual layer
   AutoBitsSettings auto_bits;   ///< `--bits auto`
+  /// Called during the encode to report progress and allow a cancel (progress.h); empty: no
+  /// calls.
+  ProgressCallback progress;
 };
 
 /// The settings `cbrdf encode` uses when given no options (version 1.3 where smaller, short
