@@ -23,11 +23,11 @@
 #include "cbrdf/encoder.h"
 #include "cbrdf/file_io.h"
 #include "cbrdf/merl_io.h"
+#include "cbrdf/metrics.h"
 #include "cbrdf/parallel.h"
 #include "cbrdf/rate_control.h"
 #include "cbrdf/samples.h"
 #include "encoder_options.h"
-#include "metrics.h"
 
 namespace {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // fit_analytic recovers the parameters of tables made from known analytic BRDFs.
-#include "analytic_fit.h"
+#include "cbrdf/analytic_fit.h"
 
 #include <gtest/gtest.h>
 

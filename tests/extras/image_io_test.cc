@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "image_io.h"
+#include "cbrdf/image_io.h"
 
 #include <gtest/gtest.h>
 #include <png.h>
@@ -10,8 +10,8 @@
 #include <random>
 
 #include "cbrdf/coords.h"
+#include "cbrdf/exr_table.h"
 #include "exr_channels.h"
-#include "exr_table.h"
 #include "test_support.h"
 
 namespace cbrdf {

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "cbrdf/analytic.h"
-#include "image_io.h"
+#include "cbrdf/image_io.h"
 #include "test_support.h"
 
 namespace cbrdf {

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <regex>
 
-#include "image_io.h"
+#include "cbrdf/image_io.h"
 #include "report/plots.h"
 #include "test_support.h"
 

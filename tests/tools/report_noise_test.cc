@@ -9,7 +9,7 @@
 #include <random>
 
 #include "cbrdf/merl_io.h"
-#include "metrics.h"
+#include "cbrdf/metrics.h"
 #include "report/ladder.h"
 #include "report/ladder_output.h"
 #include "table_builder.h"

@@ -9,9 +9,9 @@
 #include <sstream>
 #include <tuple>
 
+#include "cbrdf/image_io.h"
 #include "cbrdf/merl_io.h"
-#include "image_io.h"
-#include "metrics.h"
+#include "cbrdf/metrics.h"
 #include "test_support.h"
 
 namespace cbrdf {

@@ -8,10 +8,10 @@
 #include <string>
 
 #include "cbrdf/encoder.h"
+#include "cbrdf/exr_table.h"
 #include "cbrdf/merl_io.h"
 #include "cli.h"
 #include "cli_io.h"
-#include "exr_table.h"
 #include "files/file_io.h"
 
 namespace cbrdf::cli {

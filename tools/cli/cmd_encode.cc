@@ -10,12 +10,12 @@
 #include "cbrdf/container.h"
 #include "cbrdf/encoder.h"
 #include "cbrdf/merl_io.h"
+#include "cbrdf/metrics.h"
 #include "cbrdf/rate_control.h"
 #include "cli.h"
 #include "cli_io.h"
 #include "encoder_options.h"
 #include "files/file_io.h"
-#include "metrics.h"
 
 namespace cbrdf::cli {
 namespace {

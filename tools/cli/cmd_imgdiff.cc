@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "cbrdf/image_io.h"
+#include "cbrdf/metrics.h"
 #include "cli.h"
 #include "cli_io.h"
-#include "image_io.h"
-#include "metrics.h"
 
 namespace cbrdf::cli {
 namespace {

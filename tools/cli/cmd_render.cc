@@ -8,11 +8,11 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "cbrdf/image_io.h"
+#include "cbrdf/metrics.h"
 #include "cbrdf/parallel.h"
 #include "cli.h"
 #include "cli_io.h"
-#include "image_io.h"
-#include "metrics.h"
 #include "render/builtin.h"
 #include "render/integrator.h"
 #include "render/material.h"

@@ -10,8 +10,8 @@
 
 #include "cbrdf/encoder.h"
 #include "cbrdf/file_io.h"
+#include "cbrdf/image_io.h"
 #include "cbrdf/samples.h"
-#include "image_io.h"
 #include "render/mesh.h"
 
 namespace cbrdf::render {

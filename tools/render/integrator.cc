@@ -7,7 +7,7 @@
 #include <limits>
 #include <numbers>
 
-#include "parallel_for.h"
+#include "cbrdf/parallel.h"
 #include "render/lights.h"
 
 namespace cbrdf::render {
@@ -371,7 +371,7 @@ Image render(const Scene& scene, const std::vector<std::unique_ptr<Material>>& m
              const RenderPlan& plan, int threads) {
   Image img(scene.width, scene.height);
   const Integrator integrator(scene, materials, plan);
-  internal::parallel_for(scene.height, threads, [&](int y) {
+  parallel_for(scene.height, threads, [&](int y) {
     for (int x = 0; x < scene.width; ++x) {
       const Rgb c = integrator.pixel(x, y);
       for (int k = 0; k < 3; ++k) img.at(x, y, k) = float(c[k]);

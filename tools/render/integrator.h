@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "image.h"
+#include "cbrdf/image.h"
 #include "render/material.h"
 #include "render/scene.h"
 

@@ -7,10 +7,10 @@
 
 #include "cbrdf/analytic.h"
 #include "cbrdf/brdf_table.h"
+#include "cbrdf/metrics.h"
 #include "cbrdf/model.h"
 #include "cbrdf/sampling.h"
 #include "cbrdf/status.h"
-#include "metrics.h"
 #include "render/scene.h"
 
 namespace cbrdf::render {

@@ -37,8 +37,8 @@
 #include <vector>
 
 #include "cbrdf/analytic.h"
+#include "cbrdf/image.h"
 #include "cbrdf/status.h"
-#include "image.h"
 #include "render/mesh.h"
 #include "render/vec.h"
 

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "image_io.h"
+#include "cbrdf/image_io.h"
 #include "render/scene.h"
 
 namespace cbrdf::render {

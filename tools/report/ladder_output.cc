@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "metrics.h"
+#include "cbrdf/metrics.h"
 #include "report/ladder_check.h"
 #include "report/svg.h"
 

@@ -15,10 +15,10 @@
 #include "cbrdf/file_io.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
+#include "cbrdf/metrics.h"
+#include "cbrdf/parallel.h"
 #include "cbrdf/samples.h"
 #include "encoder_options.h"
-#include "metrics.h"
-#include "parallel_for.h"
 #include "render/table_lookup.h"
 #include "report/float16_baseline.h"
 #include "report/lossless.h"
@@ -500,7 +500,7 @@ Expected<std::vector<MaterialResult>> measure_all(const std::vector<Material>& m
   const int threads = jobs == 1 ? thread_limit() : 1;
   Progress progress(materials.size() * steps_per_material(st), st.progress);
   std::atomic<bool> failed{false};
-  internal::parallel_for(int(materials.size()), jobs, [&](int i) {
+  parallel_for(int(materials.size()), jobs, [&](int i) {
     if (failed) return;
     MaterialRun run(materials[std::size_t(i)], st, threads, &progress);
     auto r = run.run();

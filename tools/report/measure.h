@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "analytic_fit.h"
+#include "cbrdf/analytic_fit.h"
+#include "cbrdf/image.h"
 #include "cbrdf/status.h"
-#include "image.h"
 #include "report/ladder.h"
 #include "report/sweep.h"
 

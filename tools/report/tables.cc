@@ -7,9 +7,9 @@
 #include <limits>
 #include <sstream>
 
-#include "analytic_fit.h"
+#include "cbrdf/analytic_fit.h"
 #include "cbrdf/merl_io.h"
-#include "metrics.h"
+#include "cbrdf/metrics.h"
 #include "report/paper_tables.h"
 #include "report/svg.h"
 

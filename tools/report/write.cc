@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "cbrdf/file_io.h"
-#include "image_io.h"
+#include "cbrdf/image_io.h"
 #include "report/export.h"
 #include "report/html.h"
 #include "report/ladder_output.h"

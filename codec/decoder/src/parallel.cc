@@ -211,8 +211,10 @@ int threads_for(int tasks, int max_threads) {
   return std::clamp(threads, 1, std::max(tasks, 1));
 }
 
+}  // namespace internal
+
 void parallel_for(int tasks, int max_threads, const std::function<void(int)>& body) {
-  const int threads = threads_for(tasks, max_threads);
+  const int threads = internal::threads_for(tasks, max_threads);
   if (threads <= 1) {
     for (int t = 0; t < tasks; ++t) body(t);
     return;
@@ -224,5 +226,4 @@ void parallel_for(int tasks, int max_threads, const std::function<void(int)>& bo
   pool().run(tasks, threads, body);
 }
 
-}  // namespace internal
 }  // namespace cbrdf

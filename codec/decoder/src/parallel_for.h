@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The library's loops over the runner of cbrdf/parallel.h. Used by the encoder, the extras, the
-// renderer and the report; not installed and not part of the API.
+// The library's loops over the runner of cbrdf/parallel.h: the row and chunk splits its own
+// loops use. Not installed and not part of the API; programs use cbrdf::parallel_for.
 #pragma once
 
 #include <algorithm>
@@ -16,10 +16,8 @@ namespace cbrdf::internal {
 // max_threads <= 0 means no request of its own; 1 inside a task of another loop. At least 1.
 [[nodiscard]] int threads_for(int tasks, int max_threads);
 
-// body(task) for every task in [0, tasks) on at most threads_for(tasks, max_threads) threads (see
-// cbrdf/parallel.h for nesting and exceptions). Tasks are handed out one at a time, so uneven
-// tasks balance; a task must write only its own results.
-void parallel_for(int tasks, int max_threads, const std::function<void(int task)>& body);
+// The public loop (cbrdf/parallel.h), under the name the library's loops use.
+using cbrdf::parallel_for;
 
 // Splits rows [0, rows) into threads_for(rows, max_threads) contiguous blocks and calls
 // fn(row_begin, row_end) once per block. The split depends only on the thread count, and callers

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // fit_analytic(): a scan for a start, then Ceres on every parameter (analytic_fit.h).
-#include "analytic_fit.h"
+#include "cbrdf/analytic_fit.h"
 
 #include <ceres/ceres.h>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "exr_table.h"
+#include "cbrdf/exr_table.h"
 
 #include <string>
 #include <vector>

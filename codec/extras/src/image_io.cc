@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "image_io.h"
+#include "cbrdf/image_io.h"
 
 #include <png.h>
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "analytic_fit.h"
+#include "cbrdf/analytic_fit.h"
 #include "cbrdf/coords.h"
 #include "parallel_for.h"
 

@@ -44,4 +44,12 @@ using ParallelRunner = std::function<void(int tasks, const std::function<void(in
 /// tasks some loops are split into, and a loop limited to one thread still runs inline.
 void set_parallel_runner(ParallelRunner runner);
 
+/// Runs body(task) for every task in [0, tasks) through the runner above, on at most
+/// min(max_threads, thread_limit(), tasks) threads (max_threads <= 0: no cap of its own), and
+/// returns when all have returned. The calling thread takes part. Tasks are handed out one at a
+/// time, so uneven tasks balance; each task must write only its own results. Inside a task of
+/// another loop it runs inline. The loop the library's own work uses, for a program's loops that
+/// should share its threads (a renderer's rows, a batch of materials).
+void parallel_for(int tasks, int max_threads, const std::function<void(int task)>& body);
+
 }  // namespace cbrdf
