@@ -19,7 +19,6 @@
 #include <string>
 #include <vector>
 
-#include "bitstream/chunks.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/file_io.h"
@@ -185,17 +184,22 @@ TEST_F(CliHardening, NonUtf8NamesAndMetadataInJson) {
   EXPECT_TRUE(contains(r.out, "\"format\": \"merl\"")) << r.out;
 
   // A file an older encoder wrote, with the raw byte in its metadata, reads too.
+  // Its chunks as the command wrote them, with the mETA payload (spec 4.5: "key=value" lines)
+  // replaced.
   auto bytes = read_file(enc(), kMaxContainerBytes);
   ASSERT_TRUE(bytes.ok());
-  auto model = decode_model(*bytes);
-  ASSERT_TRUE(model.ok()) << model.status().message();
-  const std::vector<ChunkToWrite> chunks = {
-      {std::string(kTagHeader), encode_header_chunk(*model, false), false},
-      {std::string(kTagModel), encode_model_chunk(*model), true},
-      {std::string(kTagMarginals), encode_marginals_chunk(*model, 12), true},
-      {std::string(kTagMask), encode_mask_chunk(model->not_measured), true},
-      {std::string(kTagMetadata), encode_metadata_chunk({{"source", "old\xfe\xff.binary"}}), true}};
-  auto legacy = write_container(chunks, 3);
+  auto parsed = parse_container(*bytes);
+  ASSERT_TRUE(parsed.ok()) << parsed.status().message();
+  std::vector<ChunkToWrite> chunks;
+  for (std::size_t i = 0; i < parsed->layout.chunks.size(); ++i) {
+    const ChunkInfo& c = parsed->layout.chunks[i];
+    if (c.tag == kTagEnd || c.tag == kTagMetadata) continue;
+    chunks.push_back({c.tag, parsed->payloads[i], c.compressed});
+  }
+  const std::string meta = "source=old\xfe\xff.binary\n";
+  chunks.push_back(
+      {std::string(kTagMetadata), std::vector<std::uint8_t>(meta.begin(), meta.end())});
+  auto legacy = write_container(chunks, 3, parsed->layout.minor);
   ASSERT_TRUE(legacy.ok()) << legacy.status().message();
   ASSERT_TRUE(write_file_atomic(tmp / "legacy.cbrdf", *legacy).ok());
   r = run_cli("info --json " + q(tmp / "legacy.cbrdf"));

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstdint>
 
-#include "float16.h"
+#include "report/float16.h"
 
-namespace cbrdf {
+namespace cbrdf::report {
 namespace {
 
 bool is_nan_half(std::uint16_t h) {
@@ -64,4 +64,4 @@ TEST(Float16, MatchesTheCompilersConversion) {
 #endif
 
 }  // namespace
-}  // namespace cbrdf
+}  // namespace cbrdf::report

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "float16.h"
+#include "report/float16.h"
 
 namespace cbrdf::report {
 namespace {

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "float16.h"
+#include "report/float16.h"
 
 #include <bit>
 
-namespace cbrdf {
+namespace cbrdf::report {
 
 std::uint16_t float_to_half(float value) {
   const std::uint32_t f = std::bit_cast<std::uint32_t>(value);
@@ -51,4 +51,4 @@ float half_to_float(std::uint16_t bits) {
   return std::bit_cast<float>(sign | (std::uint32_t(e) << 23) | ((mantissa & 0x3FFu) << 13));
 }
 
-}  // namespace cbrdf
+}  // namespace cbrdf::report

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// IEEE 754 binary16 ("half") conversion, for the near-lossless float16 storage baseline.
+// IEEE 754 binary16 ("half") conversion, for the report's near-lossless float16 storage
+// baseline (float16_baseline.h).
 //
 // float_to_half rounds to nearest, ties to even, exactly as a hardware conversion does: values
 // beyond the largest finite half (65504) round to infinity when at least 65520, NaN stays NaN (as a
@@ -9,9 +10,9 @@
 
 #include <cstdint>
 
-namespace cbrdf {
+namespace cbrdf::report {
 
 std::uint16_t float_to_half(float value);
 float half_to_float(std::uint16_t bits);
 
-}  // namespace cbrdf
+}  // namespace cbrdf::report
