@@ -104,7 +104,7 @@ TEST_F(ReportHtml, LoadsInChromiumWithEveryImage) {
   ASSERT_FALSE(dom.empty()) << "chromium did not produce a DOM";
   EXPECT_NE(dom.find("Table 1: sphere PSNR"), std::string::npos);
   EXPECT_NE(dom.find("Summary: the paper's setting"), std::string::npos);
-  EXPECT_NE(dom.find("Frontier: the Pareto frontier"), std::string::npos);
+  EXPECT_NE(dom.find("Frontier settings: the sweep's settings"), std::string::npos);
   EXPECT_NE(dom.find("src=\"frontier_mean.svg\""), std::string::npos);
   EXPECT_EQ(body_attribute(dom, "data-loaded"), "ok");
   EXPECT_EQ(body_attribute(dom, "data-images"), std::to_string(sources.size()));

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -155,11 +157,12 @@ TEST_F(ReportRun, NoProgressBarWhenStderrIsNotATerminalAndOnlyThePapersSetting) 
   const auto r = report_input("", "--sweep slices=6 bits=12 --baselines none", other / "r");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");
-  EXPECT_EQ(r.out.find("Frontier: gain"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("Gain over the paper's setting"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("held only the paper's setting"), std::string::npos) << r.out;
   const std::string md = testing::read_text(other / "r" / "report.md");
   EXPECT_NE(md.find("held only the paper's setting"), std::string::npos);
   EXPECT_EQ(md.find("## Frontier"), std::string::npos);
+  EXPECT_EQ(md.find("## Gain over"), std::string::npos);
   EXPECT_EQ(md.find("| yes |"), std::string::npos);
   EXPECT_EQ(md.find("| no |"), std::string::npos);
 
@@ -320,8 +323,7 @@ TEST(EncodeResidualSteps, ErrorsNameWhatToGive) {
   const std::string encode = "encode '" + input.string() + "' -o '" + out.string() + "' ";
   auto r = run_cli(encode + "--residual-steps visibility");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--residual-steps shapes the layer --max-error E adds; give --max-error"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("--residual-steps visibility needs --max-error above 0"), std::string::npos)
       << r.err;
   r = run_cli(encode + "--residual-steps visibility --target-psnr 50");
   EXPECT_EQ(r.exit_code, 2);
@@ -348,6 +350,33 @@ std::vector<std::string> slow_frontier(
   std::vector<std::string> out;
   for (const auto& k : kept) out.push_back(k.second);
   return out;
+}
+
+// The page's navigation names every section once, each by a name of its own, and every link
+// leads to a section of the page.
+TEST_F(ReportRun, NavigationNamesEachSectionOnce) {
+  ASSERT_EQ(run_->exit_code, 0) << run_->err;
+  const std::string html = testing::read_text(out_ / "report.html");
+  const std::size_t begin = html.find("<nav>"), end = html.find("</nav>");
+  ASSERT_NE(begin, std::string::npos);
+  ASSERT_NE(end, std::string::npos);
+  const std::string nav = html.substr(begin, end - begin);
+  const std::regex link("<a href=\"#([^\"]+)\">([^<]+)</a>");
+  std::set<std::string> names, ids;
+  int links = 0;
+  for (auto it = std::sregex_iterator(nav.begin(), nav.end(), link); it != std::sregex_iterator();
+       ++it, ++links) {
+    const std::string id = (*it)[1].str(), name = (*it)[2].str();
+    EXPECT_TRUE(names.insert(name).second) << "'" << name << "' names two sections: " << nav;
+    EXPECT_TRUE(ids.insert(id).second) << id;
+    EXPECT_NE(html.find(" id=\"" + id + "\""), std::string::npos) << id;
+    EXPECT_LE(name.size(), 32u) << "a navigation name, not a title: " << name;
+  }
+  // The summary, the three frontier tables, the per-model tables, figures and materials.
+  EXPECT_GE(links, 10) << nav;
+  for (const char* name : {"Gain by budget", "Frontier settings", "Gain per material"}) {
+    EXPECT_TRUE(names.count(name)) << name << " missing from " << nav;
+  }
 }
 
 TEST_F(ReportRun, MixturesFrontierAndGainOverThePapersSetting) {
@@ -403,7 +432,7 @@ TEST_F(ReportRun, MixturesFrontierAndGainOverThePapersSetting) {
 
   // The gain table: per budget, the best sweep setting within it against the paper's setting.
   const std::string md = testing::read_text(out_ / "report.md");
-  EXPECT_NE(md.find("## Frontier: gain over the paper's setting (frank s6 b12)"),
+  EXPECT_NE(md.find("## Gain over the paper's setting (frank s6 b12) at 1x, 2x and 4x its bytes"),
             std::string::npos);
   const double paper_bytes = (*paper)["bytes"].get<double>();
   const double paper_psnr = (*paper)["psnr_tonemapped_db"].get<double>();

@@ -20,7 +20,7 @@ th { background: #f0f0f0; } td.l { text-align: left; }
 figure { display: inline-block; margin: 0.5em 1em 0.5em 0; vertical-align: top; }
 figcaption { font-size: 0.85em; color: #555; max-width: 900px; }
 .spheres img { width: 200px; height: 200px; image-rendering: pixelated; }
-nav a { margin-right: 1em; }
+nav a { margin-right: 1em; white-space: nowrap; }
 )";
 
 constexpr const char* kScript = R"(
@@ -58,8 +58,8 @@ std::string report_html(const std::vector<MaterialResult>& results, const Settin
   }
   out << "<p class=\"note\">" << xml_escape(summary) << "</p>\n<nav>";
   for (const TextTable& t : tables) {
-    out << "<a href=\"#" << t.id << "\">" << xml_escape(t.title.substr(0, t.title.find(':')))
-        << "</a>";
+    const std::string name = t.nav.empty() ? t.title.substr(0, t.title.find(':')) : t.nav;
+    out << "<a href=\"#" << t.id << "\">" << xml_escape(name) << "</a>";
   }
   out << "<a href=\"#figures\">Figures</a><a href=\"#materials\">Materials</a></nav>\n";
   for (const TextTable& t : tables) out << to_html(t);

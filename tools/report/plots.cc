@@ -89,25 +89,30 @@ Chart frontier_chart(const std::vector<RdPoint>& sweep, const RdPoint& paper,
   c.log_x = true;
   c.width = 900;
   c.height = 520;
-  // Groups: the label without " sN bM" (e.g. "frank", "frank k2").
+  // Groups: the family and component count, whatever the slices and bits ("frank s6 bauto k2"
+  // belongs to "frank, 2 components").
   auto group_of = [](const std::string& label) {
-    std::string g;
+    std::string g, components = "1 component";
     std::istringstream words(label);
     for (std::string w; words >> w;) {
-      const bool axis =
-          w.size() > 1 && (w[0] == 's' || w[0] == 'b') &&
-          std::all_of(w.begin() + 1, w.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
-      if (!axis) g += (g.empty() ? "" : " ") + w;
+      const bool digits = w.size() > 1 && std::all_of(w.begin() + 1, w.end(), [](char ch) {
+                            return ch >= '0' && ch <= '9';
+                          });
+      if (w[0] == 'k' && digits) {
+        components = w.substr(1) + (w == "k1" ? " component" : " components");
+      } else if (!((w[0] == 's' || w[0] == 'b') && digits) && w != "bauto") {
+        g += (g.empty() ? "" : " ") + w;
+      }
     }
-    return g.find(" k") == std::string::npos ? g + " k1" : g;
+    return g + ", " + components;
   };
   std::vector<Series> groups;
   for (const RdPoint& p : sweep) {
     const std::string g = group_of(p.label);
-    auto it = std::find_if(groups.begin(), groups.end(),
-                           [&](const Series& s) { return s.name == g + " settings"; });
+    auto it =
+        std::find_if(groups.begin(), groups.end(), [&](const Series& s) { return s.name == g; });
     if (it == groups.end()) {
-      groups.push_back(Series{g + " settings", {}, {}, palette(groups.size()), false, true});
+      groups.push_back(Series{g, {}, {}, palette(groups.size()), false, true});
       it = groups.end() - 1;
     }
     it->x.push_back(p.bytes);
@@ -253,7 +258,9 @@ std::vector<Figure> report_figures(const std::vector<MaterialResult>& results, c
 
   const std::string frontier_caption =
       "up and left is better: look at how far the magenta frontier lies above the ring (the "
-      "paper's setting) at or left of its bytes.";
+      "paper's setting) at or left of its bytes. A setting reads family, sN slices, bN bits per "
+      "quantized value (bauto: chosen per file), kN copula components (none: one) and EN the "
+      "residual layer's error bound.";
   figs.push_back(
       {kLeadFigure,
        "Sweep settings (dots) and baselines (diamonds), mean over the materials: " +

@@ -7,6 +7,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "report/labels.h"
+
 namespace cbrdf::report {
 namespace {
 
@@ -79,11 +81,6 @@ void draw_series(std::ostringstream& out, const Series& s, const std::string& co
     if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || (f.log_x && s.x[i] <= 0)) continue;
     points += num(f.px(s.x[i])) + "," + num(f.py(s.y[i])) + " ";
     if (s.markers) draw_marker(out, s.marker, f.px(s.x[i]), f.py(s.y[i]), s.marker_size, colour);
-    if (i < s.notes.size() && !s.notes[i].empty()) {
-      out << "<text x=\"" << num(f.px(s.x[i]) + 5) << "\" y=\"" << num(f.py(s.y[i]) - 5)
-          << "\" font-size=\"10\" fill=\"" << colour << "\">" << xml_escape(s.notes[i])
-          << "</text>\n";
-    }
   }
   if (s.line && !points.empty()) {
     out << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"" << num(s.width)
@@ -221,6 +218,44 @@ void draw_series_and_legend(std::ostringstream& out, const Chart& c, const Frame
   }
 }
 
+// The series' notes, placed clear of every marker and of each other (labels.h), drawn last so that
+// they sit on top; a white halo keeps them legible over grid and series lines.
+void draw_notes(std::ostringstream& out, const Chart& c, const Frame& f) {
+  std::vector<LabelRequest> requests;
+  std::vector<std::string> colours;
+  std::vector<Box> obstacles;
+  for (std::size_t i = 0; i < c.series.size(); ++i) {
+    const Series& s = c.series[i];
+    for (std::size_t k = 0; k < s.x.size() && k < s.y.size(); ++k) {
+      if (!std::isfinite(s.x[k]) || !std::isfinite(s.y[k]) || (f.log_x && s.x[k] <= 0)) continue;
+      const double x = f.px(s.x[k]), y = f.py(s.y[k]);
+      const bool note = k < s.notes.size() && !s.notes[k].empty();
+      const double r = s.markers ? s.marker_size + 1 : note ? 2 : 0;
+      if (r > 0) obstacles.push_back({x - r, y - r, x + r, y + r});
+      if (note) {
+        requests.push_back({x, y, s.notes[k], 10});
+        colours.push_back(s.colour.empty() ? palette(i) : s.colour);
+      }
+    }
+  }
+  if (requests.empty()) return;
+  const std::vector<PlacedLabel> placed =
+      place_labels(requests, obstacles, {f.left + 2, f.top + 2, f.right - 2, f.bottom - 2});
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    if (!placed[i].leader) continue;
+    out << "<line x1=\"" << num(requests[i].x) << "\" y1=\"" << num(requests[i].y) << "\" x2=\""
+        << num(placed[i].leader_x) << "\" y2=\"" << num(placed[i].leader_y) << "\" stroke=\""
+        << colours[i] << "\" stroke-width=\"0.8\" opacity=\"0.6\"/>\n";
+  }
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    out << "<text class=\"note\" x=\"" << num(placed[i].x) << "\" y=\"" << num(placed[i].baseline)
+        << "\" font-size=\"" << num(requests[i].font_size) << "\" fill=\"" << colours[i]
+        << "\" stroke=\"white\" stroke-width=\"3\" stroke-linejoin=\"round\" "
+           "paint-order=\"stroke\">"
+        << xml_escape(requests[i].text) << "</text>\n";
+  }
+}
+
 }  // namespace
 
 std::string render_chart(const Chart& c) {
@@ -239,6 +274,7 @@ std::string render_chart(const Chart& c) {
       << xml_escape(c.title) << "</text>\n";
   draw_axes(out, c, f);
   draw_series_and_legend(out, c, f);
+  draw_notes(out, c, f);
   out << "</svg>\n";
   return out.str();
 }

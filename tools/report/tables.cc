@@ -2,6 +2,7 @@
 #include "report/tables.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -98,8 +99,8 @@ const std::vector<std::string> kStepHeader = {"step",          "dB tm",         
                                               "extra eval ns", "encode s per dB"};
 
 std::string loss_name(AnalyticLoss loss) {
-  return loss == AnalyticLoss::kLog ? "log(1 + f) L2 (metrics.h log RMSE)"
-                                    : "cosine-weighted L2 (metrics.h cos RMSE)";
+  return loss == AnalyticLoss::kLog ? "log(1 + f) L2 (as the log RMSE column)"
+                                    : "cosine-weighted L2 (as the cos RMSE column)";
 }
 
 std::string times(double v) {
@@ -138,14 +139,17 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
 
   TextTable g;
   g.id = "gain";
-  g.title = "Frontier: gain over the paper's setting (" + paper + ") at a byte budget";
+  g.title = "Gain over the paper's setting (" + paper + ") at 1x, 2x and 4x its bytes";
+  g.nav = "Gain by budget";
   g.note =
       "Per material, the sweep setting with the highest tone-mapped sphere PSNR among those "
       "with at most 1x, 2x or 4x that material's bytes at the paper's setting (Frank, 6 uniform "
       "slices, one component, " +
       std::to_string(paper_setting().bits) +
       " bits); its PSNR minus the paper setting's, then the mean, min and max over the "
-      "materials that have such a setting. Targets (issue): +2 dB at 1x, +6 dB at 4x. "
+      "materials that have such a setting. The target is the mean gain cbrdf aims for: +2 dB at "
+      "1x, "
+      "+6 dB at 4x. "
       "Ratios are per material, then averaged; encode time includes the fit.";
   g.header = {
       "budget",    "materials", "mean gain dB",  "min gain dB",         "max gain dB",
@@ -165,7 +169,8 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
 
   TextTable pm;
   pm.id = "gain-material";
-  pm.title = "Frontier: gain over the paper's setting per material";
+  pm.title = "Gain over the paper's setting per material";
+  pm.nav = "Gain per material";
   pm.note =
       "The paper's setting's bytes and PSNR, then per budget the gain (dB) and the setting "
       "that gives it ('-': no sweep setting within the budget).";
@@ -188,11 +193,13 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
 
   TextTable mf;
   mf.id = "frontier";
-  mf.title = "Frontier: the Pareto frontier of the sweep, means over the materials";
+  mf.title = "Frontier settings: the sweep's settings no other beats, means over the materials";
+  mf.nav = "Frontier settings";
   mf.note =
       "Each sweep setting's bytes and tone-mapped PSNR averaged over the materials; the "
-      "settings no other beats in both (frontier_mean.svg; per material in frontier.csv "
-      "and frontier_MATERIAL.svg). Gains and ratios against the paper's setting's means.";
+      "settings no other has both fewer bytes and a higher PSNR than (the Pareto frontier: "
+      "frontier_mean.svg; per material in frontier.csv and frontier_MATERIAL.svg). Gains and "
+      "ratios against the paper's setting's means.";
   mf.header = {"setting", "bytes", "PSNR tm dB", "gain dB", "bytes / paper", "encode time / paper"};
   const std::vector<RdPoint> mean = mean_sweep_points(results, st);
   const RdPoint p = mean_paper_point(results);
@@ -331,6 +338,7 @@ void add_per_material_tables(const std::vector<MaterialResult>& results,
   TextTable t1 = per_material_table(results, lossy, &Row::psnr_tonemapped, db);
   t1.id = "psnr";
   t1.title = "Table 1: sphere PSNR per material and model (tone-mapped, dB)";
+  t1.nav = "PSNR";
   t1.note =
       "As the paper's Table 1 and Figure 5: each model decoded to a full table and rendered on "
       "256x256 spheres lit at 10, 45 and 75 degrees, against the input; PSNR over sphere pixels "
@@ -343,6 +351,7 @@ void add_per_material_tables(const std::vector<MaterialResult>& results,
   TextTable t1b = per_material_table(results, lossy, &Row::psnr_linear, db);
   t1b.id = "psnr-linear";
   t1b.title = "Table 1b: sphere PSNR per material and model (linear radiance, dB)";
+  t1b.nav = "Linear PSNR";
   t1b.note =
       "The same renders without tone mapping; the peak is the input image's maximum per "
       "channel, so highlights dominate.";
@@ -351,6 +360,7 @@ void add_per_material_tables(const std::vector<MaterialResult>& results,
   TextTable t2 = per_material_table(results, compared, &Row::bytes, bytes);
   t2.id = "storage";
   t2.title = "Table 2: storage per material and model (bytes)";
+  t2.nav = "Storage";
   t2.note =
       "Copula: the .cbrdf container (marginals quantized to BITS bits, zstd level 19). "
       "Analytic models: 8 bytes per double parameter. float16: IEEE half physical values, "
@@ -439,13 +449,14 @@ TextTable time_table(const std::vector<MaterialResult>& results,
   TextTable t3;
   t3.id = "time";
   t3.title = "Table 3: means over the materials per model: size, error and time";
+  t3.nav = "Size, error, time";
   t3.note =
       "encode: fit + quantization + container (copula), compression (lossless, float16) "
       "or the Ceres fit (analytic: " +
       loss_name(st.analytic_loss) + " on " + std::to_string(st.analytic_bins) +
       " bins, theta_i and theta_o up to 80 degrees). "
       "decode: bytes or parameters to a full 90x90x180 table. eval: one RGB value at a "
-      "random direction pair (copula: ModelEvaluator::eval; analytic: closed form; "
+      "random direction pair (copula: the library's evaluator; analytic: closed form; "
       "tables: nearest-bin lookup). Run with --jobs " +
       std::to_string(st.jobs) + ".";
   t3.header = kSummaryHeader;
@@ -458,7 +469,7 @@ TextTable time_table(const std::vector<MaterialResult>& results,
                "one thread from the model (the primary and the paper's settings) or from the "
                "measured table (lossless rows: nearest-bin); best of two renders. The ratios "
                "are the model's time over the table's, per material, then the mean (and the "
-               "largest); the issue's target is at most 1.00x, the paper's Table 3 1.06x. "
+               "largest); cbrdf aims for at most 1.00x, the paper's Table 3 reports 1.06x. "
                "Trilinear lookup: the 8 surrounding bins, not-measured ones skipped.";
     for (const char* h : {"render s", "render / nearest table", "render / trilinear table"}) {
       t3.header.push_back(h);
@@ -484,6 +495,7 @@ TextTable sweep_table(const std::vector<MaterialResult>& results,
   TextTable t4;
   t4.id = "sweep";
   t4.title = "Table 4: the sweep, means over the materials";
+  t4.nav = "Sweep";
   t4.note = "Every combination of the --sweep axes.";
   t4.header = kSummaryHeader;
   t4.header[0] = "setting";
@@ -498,6 +510,7 @@ TextTable cost_table(const std::vector<MaterialResult>& results,
   TextTable t5;
   t5.id = "cost";
   t5.title = "Table 5: what accuracy costs in time";
+  t5.nav = "Cost of accuracy";
   t5.note = "Each step up in one setting (the others at the primary setting " +
             st.sweep.primary().label() +
             "), then every compared model ordered by tone-mapped PSNR: the mean dB gained "
@@ -550,6 +563,7 @@ TextTable analytic_table(const std::vector<MaterialResult>& results) {
   TextTable t6;
   t6.id = "analytic";
   t6.title = "Fitted analytic parameters";
+  t6.nav = "Analytic fits";
   t6.note =
       "Lobe colours are per channel (Lambertian albedo, GGX F0, Ward rho_s, "
       "Ashikhmin-Shirley Rs); shape is the roughness alpha or the exponent n.";
@@ -576,17 +590,19 @@ std::vector<TextTable> coding_tables(const std::vector<MaterialResult>& results,
     TextTable t;
     t.id = "coding-frontier";
     if (c > 1) t.id += "-" + std::to_string(c);
-    t.title = "Frontier by coding: " + fresh + " against " + old + " at byte budgets";
-    char note[640];
+    t.title = "Codings compared: " + fresh + " against " + old + " at byte budgets";
+    t.nav = "Codings by budget" + (c > 1 ? " (" + old + ")" : std::string());
+    char note[1024];
     std::snprintf(
         note, sizeof note,
         "The same fits written in both codings. Per material, the sweep or paper setting with "
         "the highest tone-mapped sphere PSNR within the budget in each coding, then means over "
         "the materials that have one ('n'). Gains are %s minus %s over the materials where both "
-        "have one (mean, and the smallest). Targets (issue 28): a gain of at least %+.1f dB "
+        "have one (mean, and the smallest). What the %s coding aims for: a gain of at least %+.1f "
+        "dB "
         "tone-mapped at every budget, linear PSNR at most %.1f dB lower, and at least %.0f dB at "
         "1 KB; a budget where %s has no setting counts as met when %s has one.",
-        fresh.c_str(), old.c_str(), kCodingTargetGainDb, kCodingMaxLinearLossDb,
+        fresh.c_str(), old.c_str(), fresh.c_str(), kCodingTargetGainDb, kCodingMaxLinearLossDb,
         kCodingOneKbTargetDb, old.c_str(), fresh.c_str());
     t.note = note;
     t.header = {"budget",         fresh + " n",        fresh + " PSNR tm dB", fresh + " PSNR dB",
@@ -619,6 +635,7 @@ std::vector<TextTable> coding_tables(const std::vector<MaterialResult>& results,
     s.id = "coding-settings";
     if (c > 1) s.id += "-" + std::to_string(c);
     s.title = "Settings by coding: " + fresh + " and " + old + ", means over the materials";
+    s.nav = "Codings per setting" + (c > 1 ? " (" + old + ")" : std::string());
     s.note =
         "Each setting's mean bytes, sphere PSNRs and encode time (fit included) written in both "
         "codings from the same fit; ratios are of the means. The bauto setting is `cbrdf "
@@ -711,7 +728,10 @@ std::string to_html(const TextTable& t) {
   for (const auto& row : t.rows) {
     out << "<tr>";
     for (std::size_t i = 0; i < row.size(); ++i) {
-      out << (i == 0 ? "<td class=\"l\">" : "<td>") << xml_escape(row[i]) << "</td>";
+      // Names (the first column, setting labels) read from the left, numbers from the right.
+      const bool text =
+          i == 0 || (!row[i].empty() && std::isalpha(static_cast<unsigned char>(row[i][0])));
+      out << (text ? "<td class=\"l\">" : "<td>") << xml_escape(row[i]) << "</td>";
     }
     out << "</tr>\n";
   }

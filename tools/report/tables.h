@@ -14,6 +14,7 @@ namespace cbrdf::report {
 struct TextTable {
   std::string id;     // anchor name, e.g. "psnr"
   std::string title;  // "Table 1: ..."
+  std::string nav;    // its name in the page's navigation (empty: the title up to its ':')
   std::string note;   // one paragraph under the title
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;
