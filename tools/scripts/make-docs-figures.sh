@@ -8,7 +8,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$root/build}
 if [ ! -x "$build/cbrdf" ]; then
-  echo "make-docs-figures: no $build/cbrdf: build it first (tools/scripts/quickstart.sh $build)" >&2
+  echo "make-docs-figures: no $build/cbrdf: build it first (tools/scripts/quickstart.sh, or cmake --preset quickstart)" >&2
   exit 1
 fi
 out=$(mktemp -d)

@@ -4,15 +4,16 @@
 # compress the built-in measured materials (neural fits of real MERL measurements) at a few
 # settings around the paper's, with the cheap baselines, and write the report. Its last lines are
 # the answer: per material the paper's setting, the best setting within its bytes and within a
-# quarter of them, and where report.html is.   Usage: tools/scripts/quickstart.sh [BUILD_DIR]
-# About 5 minutes on 2 cores from a clean build directory.
+# quarter of them, and where report.html is.   Usage: tools/scripts/quickstart.sh
+# About 5 minutes on 2 cores from a clean build directory (CMakePresets.json: quickstart).
+#   CBRDF_BUILD_PREFIX: where the build goes (default the repository's build/).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
-build=${1:-$root/build}
-"$root/tools/scripts/install-deps.sh"
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCBRDF_TESTS=OFF \
-  -DCBRDF_BENCH=OFF -DCBRDF_PYTHON=OFF > /dev/null
-cmake --build "$build" --target cbrdf_cli -j "$(nproc)"
+cd "$root"
+build=$(realpath -m "${CBRDF_BUILD_PREFIX:-}build")
+tools/scripts/install-deps.sh main
+cmake --preset quickstart > /dev/null
+cmake --build --preset quickstart -j "$(nproc)"
 echo
 # The sweep spans the frontier around the paper's setting (frank s6 b12, always measured): one,
 # two and four copula components at 6, 8 and 12 bits and at the default `--bits auto`, and 3 slices

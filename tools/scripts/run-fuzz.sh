@@ -7,7 +7,8 @@
 # executions (count and per second), coverage (libFuzzer's edge count, "cov:") and corpus size per
 # target. New corpus entries and crash inputs go to a scratch directory, never into the repo.
 #   Usage: tools/scripts/run-fuzz.sh [SECONDS_PER_TARGET]        (default 60; 0 = replay only)
-# Environment: CBRDF_FUZZ_BUILD_DIR (default <repo>/build-fuzz, reused when present),
+# Environment: CBRDF_FUZZ_BUILD_DIR (default <repo>/build-fuzz, or CBRDF_BUILD_PREFIX's; reused
+#   when present; configured by CMakePresets.json's fuzz),
 #   CBRDF_FUZZ_WORK_DIR (scratch, default a new directory under /tmp), CBRDF_FUZZ_JOBS (default 2),
 #   CBRDF_FUZZ_SKIP_BUILD=1 (use the targets already built, e.g. when builds are serialized),
 #   CBRDF_FUZZ_MIN_EXEC_PER_SEC (a speed floor that fails the run, default 0: none).
@@ -16,7 +17,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 seconds=${1:-60}
-build=${CBRDF_FUZZ_BUILD_DIR:-$root/build-fuzz}
+build=${CBRDF_FUZZ_BUILD_DIR:-$(cd "$root" && realpath -m "${CBRDF_BUILD_PREFIX:-}build-fuzz")}
 work=${CBRDF_FUZZ_WORK_DIR:-$(mktemp -d /tmp/cbrdf-fuzz.XXXXXX)}
 jobs=${CBRDF_FUZZ_JOBS:-2}
 targets=(fuzz_container fuzz_decode fuzz_merl fuzz_roundtrip fuzz_capi)
@@ -29,10 +30,8 @@ if ! command -v clang++ > /dev/null; then
   exit 1
 fi
 if [ ! -f "$build/CMakeCache.txt" ]; then
-  # -O2 -g without NDEBUG: fast, with line numbers in reports and assertions on.
-  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g" \
-    -DCBRDF_FUZZ=ON -DCBRDF_SANITIZE=ON -DCBRDF_TESTS=OFF > /dev/null
+  # The preset fuzz: -O2 -g without NDEBUG, fast, with line numbers in reports and assertions on.
+  (cd "$root" && cmake --preset fuzz -B "$build") > /dev/null
 fi
 if [ "${CBRDF_FUZZ_SKIP_BUILD:-0}" != 1 ]; then
   cmake --build "$build" --target "${targets[@]}" -j "$(nproc)"
