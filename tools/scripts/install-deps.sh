@@ -1,62 +1,86 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Installs the Debian packages cbrdf needs, only when one is missing.
-# Safe to run repeatedly; needs root (or sudo) only when something must be installed.
+# Installs the Debian packages cbrdf needs for a purpose, only those missing. Safe to run
+# repeatedly; needs root (or sudo) only when something must be installed.
+#   Usage: tools/scripts/install-deps.sh [--list] [PURPOSE...]   (--list: print the packages only)
+# PURPOSE (several add up):
+#   libraries  build and install the libraries alone (cmake --preset libraries-only without tests)
+#   main       the quickstart: build the cbrdf command, compress the built-in materials, report
+#   python     the Python module (pip install ., cmake --preset python) and its tests
+#   docs       the API reference (cmake --build build --target docs) on top of main
+#   wasm       cbrdf.wasm (cmake --preset wasm, tools/wasm) and its node tests
+#   browser    the headless chromium tests (the report page, the viewer: tests/viewer's npm ci)
+#   test       everything CI runs (tools/scripts/run-tests.sh): all of the above and the test,
+#              sanitizer, fuzzing, benchmark and ABI tools
+# With no PURPOSE: test, everything.
 set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
 
-packages=(
-  build-essential cmake ninja-build pkg-config clang clang-format libclang-rt-14-dev
-  libzstd-dev liblzma-dev libxxhash-dev
-  libzfp-dev  # the report's ZFP baseline (cbrdf report --ladder)
-  libopenexr-dev libdraco-dev libpng-dev
-  libceres-dev libeigen3-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
-  libcli11-dev nlohmann-json3-dev libfmt-dev
-  libcpp-httplib-dev  # cbrdf view's HTTP server (tools/cli/view_server.cc)
-  pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest python3-matplotlib
-  python3-setuptools python3-wheel python3-venv python3-build  # pip install . (pyproject.toml)
-  chromium  # headless check of the report page (tests/tools/report_html_test.cc)
-  abigail-tools  # the ABI check of the shared libraries (tools/scripts/check-abi.sh)
-  doxygen  # the API reference and its check (docs/Doxyfile.in, tools/scripts/check-api-docs.sh)
-  emscripten nodejs node-acorn dpkg-dev  # cbrdf.wasm and its node tests (tools/wasm, tests/wasm)
-)
+declare -A groups
+groups[build]="build-essential cmake ninja-build pkg-config"
+groups[libraries]="${groups[build]} libzstd-dev libxxhash-dev libceres-dev libeigen3-dev"
+# The tools' packages (tools/CMakeLists.txt): the report's xz and ZFP baselines, images, meshes,
+# the command's options, JSON and formatting, cbrdf view's HTTP server.
+groups[main]="${groups[libraries]} liblzma-dev libzfp-dev libopenexr-dev libdraco-dev libpng-dev
+  libcli11-dev nlohmann-json3-dev libfmt-dev libcpp-httplib-dev"
+groups[python]="${groups[main]} pybind11-dev python3-pybind11 python3-dev python3-numpy
+  python3-pytest python3-matplotlib python3-setuptools python3-wheel python3-venv python3-build"
+groups[docs]="${groups[main]} doxygen"
+# cbrdf.wasm compiles zstd's decompressor from Debian's source package (dpkg-dev, a deb-src entry).
+groups[wasm]="${groups[build]} emscripten nodejs node-acorn dpkg-dev"
+groups[browser]="${groups[main]} chromium nodejs npm"
+# The test suites' own tools: GoogleTest, Google Benchmark, clang (the decoder-only, sanitizer and
+# fuzz builds, clang-format), abigail-tools (tools/scripts/check-abi.sh), ccache (shared by the
+# builds of tools/scripts/run-tests.sh).
+groups[test]="${groups[python]} ${groups[docs]} ${groups[wasm]} ${groups[browser]} clang clang-format
+  libclang-rt-14-dev libgtest-dev libgmock-dev libbenchmark-dev abigail-tools ccache"
 
-# The WebAssembly build compiles zstd's decompressor from Debian's source package, which needs a
-# deb-src entry (the build fetches the sources into its own tree: tools/wasm/fetch-zstd-source.sh).
-"$(dirname "$0")/../wasm/fetch-zstd-source.sh" --deb-src-only
+list_only=0
+if [[ ${1:-} == --list ]]; then list_only=1; shift; fi
+purposes=("$@")
+((${#purposes[@]})) || purposes=(test)
+packages=()
+for purpose in "${purposes[@]}"; do
+  if [[ $purpose == build || -z ${groups[$purpose]+set} ]]; then
+    echo "install-deps: unknown purpose '$purpose' (libraries, main, python, docs, wasm," \
+         "browser, test)" >&2
+    exit 2
+  fi
+  read -r -d '' -a more <<<"${groups[$purpose]}" || true
+  packages+=("${more[@]}")
+done
+mapfile -t packages < <(printf '%s\n' "${packages[@]}" | sort -u)
+if ((list_only)); then printf '%s\n' "${packages[@]}"; exit 0; fi
+wants() { [[ " ${purposes[*]} " =~ " $1 " || " ${purposes[*]} " =~ " test " ]]; }
+
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+
+# A deb-src entry for the WebAssembly build (the build fetches the sources into its own tree:
+# tools/wasm/fetch-zstd-source.sh).
+if wants wasm; then "$here/../wasm/fetch-zstd-source.sh" --deb-src-only; fi
 
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 
+if ((${#missing[@]})); then
+  echo "install-deps: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+  echo "install-deps: all ${#packages[@]} packages for ${purposes[*]} present"
+fi
+
 # The viewer's browser tests (tests/viewer) drive chromium with puppeteer-core, pinned in
-# tests/viewer/package-lock.json: installed there with npm (Debian's npm where none is present).
-viewer_npm() {
-  local dir
-  dir="$(cd "$(dirname "$0")/../../tests/viewer" && pwd)"
-  if ! command -v npm >/dev/null; then
-    ${sudo:-} apt-get install -y -qq --no-install-recommends npm >/dev/null
-  fi
+# tests/viewer/package-lock.json: installed there with npm.
+if wants browser; then
+  dir=$(cd "$here/../../tests/viewer" && pwd)
   if ! (cd "$dir" && npm ls puppeteer-core >/dev/null 2>&1); then
     echo "install-deps: npm ci in tests/viewer"
     (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
   fi
-}
-
-if ((${#missing[@]} == 0)); then
-  echo "install-deps: all ${#packages[@]} packages present"
-  sudo=""
-  if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
-  viewer_npm
-  exit 0
 fi
-
-echo "install-deps: installing ${missing[*]}"
-sudo=""
-if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-viewer_npm
-echo "install-deps: done"
+((${#missing[@]} == 0)) || echo "install-deps: done"
