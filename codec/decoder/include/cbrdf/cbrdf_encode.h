@@ -2,8 +2,10 @@
 /** @file
  * The cbrdf C API, encoder part: fit MERL tables and write .cbrdf files. These functions live in
  * libcbrdf_encoder (pkg-config cbrdf, CMake cbrdf::encoder), not in the decoder library: a program
- * linked against libcbrdf_decoder alone cannot call them. The encoder library links the decoder
- * library, so everything of cbrdf/cbrdf_decode.h (included here) is available beside them.
+ * linked against libcbrdf_decoder alone cannot call them. libcbrdf_encoder.so contains the
+ * decoder's code itself (it does not depend on libcbrdf_decoder.so), so everything of
+ * cbrdf/cbrdf_decode.h (included here) is available from it alone: a program links one of the
+ * two. Statically, libcbrdf_encoder.a sits on libcbrdf_decoder.a (pkg-config and CMake add both).
  * Conventions and the ABI promise are those of cbrdf/cbrdf_decode.h. */
 #ifndef CBRDF_CBRDF_ENCODE_H_
 #define CBRDF_CBRDF_ENCODE_H_

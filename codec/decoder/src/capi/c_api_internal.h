@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // What the C API's encoder part (c_api_encoder.cc) uses from its decoder part (c_api_decoder.cc):
 // the thread's last error and the boundary that turns Status values and exceptions into it. Not
-// installed; the encoder library will link the decoder library for these.
+// installed. Both parts are compiled into the encoder library (libcbrdf_encoder.so holds the
+// format, decoder and encoder objects itself; it does not link libcbrdf_decoder.so), so one copy of
+// the last error serves both.
 #pragma once
 
 #include <string>
