@@ -405,8 +405,8 @@ namespace {
 // The last stage of both framings: the set of chunks is checked before any payload is
 // decompressed (each chunk's limit was checked with its frame), so that a file whose
 // chunks could never decode together (BASE beside MODL and MARG, a missing critical chunk)
-// allocates nothing of their declared sizes (spec 7: a file with every chunk at its maximum took
-// the parser to 83 MiB before it was refused).
+// allocates nothing of their declared sizes (spec 7: else a file with every chunk at its maximum
+// has the parser allocate all of them before refusing it).
 Expected<ParsedContainer> decompress_checked(ParsedContainer pc,
                                              std::span<const std::span<const std::uint8_t>> stored,
                                              const ByteReader& r) {

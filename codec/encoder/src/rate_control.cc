@@ -270,11 +270,11 @@ class Grid {
   }
 
   // A PSNR that no model reaches goes to the residual layer (encode_to_target_ladder), and there
-  // the model under it is best cheap: on the measured materials at 50 dB a residual on the
-  // default one-component model took 39 and 63 KB where one on the closest model (4 components,
-  // 30 and 18 slices) took 106 and 128 KB. So the base is the one-component row at the settings'
-  // slice count (else the best one fitted) at the bits `--bits auto` chooses, as a default encode
-  // would write it; when the one-component rows show the PSNR out of reach, no mixture is fitted.
+  // the model under it is best cheap: a residual on the default one-component model takes well
+  // under half the bytes of one on the closest model. So the base is the one-component row at the
+  // settings' slice count (else the best one fitted) at the bits `--bits auto` chooses, as a
+  // default encode would write it; when the one-component rows show the PSNR out of reach, no
+  // mixture is fitted.
   Status choose_residual_base() {
     auto lane = lanes_.find(base_.fit.slices);
     if (lane == lanes_.end()) {

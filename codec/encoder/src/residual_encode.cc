@@ -242,19 +242,14 @@ ResidualSettings target_residual_settings(double max_error) {
   // (8: 2-10% fewer than 4); docs/benchmarks.md has the bytes at 60 dB against mode 2.
   rs.levels = 3;
   // Levels 0 and 1 coarser than their rows (mode 4 in 1.3 files), more so at coarse bounds: the
-  // finer a level, the fewer predictions its errors feed. Measured on six shared materials (the
-  // same base, bounds 0.012 to 2e-4, bytes at equal tone-mapped sphere PSNR against m = 8 alone):
-  // 32 and 8 took 0.65x at 60 dB and 0.76x at 70 dB but cannot reach 80 dB above 2e-4; 8 and 2
-  // took 0.79x at 60 dB and 0.99x at 80 dB; a coarser level 2 lost at every rate. Multipliers
-  // never fall as E grows, so bytes and PSNR stay monotonic in E for rate control's search, and
-  // m x E stays within the format's bound 16.
+  // finer a level, the fewer predictions its errors feed (docs/benchmarks.md has the bytes).
+  // Multipliers never fall as E grows, so bytes and PSNR stay monotonic in E for rate control's
+  // search, and m x E stays within the format's bound 16.
   const int fine = max_error >= 1.5e-3 ? 32 : max_error >= 6e-4 ? 16 : 8;
   const int level1 = fine / 4;
   rs.fine_multiplier = std::max(1, std::min(fine, int(std::floor(kMaxResidualError / max_error))));
   rs.middle_multipliers = {std::min(level1, rs.fine_multiplier), 1, 1};
-  // Mode 3 (a 1.2 file) keeps 8 at every bound: 32 alone there took more bytes for a lower PSNR
-  // at the frontier's bounds (3 components, E 0.2: 17,725 B and 50.65 dB against 16,210 B and
-  // 50.69 dB, means over the 20 shared materials) and lost from 70 dB up on the ladder.
+  // Mode 3 (a 1.2 file) keeps 8 at every bound: a coarser fine level there costs bytes and PSNR.
   rs.mode3_fine_multiplier = std::min(8, rs.fine_multiplier);
   return rs;
 }

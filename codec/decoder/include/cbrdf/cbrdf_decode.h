@@ -44,7 +44,7 @@
  *   by the encoder are freed with cbrdf_free.
  * - Cost (CPU time measured on the golden files, tests/data/golden). Opening a file without a
  *   residual layer takes 1.5 to 2.5 ms; the first open in a process about 4 ms more (the
- *   decoder's below-horizon reference mask, built once; it took about 90 ms in 1.6). A file
+ *   decoder's below-horizon reference mask, built once). A file
  *   with a residual layer (info.residual_mode != CBRDF_RESIDUAL_NONE) holds one code per MERL bin,
  *   4,374,000 codes decoded at every open: 15 to 30 ms (_BOUNDED, _ROW_BOUNDED) and about 55 ms
  *   (_INTERPOLATED, which also rebuilds each bin's residual); the handle keeps the codes (17 MB;

@@ -85,9 +85,9 @@ inline constexpr double kMaxResidualError = 16.0;
 // scaled by 1e-30 had every value below a 1e-12 knee, so its bound was absolute, not relative).
 inline constexpr double kMinResidualKnee = 1e-300;
 inline constexpr double kMaxResidualKnee = 1e12;
-// The reference encoder's knee, stored units (about 6.7e-8 physical): measured on real materials,
-// a relative bound down to there gains 15 dB tone-mapped PSNR on chrome-steel at the same bytes
-// over the knee 1 (log1p of stored values), and nothing is lost on diffuse materials.
+// The reference encoder's knee, stored units (about 6.7e-8 physical): a bound relative down to
+// there serves dark specular materials far better than the knee 1 (log1p of stored values) at the
+// same bytes, and costs diffuse ones nothing.
 inline constexpr double kResidualKnee = 1e-4;
 inline constexpr std::int64_t kMaxResidualCode = std::int64_t{1} << 28;
 // The largest residual a bin may carry, |code x step'| (modes 0, 2) or |R| (mode 3, every bin), in

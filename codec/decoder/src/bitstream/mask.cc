@@ -28,10 +28,9 @@ std::size_t varint_bytes(std::size_t v) {
 }  // namespace
 
 const std::vector<std::uint64_t>& below_horizon_bits() {
-  // bin_below_horizon for every bin, built on first use. It called sin and cos five times per bin
-  // (1,458,000 bins): 135 ms in a process's first decode. The same arithmetic in the same order
-  // with each axis's sines and cosines computed once (the same calls on the same arguments) gives
-  // the same bits in about 3 ms (tests/decoder/api_validation_test.cc compares every bin).
+  // bin_below_horizon for every bin, built on first use, with each axis's sines and cosines
+  // computed once instead of five calls per bin: the same calls on the same arguments in the same
+  // order give the same bits (tests/decoder/api_validation_test.cc compares every bin).
   static const std::vector<std::uint64_t> bits = [] {
     constexpr double kPi = 3.14159265358979323846, kHalfPi = kPi / 2;
     double sin_h[kThetaHBins], cos_h[kThetaHBins], sin_d[kThetaDBins], cos_d[kThetaDBins];

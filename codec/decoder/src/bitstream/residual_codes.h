@@ -2,9 +2,9 @@
 // RESD's range-coded codes (spec 4.6, "Range-coded codes", version 1.3): the measured bins' codes
 // through the adaptive binary range coder of 4.9 with contexts from codes coded before them: the
 // same bin of the previous theta_h slab (and its phi_d neighbours, and the slab before) and of the
-// previous channel, and the bin's level in mode 3's interpolation. Measured on the ladder's codes
-// of the 20 shared materials: 9-50% fewer bytes than zigzag varints through zstd -19 at bound
-// 0.03, 0-45% at 0.01 and 0-25% at 1e-4 (the writer keeps the varints where they win).
+// previous channel, and the bin's level in mode 3's interpolation. Smaller than zigzag varints
+// through zstd, most at coarse bounds (docs/benchmarks.md); the writer keeps the varints where
+// they win.
 #pragma once
 
 #include <array>

@@ -6,12 +6,9 @@
 // codes what the prediction misses.
 //
 // Why: at fine bounds the codes of mode 3's interpolation are far from noise across slabs and
-// channels. On the report ladder's codes at E = 1e-4 (a 1-component 10-bit base) the code
-// correlates with the previous slab's at 0.93-0.98 and with the previous channel's at 0.97-0.99;
-// the range coder's contexts know that a code is large but not its value. Measured there (coded
-// bytes against predictor 2): polyethylene 0.68x, beige-fabric 0.68x, gold-metallic-paint 0.85x,
-// chrome-steel 0.99x; at 1e-3 0.78x and 0.90x (polyethylene, gold-metallic-paint), at 1e-2 0.96x
-// and 0.98x. X alone as the prediction took 0.81x and 0.88x at 1e-4: the coefficients are fitted.
+// channels: a code correlates with the previous slab's and the previous channel's at over 0.9,
+// and the range coder's contexts know that a code is large but not its value. A fitted mix of
+// both beats either alone (docs/benchmarks.md has the bytes).
 #pragma once
 
 #include <array>

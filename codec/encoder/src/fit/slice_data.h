@@ -42,7 +42,7 @@ SliceData extract_slice(const BrdfTable& table, int channel, int theta_d_begin, 
 // [1, 8), and multiplies `unit` by 2^e: exact (no rounding) for finite values, so the fit, whose
 // every step (sums, products, square and cube roots) commutes with such a power of two, gives the
 // same result at any overall scale of the table, and never sees an intermediate square or sum
-// overflow or underflow (1e300 or 1e-100 times a material took 400 sweeps per component).
+// overflow or underflow (which would leave the factorization stuck at its sweep cap).
 void normalize_slice(SliceData* s);
 
 }  // namespace cbrdf::internal
