@@ -55,8 +55,12 @@ Chart cost_chart(const Settings& st, const std::vector<std::string>& baselines, 
                palette(colour),
                false,
                true};
-    Series front{
-        CodecSetting{family, 0, 0}.model_name() + " front", {}, {}, palette(colour), true, false};
+    Series front{CodecSetting{family, 0, 0}.model_name() + ", Pareto front",
+                 {},
+                 {},
+                 palette(colour),
+                 true,
+                 false};
     double best = -INFINITY;
     for (const auto& [x, y] : pts) {
       all.x.push_back(x), all.y.push_back(y);
