@@ -81,8 +81,8 @@ inline constexpr std::uint8_t kResidualPredictorRange = 2;
 inline constexpr std::uint8_t kResidualPredictorRangePredicted = 3;
 inline constexpr double kMinResidualError = 1e-6;
 inline constexpr double kMaxResidualError = 16.0;
-// Down to 1e-300 so that a table at any scale has a knee below its values (issue 31: a table
-// scaled by 1e-30 had every value below a 1e-12 knee, so its bound was absolute, not relative).
+// Down to 1e-300 so that a table at any scale has a knee below its values (with a 1e-12 floor, a
+// table scaled by 1e-30 would have every value below the knee: an absolute bound, not relative).
 inline constexpr double kMinResidualKnee = 1e-300;
 inline constexpr double kMaxResidualKnee = 1e12;
 // The reference encoder's knee, stored units (about 6.7e-8 physical): a bound relative down to
