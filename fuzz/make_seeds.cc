@@ -56,6 +56,7 @@ Bytes encode(const Model& m, int bits, bool metadata = true, int zstd_level = 19
              cbrdf::ContainerSettings::Format format = cbrdf::ContainerSettings::Format::kV12) {
   cbrdf::ContainerSettings s;
   s.format = format;
+  s.metadata = cbrdf::ContainerSettings::Metadata::kFull;  // the seeds as they were written
   s.bits = bits;
   s.zstd_level = zstd_level;
   s.source_name = "seed.binary";

@@ -236,7 +236,8 @@ inline void check_reencode(const Model& m, int bits, Result* r) {
   settings.zstd_level = 1;
   settings.write_metadata = false;
   // RESD mode 4 exists only in 1.3, whose binary32 parameters the decoded model holds already.
-  if (m.residual.middle_steps()) settings.format = ContainerSettings::Format::kAuto;
+  settings.format = m.residual.middle_steps() ? ContainerSettings::Format::kAuto
+                                              : ContainerSettings::Format::kV12;
   Expected<std::vector<std::uint8_t>> again = encode_model(m, settings);
   if (!again.ok()) {
     r->check(false, "a decoded model cannot be encoded again: " + again.status().message());

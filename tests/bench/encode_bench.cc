@@ -21,13 +21,13 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/encoder.h"
+#include "cbrdf/encoder_options.h"
 #include "cbrdf/file_io.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/parallel.h"
 #include "cbrdf/rate_control.h"
 #include "cbrdf/samples.h"
-#include "encoder_options.h"
 
 namespace {
 

@@ -860,12 +860,13 @@ static void test_encode_settings(const double* table) {
       {"zstd_level", offsetof(cbrdf_encode_settings, zstd_level), 0, 23, "1 to 22"},
       {"slices", offsetof(cbrdf_encode_settings, slices), 0, 91, "1 to 90"},
       {"components", offsetof(cbrdf_encode_settings, components), 0, 9, "1 to 8"},
-      {"family", offsetof(cbrdf_encode_settings, family), -2, 5, "-1 to 4"},
-      {"threads", offsetof(cbrdf_encode_settings, threads), -1, 257, "0 to 256"},
-      {"mixture_copulas", offsetof(cbrdf_encode_settings, mixture_copulas), -1, 2, "0 to 1"},
+      {"family", offsetof(cbrdf_encode_settings, family), -2, 5,
+       "(0 to 4) or CBRDF_FAMILY_AUTO (-1)"},
+      {"threads", offsetof(cbrdf_encode_settings, threads), -1, 257, "to 256"},
+      {"mixture_copulas", offsetof(cbrdf_encode_settings, mixture_copulas), -1, 2, "0 or 1"},
       {"format_version", offsetof(cbrdf_encode_settings, format_version), -1, 14,
        "CBRDF_FORMAT_1_3 (13)"},
-      {"metadata", offsetof(cbrdf_encode_settings, metadata), -1, 3, "0 to 2"},
+      {"metadata", offsetof(cbrdf_encode_settings, metadata), -1, 3, "CBRDF_METADATA_FULL (2)"},
   };
   size_t f;
 
@@ -1538,7 +1539,7 @@ static void test_residual(const double* table) {
   CHECK(s.max_error == 0 && s.lossless == 0);
   s.max_error = 1e-7;
   CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_MESSAGE_HAS("max_error must be 1e-06 to 16");
+  CHECK_MESSAGE_HAS("cbrdf_encode_settings.max_error must be from 1e-06 to 16, not 1e-07");
   s.max_error = NAN;
   CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_ERROR_INVALID_ARGUMENT);
   s.max_error = 17;
@@ -1560,7 +1561,7 @@ static void test_residual(const double* table) {
   s.residual_steps = CBRDF_RESIDUAL_STEPS_VISIBILITY;
   s.max_error = 0;
   CHECK_STATUS(cbrdf_encode_table(table, count, &s, &bytes, &size), CBRDF_ERROR_INVALID_ARGUMENT);
-  CHECK_MESSAGE_HAS("needs max_error > 0");
+  CHECK_MESSAGE_HAS("visibility needs cbrdf_encode_settings.max_error above 0");
   CHECK(bytes == NULL && size == 0);
 
   /* A bound: every measured bin within it, the not-measured ones exact. */

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "cbrdf/encoder.h"
+#include "cbrdf/encoder_options.h"
 #include "cbrdf/samples.h"
-#include "encoder_options.h"
 #include "metrics.h"
 
 namespace cbrdf {
@@ -33,7 +33,7 @@ TEST(AutoBits, ChoosesTheFewestBitsWithinTheStatedLoss) {
     SCOPED_TRACE(name);
     const BrdfTable table = make_sample(name).value();
     EncoderOptions options;
-    ASSERT_EQ(options.bits, kAutoBits);  // the default
+    ASSERT_EQ(options.bits, "auto");  // the default
     EncoderSettings st = encoder_settings(options).value();
     ASSERT_TRUE(st.auto_bits.enabled);
     auto r = encode_table(table, st);
@@ -61,14 +61,14 @@ TEST(AutoBits, ChoosesTheFewestBitsWithinTheStatedLoss) {
 
 TEST(AutoBits, ExplicitBitsAreKept) {
   EncoderOptions options;
-  options.bits = 9;
+  options.bits = "9";
   EncoderSettings st = encoder_settings(options).value();
   EXPECT_FALSE(st.auto_bits.enabled);
   EXPECT_EQ(st.container.bits, 9);
-  options.bits = 5;
+  options.bits = "5";
   auto bad = encoder_settings(options);
   ASSERT_FALSE(bad.ok());
-  EXPECT_EQ(bad.status().message(), "--bits must be 6 to 16 or auto, not 5");
+  EXPECT_EQ(bad.status().message(), "bits must be from 6 to 16, not 5");
 }
 
 }  // namespace

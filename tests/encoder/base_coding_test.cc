@@ -17,13 +17,14 @@
 #include <string>
 #include <vector>
 
-#include "bitstream/chunks.h"
-#include "bitstream/quantize.h"
-#include "bitstream/range_coder.h"
-#include "bitstream/residual_levels.h"
+#include "bitstream/chunk_writers.h"
+#include "bitstream/mass_quantizer.h"
+#include "bitstream/range_encoder.h"
+#include "bitstream/residual_levels_writer.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"
+#include "coding_1_2.h"
 #include "refused.h"
 #include "synthetic_model.h"
 
@@ -154,7 +155,7 @@ TEST(RangeCoder, ExponentAboveTheLimitIsCorrupt) {
 }
 
 Bytes encode(const Model& m, int bits, ContainerSettings::Format format) {
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.bits = bits;
   s.zstd_level = 3;
   s.format = format;
@@ -254,12 +255,12 @@ TEST(BaseCoding, AutoWritesTheSmallerAndV12IsUnchanged) {
     const Bytes v13 = encode(m, bits, ContainerSettings::Format::kV13);
     const Bytes automatic = encode(m, bits, ContainerSettings::Format::kAuto);
     EXPECT_EQ(automatic, v13.size() < v12.size() ? v13 : v12);
-    // 1.2 is what a default ContainerSettings writes, byte for byte.
+    // A default ContainerSettings writes the command's coding (auto), byte for byte.
     ContainerSettings s;
     s.bits = bits;
     s.zstd_level = 3;
     s.write_metadata = false;
-    EXPECT_EQ(*encode_model(m, s), v12);
+    EXPECT_EQ(*encode_model(m, s), automatic);
     EXPECT_EQ(tags(v12)[1], "MODL");
     // On these smooth tables 1.3 wins clearly.
     EXPECT_LT(double(v13.size()), 0.8 * double(v12.size())) << bits << " bits";
@@ -520,7 +521,7 @@ TEST(BaseCodingGolden, CommittedFilesDecodeToRecordedModels) {
     const bool regenerate =
         which != nullptr && (std::string(which) == "all" || std::string(which) == g.name);
     const Model built = g.build();
-    ContainerSettings s;
+    ContainerSettings s = testing::coding_1_2();
     s.bits = g.bits;
     s.format = ContainerSettings::Format::kV13;
     s.metadata = ContainerSettings::Metadata::kShort;

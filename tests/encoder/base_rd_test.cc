@@ -15,6 +15,7 @@
 #include "bitstream/quantize.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container_writer.h"
+#include "coding_1_2.h"
 #include "synthetic_model.h"
 
 namespace cbrdf {
@@ -120,7 +121,7 @@ TEST(BaseCodes, WrittenFilesDecodeWithinOneCodeStepOfEveryRatio) {
   // step (plus the grid's rounding of nothing: the peak is exact) of the model's.
   const Model model = testing::make_model({0, 15, 30, 45, 60, 75, 90}, true);
   for (int bits : {6, 10, 14}) {
-    ContainerSettings cs;
+    ContainerSettings cs = testing::coding_1_2();
     cs.bits = bits;
     cs.format = ContainerSettings::Format::kV13;
     auto bytes = encode_model(model, cs);
@@ -168,7 +169,7 @@ TEST(BaseCodes, TablesWhoseSumOverflowsKeepTheirRatiosInBothCodings) {
   comp.pdf_h.assign(comp.pdf_h.size(), 0.0);  // the six masses alone: a span of 41.9 in log
   std::copy(m.begin(), m.end(), comp.pdf_h.begin());
   for (auto format : {ContainerSettings::Format::kV12, ContainerSettings::Format::kV13}) {
-    ContainerSettings cs;
+    ContainerSettings cs = testing::coding_1_2();
     cs.bits = 16;  // a step of 6.4e-4 in log mass over the span of 41.9
     cs.format = format;
     auto bytes = encode_model(model, cs);

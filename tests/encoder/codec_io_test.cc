@@ -19,6 +19,7 @@
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"
 #include "cbrdf/version.h"
+#include "coding_1_2.h"
 #include "synthetic_model.h"
 #include "test_support.h"
 
@@ -29,7 +30,7 @@ using testing::make_model;
 using testing::six_slices;
 
 std::vector<std::uint8_t> encode_ok(const Model& m, int bits, int level = 19) {
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.bits = bits;
   s.zstd_level = level;
   s.source_name = "synthetic";
@@ -228,7 +229,7 @@ TEST(CodecIo, GeometricMaskPlusNoiseUsesTheReference) {
 
 TEST(CodecIo, InspectDescribesLayoutParametersAndMetadata) {
   const Model m = make_model(six_slices(), true, 4);
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.bits = 12;
   s.source_name = "blue-metallic-paint.binary";
   Expected<std::vector<std::uint8_t>> bytes = encode_model(m, s);
@@ -276,7 +277,7 @@ TEST(CodecIo, InspectDescribesLayoutParametersAndMetadata) {
 
 TEST(CodecIo, MetadataCanBeLeftOutAndHostileSourceNamesAreSanitized) {
   const Model m = make_model({0, 90}, false, 1);
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.write_metadata = false;
   Expected<std::vector<std::uint8_t>> a = encode_model(m, s);
   ASSERT_TRUE(a.ok());
@@ -300,7 +301,7 @@ TEST(CodecIo, MetadataCanBeLeftOutAndHostileSourceNamesAreSanitized) {
 TEST(CodecIo, EncodeRefusesModelsAFileCannotHold) {
   const Model good = make_model(six_slices(), false, 1);
   auto refuse = [](const Model& m, const std::string& needle) {
-    Expected<std::vector<std::uint8_t>> r = encode_model(m, ContainerSettings{});
+    Expected<std::vector<std::uint8_t>> r = encode_model(m, testing::coding_1_2());
     ASSERT_FALSE(r.ok()) << needle;
     EXPECT_EQ(r.status().code(), ErrorCode::kInvalidArgument);
     EXPECT_NE(r.status().message().find(needle), std::string::npos) << r.status().message();
@@ -333,7 +334,7 @@ TEST(CodecIo, EncodeRefusesModelsAFileCannotHold) {
   m = good;
   m.not_measured.values = {0.5};
   refuse(m, "not negative");
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.bits = 17;
   Expected<std::vector<std::uint8_t>> r = encode_model(good, s);
   ASSERT_FALSE(r.ok());
@@ -515,7 +516,7 @@ TEST(CodecIoGolden, CommittedFilesDecodeToRecordedModels) {
         which != nullptr && (std::string(which) == "all" || std::string(which) == g.name);
     const Model built = g.build();
     if (regenerate) {
-      ContainerSettings s;
+      ContainerSettings s = testing::coding_1_2();
       s.bits = g.bits;
       s.source_name = g.name;
       Expected<std::vector<std::uint8_t>> bytes = encode_model(built, s);
@@ -530,7 +531,7 @@ TEST(CodecIoGolden, CommittedFilesDecodeToRecordedModels) {
     compare_models(built, *decoded, g.bits);
     // The encoder is pinned too: re-encoding gives the same payloads (compared decompressed, so
     // a different zstd version does not matter; mETA names the encoder version and is left out).
-    ContainerSettings s;
+    ContainerSettings s = testing::coding_1_2();
     s.bits = g.bits;
     Expected<std::vector<std::uint8_t>> again = encode_model(built, s);
     ASSERT_TRUE(again.ok());

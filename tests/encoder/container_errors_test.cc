@@ -14,6 +14,7 @@
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"
+#include "coding_1_2.h"
 #include "refused.h"
 #include "synthetic_model.h"
 #include "zstd_util.h"
@@ -24,7 +25,7 @@ namespace {
 using Bytes = std::vector<std::uint8_t>;
 
 Bytes encode(const Model& m, int bits = 6) {
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.bits = bits;
   s.zstd_level = 3;
   s.source_name = "errors";
@@ -524,7 +525,7 @@ TEST(ContainerErrors, MalformedMetadata) {
 
 TEST(ContainerErrors, EncoderRefusesBitsOutOfRange) {
   for (int bits : {5, 17}) {
-    ContainerSettings s;
+    ContainerSettings s = testing::coding_1_2();
     s.bits = bits;
     Expected<Bytes> b = encode_model(testing::make_model({0, 90}), s);
     ASSERT_FALSE(b.ok());
@@ -598,7 +599,7 @@ TEST(ContainerErrors, EncoderRefusesTooManyComponents) {
   Model m = testing::make_mixture_model({0, 90}, 3, 5);
   ChannelSlice& cs = m.slices[0].channel[0];
   while (cs.components() < 9) cs.extra.push_back(m.slices[0].channel[2].extra[0]);
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   Expected<Bytes> b = encode_model(m, s);
   ASSERT_FALSE(b.ok());
   EXPECT_EQ(b.status().code(), ErrorCode::kInvalidArgument);
@@ -612,7 +613,7 @@ TEST(ContainerErrors, EncoderRefusesTooManyComponents) {
 
 const Bytes& small_file13() {
   static const Bytes b = [] {
-    ContainerSettings s;
+    ContainerSettings s = testing::coding_1_2();
     s.format = ContainerSettings::Format::kV13;
     s.bits = 8;
     s.zstd_level = 3;

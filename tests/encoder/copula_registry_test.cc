@@ -18,6 +18,7 @@
 #include "cbrdf/cbrdf_c.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container_writer.h"
+#include "coding_1_2.h"
 #include "copula/registry.h"
 #include "density/grid_copula.h"
 #include "synthetic_model.h"
@@ -102,7 +103,7 @@ TEST(CopulaRegistry, NamesRoundTripThroughParsing) {
 }
 
 TEST(CopulaRegistry, IdRoundTripsThroughTheContainer) {
-  ContainerSettings fast;
+  ContainerSettings fast = testing::coding_1_2();
   fast.zstd_level = 1;
   for (const CopulaFamilyRow& row : kCopulaFamilies) {
     for (double theta : {row.search_lo, row.search_hi, parameters(row).back()}) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The command's option strings (internal: encoder_options.h) and the public command_defaults().
-#include "encoder_options.h"
+// The encoder's settings as text (cbrdf/encoder_options.h): defaults, parsing, residual requests.
+#include "cbrdf/encoder_options.h"
 
 #include <gtest/gtest.h>
 
@@ -9,21 +9,49 @@
 namespace cbrdf {
 namespace {
 
-TEST(EncoderOptions, CommandDefaultsAreTheCommandsSettingsWithoutOptions) {
-  const EncoderSettings d = command_defaults();
+// EncoderSettings{} is what the command writes without options (the bytes: default_encode_test).
+TEST(EncoderOptions, DefaultSettingsAreTheCommandsWithoutOptions) {
+  const EncoderSettings d;
   const Expected<EncoderSettings> o = encoder_settings(EncoderOptions{});
   ASSERT_TRUE(o.ok()) << o.status().message();
   EXPECT_EQ(d.container.format, ContainerSettings::Format::kAuto);
   EXPECT_EQ(d.container.metadata, ContainerSettings::Metadata::kShort);
+  EXPECT_TRUE(d.container.write_metadata);
   EXPECT_TRUE(d.auto_bits.enabled);
   EXPECT_EQ(d.fit.slices, 6);
   EXPECT_EQ(d.container.format, o->container.format);
+  EXPECT_EQ(d.container.metadata, o->container.metadata);
+  EXPECT_EQ(d.auto_bits.enabled, o->auto_bits.enabled);
   EXPECT_EQ(d.container.bits, o->container.bits);
   EXPECT_EQ(d.container.zstd_level, o->container.zstd_level);
   EXPECT_EQ(d.fit.family, o->fit.family);
-  // EncoderSettings{} keeps the older files: 1.2 coding with full metadata.
-  EXPECT_EQ(EncoderSettings{}.container.format, ContainerSettings::Format::kV12);
-  EXPECT_EQ(EncoderSettings{}.container.metadata, ContainerSettings::Metadata::kFull);
+  EXPECT_EQ(d.fit.components, o->fit.components);
+  EXPECT_EQ(d.fit.impute_missing, o->fit.impute_missing);
+  EXPECT_EQ(d.fit.mixture_copulas, o->fit.mixture_copulas);
+  EXPECT_TRUE(validate(d).empty());
+}
+
+// Every value that cannot be read is named, not only the first, beside validate()'s problems.
+TEST(EncoderOptions, ParseNamesEveryProblem) {
+  EncoderOptions o;
+  o.slices = "six";
+  o.family = "gauss";
+  o.bits = "17";
+  o.metadata = "long";
+  const ParsedOptions parsed = parse_options(o);
+  const std::vector<SettingProblem> expected = {
+      {"slices", "must be a whole number or auto, not 'six'"},
+      {"family", "must be " + family_list(", ") + " or auto, not 'gauss'"},
+      {"metadata", "must be none, short or full, not 'long'"},
+      {"bits", "must be from 6 to 16, not 17"},
+  };
+  EXPECT_EQ(parsed.problems, expected);
+  const auto dashed = [](std::string_view s) { return "--" + std::string(s); };
+  EXPECT_EQ(encoder_settings(o, dashed).status().message(),
+            "--slices must be a whole number or auto, not 'six'; --family must be " +
+                family_list(", ") +
+                " or auto, not 'gauss'; --metadata must be none, short or full, not 'long'; "
+                "--bits must be from 6 to 16, not 17");
 }
 
 TEST(EncoderOptions, CountOrAutoParsesOnlyIntegersInRangeAndAuto) {
@@ -70,19 +98,28 @@ TEST(EncoderOptions, ResidualOptionsBesideATargetAreNamed) {
   EXPECT_FALSE(residual_option_conflict({}));
   EXPECT_FALSE(residual_option_conflict({.target = true}));
   EXPECT_FALSE(residual_option_conflict({.max_error = true, .residual_steps = true}));
+  const auto dashed = [](std::string_view s) { return "--" + std::string(s); };
   const auto bound = residual_option_conflict({.target = true, .max_error = true});
   ASSERT_TRUE(bound);
-  EXPECT_EQ(bound->rfind("--max-error and a target (--target-bytes, --target-psnr) exclude", 0), 0u)
-      << *bound;
+  EXPECT_EQ(bound->setting, "max_error");
+  EXPECT_EQ(spell_problem(*bound, dashed)
+                .rfind("--max_error and a target (--target_bytes, --target_psnr) exclude", 0),
+            0u)
+      << bound->message;
   const auto lossless = residual_option_conflict({.target = true, .lossless = true});
   ASSERT_TRUE(lossless);
-  EXPECT_EQ(lossless->rfind("--lossless and a target", 0), 0u) << *lossless;
+  EXPECT_EQ(lossless->setting, "lossless");
   const auto steps = residual_option_conflict({.target = true, .residual_steps = true});
   ASSERT_TRUE(steps);
-  EXPECT_NE(steps->find("always steps by visibility"), std::string::npos) << *steps;
-  const auto alone = residual_option_conflict({.residual_steps = true});
-  ASSERT_TRUE(alone);
-  EXPECT_EQ(*alone, "--residual-steps shapes the layer --max-error E adds; give --max-error too");
+  EXPECT_EQ(steps->setting, "residual_steps");
+  EXPECT_NE(steps->message.find("always steps by visibility"), std::string::npos) << steps->message;
+  // Steps without a bound are validate()'s to refuse (visibility) or harmless ("one").
+  EXPECT_FALSE(residual_option_conflict({.residual_steps = true}));
+  EncoderOptions o;
+  o.residual_steps = "visibility";
+  EXPECT_EQ(encoder_settings(o, dashed).status().message(),
+            "--residual_steps visibility needs --max_error above 0 (the bound of the most visible "
+            "rows)");
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "cbrdf/fit.h"
 #include "cbrdf/model.h"
 #include "cbrdf/samples.h"
+#include "coding_1_2.h"
 #include "synthetic_model.h"
 
 namespace cbrdf {
@@ -391,7 +392,7 @@ TEST(Mixture, SettingsAreValidated) {
 }
 
 TEST(Mixture, EncodedFileIsVersion11AndDecodesToTheQuantizedModel) {
-  EncoderSettings st;
+  EncoderSettings st = testing::encoder_1_2();
   st.fit.slices = 3;
   st.fit.components = 2;
   st.fit.threads = 2;

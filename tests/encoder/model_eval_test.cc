@@ -27,6 +27,7 @@
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/model.h"
+#include "coding_1_2.h"
 #include "eval/interp_tables.h"
 #include "heap_meter.h"
 #include "synthetic_model.h"
@@ -450,7 +451,7 @@ TEST(ModelEval, FootprintIsSmallAndGrowsWithComponents) {
 // decode_model of a small file and an evaluator of it allocate nothing of a full table's size
 // (3 x 1,458,000 doubles, 35 MB): the peak heap is that of the model and the evaluator.
 TEST(ModelEval, DecodeAndEvaluateWithoutAFullTable) {
-  auto bytes = encode_model(frank_model(1), ContainerSettings{});
+  auto bytes = encode_model(frank_model(1), testing::coding_1_2());
   ASSERT_TRUE(bytes.ok()) << bytes.status().message();
   std::printf("file: %zu bytes\n", bytes->size());
   testing::heap::Meter meter;

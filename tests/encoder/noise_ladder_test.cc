@@ -15,6 +15,7 @@
 #include "cbrdf/noise.h"
 #include "cbrdf/rate_control.h"
 #include "cbrdf/samples.h"
+#include "coding_1_2.h"
 #include "metrics.h"
 #include "test_support.h"
 
@@ -22,7 +23,7 @@ namespace cbrdf {
 namespace {
 
 EncoderSettings settings() {
-  EncoderSettings s;
+  EncoderSettings s = testing::encoder_1_2();
   s.fit.threads = 2;
   s.fit.slices = 6;
   return s;

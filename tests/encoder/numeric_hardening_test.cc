@@ -15,6 +15,7 @@
 #include "cbrdf/codec.h"
 #include "cbrdf/encoder.h"
 #include "cbrdf/samples.h"
+#include "coding_1_2.h"
 #include "density/grid_copula.h"
 #include "fit/mixture.h"
 #include "metrics.h"
@@ -43,7 +44,7 @@ Model uniform_model(CopulaFamily family, double theta, int components = 1) {
 // Through a file where the format holds the parameters; beyond its ranges (spec 4.2, issue 31)
 // the writer refuses them, and the model is evaluated as it is, as a library caller's may be.
 Model through_file(const Model& m) {
-  Expected<std::vector<std::uint8_t>> bytes = encode_model(m, ContainerSettings{});
+  Expected<std::vector<std::uint8_t>> bytes = encode_model(m, testing::coding_1_2());
   if (!bytes.ok()) {
     EXPECT_EQ(bytes.status().code(), ErrorCode::kInvalidArgument) << bytes.status().message();
     return m;
@@ -156,7 +157,7 @@ struct FitAtScale {
 };
 
 FitAtScale fit_at(const BrdfTable& base, double k) {
-  EncoderSettings st;
+  EncoderSettings st = testing::encoder_1_2();
   st.fit.components = 2;
   st.fit.slices = 3;
   Expected<EncodeResult> r = encode_table(scaled(base, k), st);
@@ -234,7 +235,7 @@ double relative_rmse(const BrdfTable& ref, const BrdfTable& test) {
 // to 195 times too large), all-DBL_MAX failed with "scale K -nan is not a finite value" and
 // all-5e-324 decoded to zeros, each reported at 100 dB.
 TEST(ValueRange, OutOfRangeTablesAreRefusedInTheUsersTerms) {
-  EncoderSettings st;
+  EncoderSettings st = testing::encoder_1_2();
   st.fit.slices = 2;
   const BrdfTable plastic = make_sample("plastic").value();
   for (const BrdfTable& t : {scaled(plastic, 1e300), constant_table(kDblMax), constant_table(kTiny),
@@ -250,7 +251,7 @@ TEST(ValueRange, OutOfRangeTablesAreRefusedInTheUsersTerms) {
 }
 
 TEST(ValueRange, TablesInsideTheRangeDecodeFaithfully) {
-  EncoderSettings st;
+  EncoderSettings st = testing::encoder_1_2();
   st.fit.slices = 2;
   const BrdfTable plastic = make_sample("plastic").value();
   Expected<EncodeResult> ref = encode_table(plastic, st);

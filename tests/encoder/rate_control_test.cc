@@ -10,9 +10,10 @@
 #include <utility>
 
 #include "cbrdf/codec.h"
+#include "cbrdf/encoder_options.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/samples.h"
-#include "encoder_options.h"
+#include "coding_1_2.h"
 #include "metrics.h"
 #include "rate/secant.h"
 
@@ -22,7 +23,7 @@ namespace {
 TEST(RateControl, ByteBudgetAndPsnrTargetPickTheBestSettingTried) {
   auto table = make_sample("ward");
   ASSERT_TRUE(table.ok());
-  EncoderSettings base;
+  EncoderSettings base = testing::encoder_1_2();
   base.fit.threads = 2;
   // Mixtures up to 2 components are part of the search (4 and six slice counts by default; fewer
   // keep the test short).
@@ -67,7 +68,7 @@ TEST(RateControl, ByteBudgetAndPsnrTargetPickTheBestSettingTried) {
 TEST(RateControl, SearchReusesFitsAndStopsWhenBracketed) {
   auto table = make_sample("ward");
   ASSERT_TRUE(table.ok());
-  EncoderSettings base;
+  EncoderSettings base = testing::encoder_1_2();
   base.fit.threads = 2;
   // Unreachable PSNR: every row is fitted once and measured at 16 bits; only the closest row is
   // also walked down in bits, while its PSNR stays saturated.
@@ -191,7 +192,7 @@ class Exhaustive {
     return e;
   }
   const BrdfTable& table_;
-  EncoderSettings base_;
+  EncoderSettings base_ = testing::encoder_1_2();
   std::map<std::pair<int, int>, Model> models_;
   std::map<std::tuple<int, int, int>, std::pair<double, double>> measured_;
 };
@@ -202,7 +203,7 @@ class Exhaustive {
 TEST(RateControl, PruningKeepsTheBestSettingOfTheExhaustiveSearch) {
   auto table = make_sample("ggx-rough");
   ASSERT_TRUE(table.ok());
-  EncoderSettings base;
+  EncoderSettings base = testing::encoder_1_2();
   base.fit.threads = 2;
   base.fit.impute_iterations = 2;  // cheaper fits; the search and the grid share them
   const std::vector<int> slices = {2, 6};
@@ -226,7 +227,7 @@ TEST(RateControl, PruningKeepsTheBestSettingOfTheExhaustiveSearch) {
 TEST(RateControl, UnreachableTargetsReportTheClosestAndBadTargetsAreRefused) {
   auto table = make_sample("lambertian");
   ASSERT_TRUE(table.ok());
-  EncoderSettings base;
+  EncoderSettings base = testing::encoder_1_2();
   base.fit.threads = 2;
   auto tiny = encode_to_target(*table, base, {10, 0, 1, {3, 6}});
   ASSERT_TRUE(tiny.ok());
@@ -235,9 +236,9 @@ TEST(RateControl, UnreachableTargetsReportTheClosestAndBadTargetsAreRefused) {
   EXPECT_EQ(encode_to_target(*table, base, {0, 0}).status().code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(encode_to_target(*table, base, {100, 40}).status().code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(encode_to_target(*table, base, {100, 0, 0}).status().message(),
-            "max_components 0 is outside 1 to 8");
+            "RateTarget::max_components must be from 1 to 8, not 0");
   EXPECT_EQ(encode_to_target(*table, base, {100, 0, 1, {}}).status().message(),
-            "no slice counts to search");
+            "RateTarget::slice_counts must list at least one slice count");
 }
 
 // The residual's bound is searched by the secant on a curve like PSNR against log E: the crossing
@@ -286,7 +287,7 @@ TEST(RateControl, SecantFindsTheCrossingInAFewTries) {
 TEST(RateControl, LadderPutsTheResidualOnTheOneComponentModelBeyondTheModelsReach) {
   auto table = make_sample("ward");
   ASSERT_TRUE(table.ok());
-  EncoderSettings base;
+  EncoderSettings base = testing::encoder_1_2();
   base.fit.threads = 2;
   base.fit.slices = 6;
   base.fit.impute_iterations = 2;  // cheaper fits

@@ -10,6 +10,7 @@
 #include "cbrdf/encoder.h"
 #include "cbrdf/rate_control.h"
 #include "cbrdf/samples.h"
+#include "coding_1_2.h"
 #include "metrics.h"
 
 namespace cbrdf {
@@ -22,7 +23,7 @@ namespace {
 TEST(ResidualBudget, ByteBudgetUsesTheResidualLayer) {
   auto table = make_sample("nickel");
   ASSERT_TRUE(table.ok());
-  EncoderSettings base;
+  EncoderSettings base = testing::encoder_1_2();
   base.fit.slices = 6;
   const RateTarget target{40000, 0, 1, {6}};
   auto model_only = encode_to_target(*table, base, target);
@@ -75,7 +76,7 @@ TEST(ResidualBudget, MaxErrorIsRelativeAtAnyScale) {
   for (double k : {1.0, 1e-30, 0x1p-200}) {
     SCOPED_TRACE(k);
     const BrdfTable t = scaled(*table, k);
-    EncoderSettings st;
+    EncoderSettings st = testing::encoder_1_2();
     st.fit.slices = 3;
     st.container.bits = 8;
     st.residual.max_error = 1e-3;

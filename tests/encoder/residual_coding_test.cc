@@ -14,6 +14,7 @@
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"
+#include "coding_1_2.h"
 #include "refused.h"
 #include "synthetic_model.h"
 
@@ -57,7 +58,7 @@ Model interpolated_model() {
 }
 
 Bytes encode_as(const Model& m, ContainerSettings::Format format) {
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.bits = 10;
   s.format = format;
   Expected<Bytes> e = encode_model(m, s);

@@ -15,6 +15,7 @@
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"
+#include "coding_1_2.h"
 #include "refused.h"
 #include "synthetic_model.h"
 
@@ -50,7 +51,7 @@ Model residual_model() {
 
 // The file of a test model, 8 bits, zstd level 3.
 Bytes encode_for_test(const Model& m) {
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.bits = 8;
   s.zstd_level = 3;
   Expected<Bytes> e = encode_model(m, s);
@@ -98,7 +99,7 @@ TEST(ResidualContainer, ExactTableRoundTripsBitForBit) {
     if (v[b] >= 0.0) v[b] = v[b] * 1.001 + 1e-9 * double(b % 13);  // not the model's value
   }
   m.residual.exact = std::make_shared<const BrdfTable>(exact);
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.zstd_level = 3;
   Expected<Bytes> bytes = encode_model(m, s);
   ASSERT_TRUE(bytes.ok()) << bytes.status().message();
@@ -269,7 +270,7 @@ TEST(ResidualContainer, MalformedRowStepsAreRefused) {
   // And the writer refuses what no reader accepts.
   Model bad = rows_model();
   bad.residual.row_shift[5] = 12;
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   EXPECT_EQ(encode_model(bad, s).status().code(), ErrorCode::kInvalidArgument);
   bad.residual.row_shift.resize(100);
   EXPECT_EQ(encode_model(bad, s).status().code(), ErrorCode::kInvalidArgument);
@@ -399,7 +400,7 @@ TEST(ResidualContainer, MalformedInterpolatedLevelsAreRefused) {
   // A mode 2 payload read as mode 3 takes two code bytes as the levels: refused either way.
   EXPECT_FALSE(decode_model(with_resd([](Bytes* p) { (*p)[0] = 3; }, 2, false, rows_file())).ok());
   // The writer refuses what no reader accepts.
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   for (auto edit : std::vector<std::function<void(Residual*)>>{
            [](Residual* r) { r->levels = 5; }, [](Residual* r) { r->fine_multiplier = 0; },
            [](Residual* r) { r->max_error = 1.0; }, [](Residual* r) { r->row_shift.clear(); },
@@ -422,7 +423,7 @@ Model level_steps_model() {
 
 const Bytes& level_steps_file() {
   static const Bytes b = [] {
-    ContainerSettings s;
+    ContainerSettings s = testing::coding_1_2();
     s.bits = 8;
     s.zstd_level = 3;
     s.format = ContainerSettings::Format::kV13;
@@ -500,7 +501,7 @@ TEST(ResidualContainer, MalformedLevelStepsAreRefused) {
   expect_error(with_resd([](Bytes* p) { (*p)[0] = 4; }, 2, false, interp_file()),
                ErrorCode::kCorrupt, "residual mode 4 (a step per level) in a version 1.2 file");
   // The writer refuses what no reader accepts: a multiplier out of range, and mode 4 in 1.2.
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.format = ContainerSettings::Format::kV13;
   for (std::uint8_t bad_m : {std::uint8_t(0), std::uint8_t(65)}) {
     Model bad = level_steps_model();

@@ -18,6 +18,7 @@
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"
 #include "cbrdf/sampling.h"
+#include "coding_1_2.h"
 #include "density/grid_copula.h"
 #include "synthetic_model.h"
 
@@ -30,7 +31,7 @@ constexpr double kDblMax = std::numeric_limits<double>::max();
 // The file of `base` with a hand-made RESD payload (any content: the writer's checks bypassed),
 // as a hostile file would be, version 1.2.
 Bytes file_with_resd(const Model& base, const Bytes& resd) {
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.bits = 8;
   s.zstd_level = 3;
   // Written with a valid all-zero residual (a 1.2 file), whose RESD payload is then replaced.
@@ -138,7 +139,7 @@ TEST(ResidualLimits, ResidualsBeyondTheLimitAreRefused) {
   for (std::size_t b = 0; b < kMaskBits; ++b) {
     if (!mask_bit(w.not_measured.bits, b)) w.residual.codes[b] = 3;
   }
-  EXPECT_EQ(encode_model(w, ContainerSettings{}).status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(encode_model(w, testing::coding_1_2()).status().code(), ErrorCode::kInvalidArgument);
 }
 
 // Item 10: a file at the limit everywhere (every residual +64, the largest knee) is valid and
@@ -208,12 +209,12 @@ TEST(ParameterRanges, ParametersBeyondTheFitRangesAreRefused) {
         cs.theta = c.ok_edge;
       }
     }
-    Expected<Bytes> ok = encode_model(m, ContainerSettings{});
+    Expected<Bytes> ok = encode_model(m, testing::coding_1_2());
     ASSERT_TRUE(ok.ok()) << ok.status().message();
     EXPECT_TRUE(decode_model(*ok).ok());
     // The same file with the last slice's blue parameter moved past the range (MODL patched).
     m.slices.back().channel[2].theta = c.beyond;
-    EXPECT_EQ(encode_model(m, ContainerSettings{}).status().code(), ErrorCode::kInvalidArgument);
+    EXPECT_EQ(encode_model(m, testing::coding_1_2()).status().code(), ErrorCode::kInvalidArgument);
     Expected<ParsedContainer> pc = parse_container(*ok);
     ASSERT_TRUE(pc.ok());
     std::vector<ChunkToWrite> chunks;
@@ -274,7 +275,7 @@ TEST(ResidualBound, OneNumberEverywhere) {
   double largest = 0;
   for (std::size_t i = 0; i < kBinsPerChannel; ++i) largest = std::max(largest, r.bound_at(i));
   EXPECT_EQ(largest, expected);
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.zstd_level = 3;
   Expected<Bytes> f = encode_model(m, s);
   ASSERT_TRUE(f.ok()) << f.status().message();
@@ -321,7 +322,7 @@ TEST(ResidualMessages, ExactTableErrorsAreNamedOnce) {
   Model m = testing::make_model({0, 45, 90}, false, 3);
   testing::set_standard_mask(&m);
   m.residual.exact = std::make_shared<const BrdfTable>(m.table());
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.zstd_level = 3;
   Expected<Bytes> f = encode_model(m, s);
   ASSERT_TRUE(f.ok()) << f.status().message();

@@ -13,8 +13,8 @@
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/encoder.h"
+#include "cbrdf/encoder_options.h"
 #include "cbrdf/merl_io.h"
-#include "encoder_options.h"
 #include "eval/interp_tables.h"
 #include "residual_encode.h"
 #include "synthetic_model.h"
@@ -39,8 +39,8 @@ BrdfTable noisy_table(std::uint32_t seed) {
 EncoderSettings settings_for(double max_error) {
   EncoderOptions o;
   o.slices = "2";
-  o.bits = 10;
-  o.level = 3;
+  o.bits = "10";
+  o.zstd_level = 3;
   o.max_error = max_error;
   // The 1.0-1.2 coding, whose chunks these tests compare payload for payload (the 1.3 coding of a
   // residual file is covered by base_coding_test's golden file and the command's tests).
@@ -217,7 +217,9 @@ TEST(Residual, OptionsAreCheckedWithOneLineMessages) {
     o.max_error = bad;
     st = encoder_settings(o);
     ASSERT_FALSE(st.ok()) << bad;
-    EXPECT_TRUE(testing::contains(st.status().message(), "--max-error must be")) << bad;
+    EXPECT_TRUE(
+        testing::contains(st.status().message(), "max_error must be from 1e-06 to 16, not "))
+        << st.status().message();
   }
   const testing::CommandResult r =
       testing::run_cli("encode x.binary -o y.cbrdf --max-error 0.1 --lossless");

@@ -15,6 +15,7 @@
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"
+#include "coding_1_2.h"
 #include "heap_meter.h"
 #include "synthetic_model.h"
 #include "zstd_util.h"
@@ -38,7 +39,7 @@ using Meter = testing::heap::Meter;
 // before it decompresses any).
 Bytes head_then(std::string_view tag, std::uint32_t flags, const Bytes& stored,
                 std::uint32_t payload_bytes) {
-  Expected<Bytes> base = encode_model(testing::make_model({0, 90}), ContainerSettings{});
+  Expected<Bytes> base = encode_model(testing::make_model({0, 90}), testing::coding_1_2());
   EXPECT_TRUE(base.ok());
   Expected<ParsedContainer> pc = parse_container(*base);
   EXPECT_TRUE(pc.ok());
@@ -164,7 +165,7 @@ TEST(ResourceBounds, MaximalMaskBombStaysWithinTheDecodeBound) {
   Expected<Bytes> frame = zstd_compress(Bytes(max_chunk_payload_bytes(kTagMask), 0), 3);
   ASSERT_TRUE(frame.ok());
   ASSERT_LT(frame->size(), 64 * 1024u);
-  Expected<Bytes> good = encode_model(testing::make_model({0, 90}), ContainerSettings{});
+  Expected<Bytes> good = encode_model(testing::make_model({0, 90}), testing::coding_1_2());
   ASSERT_TRUE(good.ok());
   Expected<ParsedContainer> pc = parse_container(*good);
   ASSERT_TRUE(pc.ok());
@@ -199,7 +200,7 @@ TEST(ResourceBounds, LargestLegitimateFileDecodesWithinTheDocumentedBounds) {
   model.not_measured.bits.back() >>= 64 - bins % 64;
   model.not_measured.values.resize(bins);
   for (std::size_t i = 0; i < bins; ++i) model.not_measured.values[i] = -1.0 - double(i % 1000);
-  ContainerSettings settings;
+  ContainerSettings settings = testing::coding_1_2();
   settings.zstd_level = 1;
   Expected<Bytes> file = encode_model(model, settings);
   ASSERT_TRUE(file.ok()) << file.status().message();

@@ -23,8 +23,9 @@
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"
 #include "cbrdf/encoder.h"
+#include "cbrdf/encoder_options.h"
 #include "cbrdf/noise.h"
-#include "encoder_options.h"
+#include "coding_1_2.h"
 #include "metrics.h"
 #include "refused.h"
 #include "synthetic_model.h"
@@ -73,7 +74,7 @@ BrdfTable scaled(const BrdfTable& t, double k) {
 EncoderSettings settings(const std::string& format_version, double max_error = 0) {
   EncoderOptions o;
   o.slices = "2";
-  o.bits = 8;
+  o.bits = "8";
   o.format_version = format_version;
   o.max_error = max_error;
   o.threads = 2;
@@ -224,7 +225,7 @@ Model wide_k_model() {
 }
 
 Bytes encode13(const Model& m, const std::string& source = "") {
-  ContainerSettings s;
+  ContainerSettings s = testing::coding_1_2();
   s.bits = 10;
   s.format = ContainerSettings::Format::kV13;
   s.metadata = ContainerSettings::Metadata::kShort;

@@ -10,6 +10,7 @@
 #include "cbrdf/codec.h"
 #include "cbrdf/encoder.h"
 #include "cbrdf/samples.h"
+#include "coding_1_2.h"
 #include "metrics.h"
 
 namespace cbrdf {
@@ -37,7 +38,7 @@ void expect_same_metrics(const ImageMetrics& a, const ImageMetrics& b) {
 
 // The decoded file of `table` at these counts (as rate control measures it).
 Model decoded(const BrdfTable& table, int components, bool copulas, double max_error = 0) {
-  EncoderSettings st;
+  EncoderSettings st = testing::encoder_1_2();
   st.fit.slices = 3;
   st.fit.threads = 2;
   st.fit.impute_iterations = 2;

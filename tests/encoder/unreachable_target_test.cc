@@ -16,6 +16,7 @@
 #include "cbrdf/encoder.h"
 #include "cbrdf/noise.h"
 #include "cbrdf/rate_control.h"
+#include "coding_1_2.h"
 #include "table_builder.h"
 
 namespace cbrdf {
@@ -74,7 +75,7 @@ void expect_closest_file(const Expected<RateResult>& r) {
 }
 
 EncoderSettings three_slices() {
-  EncoderSettings st;
+  EncoderSettings st = testing::encoder_1_2();
   st.fit.threads = 2;
   st.fit.slices = 3;
   return st;

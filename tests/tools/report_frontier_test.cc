@@ -204,23 +204,25 @@ TEST(Sweep, ResidualBoundsSitOnThePrimarySettingAtEachComponentCount) {
 }
 
 TEST(Sweep, BadComponentsNameTheKeyAndTheValidValues) {
-  const std::string range =
-      " is not an integer from 1 to " + std::to_string(kMaxComponents) + " or auto";
+  // Ranges in the encoder's words (validate()), named by the sweep's key.
+  const std::string range = "components must be from 1 to " + std::to_string(kMaxComponents);
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"components=0", "components='0'" + range},
+      {"components=0", range + ", not 0"},
       {"components=" + std::to_string(kMaxComponents + 1),
-       "components='" + std::to_string(kMaxComponents + 1) + "'" + range},
-      {"components=two", "components='two'"},
+       range + ", not " + std::to_string(kMaxComponents + 1)},
+      {"components=two", "components='two' is not a whole number or auto"},
       {"components=2.5", "components='2.5'"},
       {"components=", "'components=' has no values"},
       {"components=2,2", "components lists 2 twice"},
       {"components=auto,auto", "components lists auto twice"},
       {"components=1 components=2", "'components' is given twice"},
       {"colour=1", "(keys: slices, bits, family, components, residual)"},
-      {"residual=0", "residual='0' is not a bound from 1e-06 to 16"},
-      {"residual=none", "residual='none' is not a bound"},
-      {"residual=17", "residual='17' is not a bound"},
-      {"residual=0.1x", "residual='0.1x' is not a bound"},
+      {"residual=0", "residual=0 adds no layer"},
+      {"residual=none", "residual='none' is not a number"},
+      {"residual=17", "residual must be from 1e-06 to 16, not 17"},
+      {"residual=0.1x", "residual='0.1x' is not a number"},
+      {"slices=91", "slices must be from 1 to 90, not 91"},
+      {"bits=5", "bits must be from 6 to 16, not 5"},
       {"residual=", "'residual=' has no values"},
       {"residual=0.1,0.1", "residual lists 0.1 twice"},
   };

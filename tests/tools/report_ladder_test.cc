@@ -8,7 +8,7 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/encoder.h"
-#include "encoder_options.h"
+#include "cbrdf/encoder_options.h"
 #include "report/ladder.h"
 #include "report/ladder_check.h"
 #include "report/ladder_output.h"
@@ -184,7 +184,7 @@ TEST(Ladder, MeasuresEveryMethodOnASmallSetting) {
   // rate control's residual (row steps, interpolated levels, per-level step multipliers) writes.
   EncoderOptions o;
   o.components = "1";
-  o.bits = st.residual_base_bits;
+  o.bits = std::to_string(st.residual_base_bits);
   o.source_name = "smooth";
   o.max_error = 0.002;
   auto es = encoder_settings(o);

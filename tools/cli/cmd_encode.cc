@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // `cbrdf encode`: MERL .binary -> .cbrdf.
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -9,12 +10,13 @@
 
 #include "cbrdf/container.h"
 #include "cbrdf/encoder.h"
+#include "cbrdf/encoder_options.h"
+#include "cbrdf/encoder_settings.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/rate_control.h"
 #include "cli.h"
 #include "cli_io.h"
-#include "encoder_options.h"
 #include "files/file_io.h"
 
 namespace cbrdf::cli {
@@ -22,12 +24,11 @@ namespace {
 
 struct EncodeOptions {
   std::string input, output;
-  EncoderOptions encoder;  // --slices ... --naive-marginals: encoder_settings() checks them
+  EncoderOptions encoder;  // --slices ... --naive-marginals: parse_options() checks them
   bool no_metrics = false;
-  std::string target_bytes, target_psnr;  // parsed here: CLI11 lets nan through
-  std::string max_error;                  // the residual layer's bound, parsed here
+  std::string target_bytes, target_psnr;  // read here (CLI11 lets nan through), checked by validate
+  std::string max_error;                  // the residual layer's bound, read here
   bool lossless = false;
-  std::string bits = "auto";  // 6 to 16 or auto, parsed here
   // --mixture-copulas as given (empty: not given; a target then searches at independence).
   std::string mixture_copulas;
   // Whether each was given (an empty value is given, and refused, not taken as absent).
@@ -38,47 +39,51 @@ struct EncodeOptions {
   bool given(const CLI::Option* option) const { return option && option->count() > 0; }
 };
 
-// A positive finite number, or nullopt. `what` names the option in the message.
-std::optional<std::string> parse_target(const std::string& text, const char* what, double max,
-                                        const char* max_text, double* out) {
-  double v = 0;
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, v);
-  if (ec != std::errc() || ptr != end || !std::isfinite(v) || v <= 0 || v > max) {
-    return std::string("encode: ") + what + " must be a number above 0 and at most " + max_text +
-           ", not '" + text + "'";
-  }
-  *out = v;
-  return std::nullopt;
+// The command's spelling of a neutral setting name (cbrdf/encoder_settings.h): its option.
+std::string option_spelling(std::string_view setting) {
+  if (setting == "placement") return "--slice-placement";
+  if (setting == "zstd_level") return "--level";
+  std::string option = "--" + std::string(setting);
+  std::replace(option.begin(), option.end(), '_', '-');
+  return option;
 }
 
-// --target-bytes / --target-psnr as a RateTarget (both 0: no target).
-std::optional<std::string> parse_rate_target(const EncodeOptions& o, RateTarget* target) {
-  if (o.given(o.target_bytes_option)) {
-    // A container is at most 64 MiB.
-    if (auto bad = parse_target(o.target_bytes, "--target-bytes", double(kMaxContainerBytes),
-                                "67108864 (64 MiB)", &target->max_bytes)) {
-      return bad;
-    }
+// `text` as a number into *out, else a problem naming `setting`.
+void read_number(const char* setting, const std::string& text, double* out,
+                 std::vector<SettingProblem>* problems) {
+  if (auto v = parse_number(text)) {
+    *out = *v;
+  } else {
+    problems->push_back({setting, "must be a number, not '" + text + "'"});
   }
-  if (o.given(o.target_psnr_option)) {
-    if (auto bad =
-            parse_target(o.target_psnr, "--target-psnr", 1000.0, "1000", &target->min_psnr)) {
-      return bad;
+}
+
+// --target-bytes / --target-psnr as a RateTarget (both 0: no target), and the residual options
+// beside them; every problem goes to *problems.
+void read_rate_target(const EncodeOptions& o, RateTarget* target,
+                      std::vector<SettingProblem>* problems) {
+  // RateTarget takes 0 as no target; an option given as 0 asks for one and is refused.
+  const auto given_target = [&](const char* setting, const std::string& text, double* out) {
+    read_number(setting, text, out, problems);
+    if (*out == 0 && parse_number(text)) {
+      problems->push_back({setting, "must be above 0, not '" + text + "' (leave it out for none)"});
     }
-  }
+  };
+  if (o.given(o.target_bytes_option))
+    given_target("target_bytes", o.target_bytes, &target->max_bytes);
+  if (o.given(o.target_psnr_option)) given_target("target_psnr", o.target_psnr, &target->min_psnr);
+  for (SettingProblem& p : validate(*target)) problems->push_back(std::move(p));
   // Rate control chooses the slice count itself.
-  const bool targeted = target->max_bytes > 0 || target->min_psnr > 0;
+  const bool targeted = o.given(o.target_bytes_option) || o.given(o.target_psnr_option);
   if (auto conflict = residual_option_conflict(
           {targeted, o.given(o.max_error_option), o.lossless, o.given(o.residual_steps_option)})) {
-    return "encode: " + *conflict;
+    problems->push_back(std::move(*conflict));
   }
   if (targeted && o.encoder.slices == "auto") {
-    return std::string(
-        "encode: --slices auto and a target (--target-bytes, --target-psnr) both "
-        "choose the slice count; give one of them");
+    problems->push_back({"slices",
+                         "auto and a target ({target_bytes}, {target_psnr}) both choose the slice "
+                         "count; give one of them"});
   }
-  return std::nullopt;
 }
 
 // Encodes at the settings, or searches for the target when there is one.
@@ -135,7 +140,7 @@ void print_summary(const EncodeOptions& o, const Context& ctx, const EncodeResul
                                                 : double(std::filesystem::file_size(o.input, ec));
   const double out_bytes = double(result.bytes.size());
   const bool auto_bits =
-      o.bits == "auto" && !o.given(o.target_bytes_option) && !o.given(o.target_psnr_option);
+      o.encoder.bits == "auto" && !o.given(o.target_bytes_option) && !o.given(o.target_psnr_option);
   std::fprintf(info, "%s -> %s: %.0f -> %.0f bytes (%.0f:1, %d bits%s) in %.2f s\n",
                shown(o.input, false).c_str(), shown(o.output, true).c_str(), in_bytes, out_bytes,
                in_bytes / out_bytes, result.bits, auto_bits ? ", chosen by --bits auto" : "",
@@ -213,27 +218,22 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   const std::vector<PathArg> outputs = {{"-o", o.output}};
   if (auto bad = check_paths("encode", {{"input", o.input}}, outputs)) return usage_error(*bad);
   std::FILE* info = info_stream(outputs);
+  // Every problem of the options at once, each in the library's words with the option's name.
+  std::vector<SettingProblem> problems;
   RateTarget target;
-  if (auto bad = parse_rate_target(o, &target)) return usage_error(*bad);
+  read_rate_target(o, &target, &problems);
   EncoderOptions eo = o.encoder;
-  const auto bits = parse_count_or_auto(o.bits, 6, 16, true);
-  if (!bits) return usage_error("encode: --bits must be 6 to 16 or auto, not '" + o.bits + "'");
-  eo.bits = bits->is_auto ? kAutoBits : bits->count;
   eo.source_name = o.input == kStdStream ? "" : std::filesystem::path(o.input).filename().string();
-  if (o.given(o.max_error_option)) {
-    // The encoder's own range (0 would mean no residual layer, which is not giving the option).
-    if (auto bad = parse_target(o.max_error, "--max-error", 16.0, "16", &eo.max_error);
-        bad || eo.max_error < 1e-6) {
-      return usage_error("encode: --max-error must be a number from 1e-06 to 16, not '" +
-                         o.max_error + "'");
-    }
-  }
+  if (o.given(o.max_error_option)) read_number("max_error", o.max_error, &eo.max_error, &problems);
   eo.lossless = o.lossless;
   if (!o.mixture_copulas.empty()) eo.mixture_copulas = o.mixture_copulas;
-  auto st = encoder_settings(eo);
-  if (!st.ok()) return usage_error("encode: " + st.status().message());
+  ParsedOptions st = parse_options(eo);
+  problems.insert(problems.end(), st.problems.begin(), st.problems.end());
+  if (Status s = settings_status(problems, option_spelling); !s.ok()) {
+    return usage_error("encode: " + s.message());
+  }
   // Given explicitly, --mixture-copulas applies to the search too.
-  if (!o.mixture_copulas.empty()) target.mixture_copulas = st->fit.mixture_copulas;
+  if (!o.mixture_copulas.empty()) target.mixture_copulas = st.settings.fit.mixture_copulas;
 
   const auto t0 = std::chrono::steady_clock::now();
   MerlInfo merl;
@@ -248,7 +248,7 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
                        "90x90x180 .binary, or drop --lossless");
   }
   bool smoothed = false;
-  auto result = encode(*table, *st, target, ctx, info, &smoothed);
+  auto result = encode(*table, st.settings, target, ctx, info, &smoothed);
   if (!result.ok()) return fail(result.status().with_context(shown(o.input, false)));
   if (Status s = write_file_atomic(output_path(o.output), result->bytes); !s.ok()) return fail(s);
   const double seconds =
@@ -295,14 +295,13 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
                   "leave them at independence (independence: about half the fit's time, and in the "
                   "1.2 coding 6% fewer bytes, for about the same tone-mapped PSNR per byte; what "
                   "--target-bytes and --target-psnr search unless given)");
-  cmd->add_option("--bits", o->bits,
+  cmd->add_option("--bits", o->encoder.bits,
                   "Bits per quantized marginal value, 6 to 16 (quality), or auto: the fewest bits "
                   "that cost at most 0.05 dB tone-mapped and 0.5 dB linear sphere PSNR against "
                   "the unquantized model")
       ->capture_default_str();
-  cmd->add_option("--level", o->encoder.level, "zstd level (1 to 22): effort")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 22));
+  cmd->add_option("--level", o->encoder.zstd_level, "zstd level (1 to 22): effort")
+      ->capture_default_str();
   cmd->add_option("--format-version", o->encoder.format_version,
                   "Container coding: auto (1.3, the compact coding, where smaller than 1.2), 1.2 "
                   "(readable by cbrdf 1.x readers of 1.0-1.2) or 1.3")
@@ -311,8 +310,7 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
                   "The metadata chunk: none, short (source file name and encoder) or full (also "
                   "bits and zstd level)")
       ->capture_default_str();
-  cmd->add_option("--threads", o->encoder.threads, "Fitting threads (0: one per core)")
-      ->check(CLI::Range(0, 256));
+  cmd->add_option("--threads", o->encoder.threads, "Fitting threads (0: one per core) to 256");
   cmd->add_option("--loss", o->encoder.loss,
                   "What the fit minimizes: linear (the paper's), cosine (weighted by cos theta_i "
                   "cos theta_o) or log")
@@ -330,15 +328,17 @@ void add_encode_command(CLI::App& app, const Context& ctx, Action* action) {
   tb->excludes(tp);
   o->target_bytes_option = tb;
   o->target_psnr_option = tp;
+  char bound_range[64];
+  std::snprintf(bound_range, sizeof bound_range, "%g to %g", kMinResidualBound, kMaxResidualBound);
   auto* me = cmd->add_option(
       "--max-error", o->max_error,
       "Add the residual layer: every measured bin decodes within E of the source, "
       "|log1p(decoded / k) - log1p(source / k)| <= E on the values the .binary stores, k = 1e-4 "
-      "(scaled down with tables whose values are all below 1): a relative bound (1e-6 to 16; "
-      "docs/compressing.md)");
-  auto* ll = cmd->add_flag("--lossless", o->lossless,
-                           "Add the residual layer that decodes to the source bit for bit");
-  me->excludes(ll);
+      "(scaled down with tables whose values are all below 1): a relative bound (" +
+          std::string(bound_range) + "; docs/compressing.md)");
+  // A bound beside --lossless is validate()'s to refuse, in the library's words.
+  cmd->add_flag("--lossless", o->lossless,
+                "Add the residual layer that decodes to the source bit for bit");
   o->max_error_option = me;
   o->residual_steps_option =
       cmd->add_option("--residual-steps", o->encoder.residual_steps,

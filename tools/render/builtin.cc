@@ -35,11 +35,15 @@ Status write_text(const std::filesystem::path& path, const std::string& text) {
                                           text.size()));
 }
 
-// Fits a built-in sample and writes it as .cbrdf (default encoder settings).
+// Fits a built-in sample and writes it as .cbrdf: 12 bits in the 1.2 coding with full metadata,
+// the files the built-in scenes have always rendered.
 Status write_sample_cbrdf(const std::string& sample, const std::filesystem::path& path) {
   auto table = make_sample(sample);
   if (!table.ok()) return table.status();
   EncoderSettings settings;
+  settings.auto_bits.enabled = false;
+  settings.container.format = ContainerSettings::Format::kV12;
+  settings.container.metadata = ContainerSettings::Metadata::kFull;
   settings.container.source_name = "sample:" + sample;
   auto encoded = encode_table(*table, settings);
   if (!encoded.ok()) return encoded.status().with_context(path.string());

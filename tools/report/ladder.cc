@@ -9,12 +9,12 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/encoder.h"
+#include "cbrdf/encoder_options.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/noise.h"
 #include "cbrdf/parallel.h"
-#include "encoder_options.h"
 #include "report/float16_baseline.h"
 #include "report/lossless.h"
 #include "report/zfp_baseline.h"
@@ -95,7 +95,7 @@ class LadderRun {
   EncoderOptions options(int components, int bits) const {
     EncoderOptions o;
     o.components = std::to_string(components);
-    o.bits = bits;
+    o.bits = bits == kAutoBits ? "auto" : std::to_string(bits);
     o.threads = st_.threads;
     o.source_name = out_.name;
     return o;

@@ -12,13 +12,13 @@
 #include <random>
 
 #include "cbrdf/encoder.h"
+#include "cbrdf/encoder_options.h"
 #include "cbrdf/file_io.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
 #include "cbrdf/parallel.h"
 #include "cbrdf/samples.h"
-#include "encoder_options.h"
 #include "render/table_lookup.h"
 #include "report/float16_baseline.h"
 #include "report/lossless.h"
@@ -129,7 +129,7 @@ Expected<EncoderSettings> encoder_settings_at(const CodecSetting& s, int threads
   o.slices = std::to_string(s.slices);
   o.components = components_name(s.components);
   o.family = s.family;
-  o.bits = s.bits;
+  o.bits = bits_name(s.bits);
   if (s.max_error > 0) {
     o.max_error = s.max_error;
     o.residual_steps = "visibility";

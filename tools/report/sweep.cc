@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <climits>
 #include <cstdio>
 #include <optional>
 #include <sstream>
@@ -12,8 +13,9 @@
 #include "cbrdf/codec.h"
 #include "cbrdf/copula_family.h"
 #include "cbrdf/encoder.h"
+#include "cbrdf/encoder_options.h"
+#include "cbrdf/encoder_settings.h"
 #include "cbrdf/fit.h"
-#include "encoder_options.h"
 
 namespace cbrdf::report {
 namespace {
@@ -31,15 +33,44 @@ std::vector<std::string> split(const std::string& text, char sep) {
   return parts;
 }
 
-// A list of "integer or auto" values (auto only when allow_auto; it stands as kAutoComponents).
-Expected<std::vector<int>> parse_counts(const std::string& key, const std::string& values, int lo,
-                                        int hi, bool allow_auto) {
+// The report's spelling of a neutral setting name: its --sweep key.
+std::string sweep_spelling(std::string_view setting) {
+  return setting == "max_error" ? "residual" : std::string(setting);
+}
+
+// The encoder's refusal (validate()) of one swept value, set on default settings by `apply`.
+template <typename Apply>
+Status check_value(const char* setting, Apply apply) {
+  EncoderSettings probe;
+  apply(&probe);
+  std::vector<SettingProblem> problems;
+  for (SettingProblem& p : validate(probe)) {
+    if (p.setting == setting) problems.push_back(std::move(p));
+  }
+  if (problems.empty()) return ok_status();
+  return bad(settings_status(problems, sweep_spelling).message());
+}
+
+// A list of "integer or auto" values (auto only when allow_auto; it stands as kAutoComponents),
+// each within the range validate() holds `setting` to.
+Expected<std::vector<int>> parse_counts(const std::string& key, const std::string& values,
+                                        const char* setting, bool allow_auto) {
   std::vector<int> out;
   for (const std::string& v : split(values, ',')) {
-    const std::optional<CountOrAuto> n = parse_count_or_auto(v, lo, hi, allow_auto);
+    const std::optional<CountOrAuto> n = parse_count_or_auto(v, INT_MIN, INT_MAX, allow_auto);
     if (!n) {
-      return bad(key + "='" + v + "' is not an integer from " + std::to_string(lo) + " to " +
-                 std::to_string(hi) + (allow_auto ? " or auto" : ""));
+      return bad(key + "='" + v + "' is not a whole number" + (allow_auto ? " or auto" : ""));
+    }
+    if (!n->is_auto) {
+      const std::string name = setting;
+      CBRDF_RETURN_IF_ERROR(check_value(setting, [&](EncoderSettings* probe) {
+        if (name == "slices") probe->fit.slices = n->count;
+        if (name == "components") probe->fit.components = n->count;
+        if (name == "bits") {
+          probe->auto_bits.enabled = false;
+          probe->container.bits = n->count;
+        }
+      }));
     }
     const int x = n->is_auto ? kAutoComponents : n->count;
     if (std::find(out.begin(), out.end(), x) != out.end()) {
@@ -50,20 +81,19 @@ Expected<std::vector<int>> parse_counts(const std::string& key, const std::strin
   return out;
 }
 
-// Bounds 1e-06 to 16, as --max-error takes them.
+// Residual bounds, as --max-error takes them; 0 (no layer) is no entry of this list.
 Expected<std::vector<double>> parse_bounds(const std::string& values) {
   std::vector<double> out;
   for (const std::string& v : split(values, ',')) {
-    double x = 0;
-    const char* end = v.data() + v.size();
-    const auto [ptr, ec] = std::from_chars(v.data(), end, x);
-    if (v.empty() || ec != std::errc() || ptr != end || !(x >= 1e-6 && x <= 16)) {
-      return bad("residual='" + v + "' is not a bound from 1e-06 to 16 (as --max-error takes)");
-    }
-    if (std::find(out.begin(), out.end(), x) != out.end()) {
+    const std::optional<double> x = parse_number(v);
+    if (!x) return bad("residual='" + v + "' is not a number");
+    if (*x == 0) return bad("residual=0 adds no layer; list bounds above 0");
+    CBRDF_RETURN_IF_ERROR(
+        check_value("max_error", [&](EncoderSettings* probe) { probe->residual.max_error = *x; }));
+    if (std::find(out.begin(), out.end(), *x) != out.end()) {
       return bad("residual lists " + v + " twice");
     }
-    out.push_back(x);
+    out.push_back(*x);
   }
   return out;
 }
@@ -196,11 +226,11 @@ Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
       if (values.empty()) return bad("'" + key + "=' has no values");
       seen.push_back(key);
       if (key == "slices") {
-        auto v = parse_counts(key, values, 1, kThetaDBins, false);
+        auto v = parse_counts(key, values, "slices", false);
         if (!v) return v.status();
         sweep.slices = *v;
       } else if (key == "bits") {
-        auto v = parse_counts(key, values, 6, 16, true);  // auto: kAutoBits
+        auto v = parse_counts(key, values, "bits", true);  // auto: kAutoBits
         if (!v) return v.status();
         sweep.bits = *v;
       } else if (key == "family" || key == "families") {
@@ -208,7 +238,7 @@ Expected<Sweep> parse_sweep(const std::vector<std::string>& items) {
         if (!v) return v.status();
         sweep.families = *v;
       } else if (key == "components") {
-        auto v = parse_counts(key, values, 1, kMaxComponents, true);
+        auto v = parse_counts(key, values, "components", true);
         if (!v) return v.status();
         sweep.components = *v;
       } else if (key == "residual") {

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "cbrdf/encoder_options.h"
 #include "cbrdf/status.h"
-#include "encoder_options.h"
 
 namespace cbrdf::report {
 

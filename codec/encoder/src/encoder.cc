@@ -1,11 +1,19 @@
 // SPDX-License-Identifier: MIT
 #include "cbrdf/encoder.h"
 
+#include "cbrdf/encoder_settings.h"
+#include "cbrdf/parallel.h"
 #include "residual_encode.h"
 
 namespace cbrdf {
 
 Expected<EncodeResult> encode_table(const BrdfTable& table, const EncoderSettings& settings) {
+  CBRDF_RETURN_IF_ERROR(settings_status(validate(settings), cxx_spelling));
+  if (settings.fit.threads == 0) {  // one per core
+    EncoderSettings resolved = settings;
+    resolved.fit.threads = thread_limit();
+    return encode_table(table, resolved);
+  }
   EncodeResult r;
   auto model = fit_model(table, settings.fit, &r.report);
   if (!model.ok()) return model.status();

@@ -1,21 +1,36 @@
 // SPDX-License-Identifier: MIT
-// The user-facing encoder options (`cbrdf encode`, `cbrdf report`, rate control) as
-// EncoderSettings: one place for their parsing, their defaults and their error messages.
-#include "encoder_options.h"
+// The encoder's settings as text (cbrdf/encoder_options.h): reading each value, then validate().
+#include "cbrdf/encoder_options.h"
 
-#include <algorithm>
 #include <charconv>
-#include <cstdio>
-#include <thread>
+#include <climits>
+#include <cmath>
 
+#include "bitstream/chunks.h"
 #include "cbrdf/encoder.h"
 #include "cbrdf/parallel.h"
 
 namespace cbrdf {
 namespace {
 
-Status invalid(const std::string& message) {
-  return error(ErrorCode::kInvalidArgument, message);
+std::string quoted(std::string_view text) {
+  return "'" + std::string(text) + "'";
+}
+
+// "must be V1, V2 or V3, not 'x'"
+SettingProblem not_one_of(const char* setting, const char* values, std::string_view text) {
+  return {setting, std::string("must be ") + values + ", not " + quoted(text)};
+}
+
+// A count or auto: its range is validate()'s, so any integer is read here.
+std::optional<CountOrAuto> read_count(const char* setting, std::string_view text, bool allow_auto,
+                                      std::vector<SettingProblem>* problems) {
+  auto n = parse_count_or_auto(text, INT_MIN, INT_MAX, allow_auto);
+  if (!n) {
+    problems->push_back({setting, std::string("must be a whole number") +
+                                      (allow_auto ? " or auto" : "") + ", not " + quoted(text)});
+  }
+  return n;
 }
 
 }  // namespace
@@ -25,9 +40,18 @@ std::optional<CountOrAuto> parse_count_or_auto(std::string_view text, int lo, in
   if (allow_auto && text == "auto") return CountOrAuto{0, true};
   int n = 0;
   const char* end = text.data() + text.size();
+  // from_chars takes a minus sign; a plus sign, spaces or a fraction stop it short of the end.
   const auto [ptr, ec] = std::from_chars(text.data(), end, n);
   if (text.empty() || ec != std::errc() || ptr != end || n < lo || n > hi) return std::nullopt;
   return CountOrAuto{n, false};
+}
+
+std::optional<double> parse_number(std::string_view text) {
+  double v = 0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+  if (text.empty() || ec != std::errc() || ptr != end || !std::isfinite(v)) return std::nullopt;
+  return v;
 }
 
 void set_counts(CountOrAuto slices, CountOrAuto components, FitSettings* settings) {
@@ -42,33 +66,30 @@ void set_counts(CountOrAuto slices, CountOrAuto components, FitSettings* setting
   settings->components = components.is_auto ? kAutoMaxComponents : components.count;
 }
 
-// Checked in the order `cbrdf encode` always has: the first bad option is the one named.
-Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
-  EncoderSettings st;
-  const auto slices = parse_count_or_auto(o.slices, 1, kThetaDBins, true);
-  if (!slices) return invalid("--slices must be 1 to 90 or auto, not '" + o.slices + "'");
+ParsedOptions parse_options(const EncoderOptions& o) {
+  ParsedOptions parsed;
+  EncoderSettings& st = parsed.settings;
+  std::vector<SettingProblem>& problems = parsed.problems;
+  const auto slices = read_count("slices", o.slices, true, &problems);
   if (o.placement == "adaptive") {
     st.fit.adaptive_slices = true;
   } else if (o.placement != "uniform") {
-    return invalid("unknown --slice-placement '" + o.placement + "' (uniform or adaptive)");
+    problems.push_back(not_one_of("placement", "uniform or adaptive", o.placement));
   }
   if (o.family == "auto") {
     st.fit.auto_family = true;
   } else if (auto f = family_from_name(o.family)) {
     st.fit.family = *f;
   } else {
-    return invalid("unknown --family '" + o.family + "' (" + family_list(", ") + " or auto)");
+    problems.push_back(
+        {"family", "must be " + family_list(", ") + " or auto, not " + quoted(o.family)});
   }
-  const auto components = parse_count_or_auto(o.components, 1, kMaxComponents, true);
-  if (!components) {
-    return invalid("--components must be 1 to " + std::to_string(kMaxComponents) +
-                   " or auto, not '" + o.components + "'");
-  }
-  set_counts(*slices, *components, &st.fit);
+  const auto components = read_count("components", o.components, true, &problems);
+  if (slices && components) set_counts(*slices, *components, &st.fit);
   if (o.mixture_copulas == "independence") {
     st.fit.mixture_copulas = false;
   } else if (o.mixture_copulas != "fit") {
-    return invalid("unknown --mixture-copulas '" + o.mixture_copulas + "' (fit or independence)");
+    problems.push_back(not_one_of("mixture_copulas", "fit or independence", o.mixture_copulas));
   }
   if (o.loss == "linear") {
     st.fit.loss = FitLoss::kLinear;
@@ -77,40 +98,20 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
   } else if (o.loss == "log") {
     st.fit.loss = FitLoss::kLog;
   } else {
-    return invalid("unknown --loss '" + o.loss + "' (linear, cosine or log)");
+    problems.push_back(not_one_of("loss", "linear, cosine or log", o.loss));
   }
-  if (o.bits != kAutoBits && (o.bits < 6 || o.bits > 16)) {
-    return invalid("--bits must be 6 to 16 or auto, not " + std::to_string(o.bits));
+  if (const auto bits = read_count("bits", o.bits, true, &problems)) {
+    st.auto_bits.enabled = bits->is_auto;
+    if (!bits->is_auto) st.container.bits = bits->count;
   }
-  if (o.level < 1 || o.level > 22) {
-    return invalid("--level must be 1 to 22, not " + std::to_string(o.level));
-  }
-  if (o.threads < 0) {
-    return invalid("--threads must be 0 (one per core) or more, not " + std::to_string(o.threads));
-  }
-  if (o.lossless && o.max_error != 0) {
-    return invalid("--max-error and --lossless exclude each other (lossless has no error)");
-  }
-  if (o.max_error != 0 && !(o.max_error >= 1e-6 && o.max_error <= 16)) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", o.max_error);
-    return invalid(std::string("--max-error must be 1e-06 to 16 (or 0: no residual layer), not ") +
-                   text);
-  }
-  if (o.residual_steps != "one" && o.residual_steps != "visibility") {
-    return invalid("--residual-steps must be one or visibility, not '" + o.residual_steps + "'");
-  }
+  st.container.zstd_level = o.zstd_level;
+  st.fit.threads = o.threads;
   const bool visibility = o.residual_steps == "visibility";
-  if (visibility && o.max_error == 0) {
-    return invalid(
-        "--residual-steps visibility needs --max-error E (the bound of the most visible rows)");
+  if (o.residual_steps != "one" && !visibility) {
+    problems.push_back(not_one_of("residual_steps", "one or visibility", o.residual_steps));
   }
   st.residual = residual_request(o.max_error, o.lossless, visibility);
   st.fit.impute_missing = !o.naive_marginals;
-  st.fit.threads = o.threads > 0 ? o.threads : thread_limit();
-  st.auto_bits.enabled = o.bits == kAutoBits;
-  if (!st.auto_bits.enabled) st.container.bits = o.bits;
-  st.container.zstd_level = o.level;
   st.container.source_name = o.source_name;
   if (o.format_version == "auto") {
     st.container.format = ContainerSettings::Format::kAuto;
@@ -119,7 +120,7 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
   } else if (o.format_version == "1.3") {
     st.container.format = ContainerSettings::Format::kV13;
   } else {
-    return invalid("--format-version must be auto, 1.2 or 1.3, not '" + o.format_version + "'");
+    problems.push_back(not_one_of("format_version", "auto, 1.2 or 1.3", o.format_version));
   }
   if (o.metadata == "none") {
     st.container.write_metadata = false;
@@ -127,41 +128,48 @@ Expected<EncoderSettings> encoder_settings(const EncoderOptions& o) {
     st.container.metadata = o.metadata == "short" ? ContainerSettings::Metadata::kShort
                                                   : ContainerSettings::Metadata::kFull;
   } else {
-    return invalid("--metadata must be none, short or full, not '" + o.metadata + "'");
+    problems.push_back(not_one_of("metadata", "none, short or full", o.metadata));
   }
-  return st;
+  // A value that could not be read left its default, which validate() would not fault.
+  for (SettingProblem& p : validate(st)) problems.push_back(std::move(p));
+  // 0: one thread per core, resolved once the settings are known to be good.
+  if (st.fit.threads == 0) st.fit.threads = thread_limit();
+  return parsed;
+}
+
+Expected<EncoderSettings> encoder_settings(const EncoderOptions& options,
+                                           const SettingSpelling& spell) {
+  ParsedOptions parsed = parse_options(options);
+  if (!parsed.problems.empty()) return settings_status(parsed.problems, spell);
+  return std::move(parsed.settings);
 }
 
 ResidualSettings residual_request(double max_error, bool lossless, bool visibility_steps) {
-  // Visibility steps: the layer rate control's PSNR targets write, bounded by max_error.
-  ResidualSettings rs = visibility_steps ? target_residual_settings(max_error) : ResidualSettings{};
+  // Visibility steps: the layer rate control's PSNR targets write, bounded by max_error. Its
+  // multipliers are derived from a bound in range only; steps without one stay visible to
+  // validate(), which names residual_steps (or max_error).
+  const bool bounded = max_error >= kMinResidualError && max_error <= kMaxResidualError;
+  ResidualSettings rs =
+      visibility_steps && bounded ? target_residual_settings(max_error) : ResidualSettings{};
   rs.max_error = max_error;
   rs.lossless = lossless;
+  if (visibility_steps) rs.row_steps = true;
   return rs;
 }
 
-std::optional<std::string> residual_option_conflict(const GivenResidualOptions& given) {
+std::optional<SettingProblem> residual_option_conflict(const GivenResidualOptions& given) {
   // A bound or lossless beside a target would be dropped.
   if (given.target && (given.lossless || given.max_error)) {
-    return std::string(given.lossless ? "--lossless" : "--max-error") +
-           " and a target (--target-bytes, --target-psnr) exclude each other: the target "
-           "chooses the residual layer itself; give one of them";
+    return SettingProblem{given.lossless ? "lossless" : "max_error",
+                          "and a target ({target_bytes}, {target_psnr}) exclude each other: the "
+                          "target chooses the residual layer itself; give one of them"};
   }
   if (given.residual_steps && given.target) {
-    return std::string(
-        "--residual-steps and a target (--target-bytes, --target-psnr) exclude each other: a "
-        "target's residual layer always steps by visibility");
-  }
-  if (given.residual_steps && !given.max_error) {
-    return std::string(
-        "--residual-steps shapes the layer --max-error E adds; give --max-error too");
+    return SettingProblem{"residual_steps",
+                          "and a target ({target_bytes}, {target_psnr}) exclude each other: a "
+                          "target's residual layer always steps by visibility"};
   }
   return std::nullopt;
-}
-
-EncoderSettings command_defaults() {
-  // The default options are valid by construction (encoder_options_test).
-  return encoder_settings(EncoderOptions{}).value();
 }
 
 }  // namespace cbrdf

@@ -9,7 +9,8 @@
 #include <string>
 #include <utility>
 
-#include "encoder_options.h"
+#include "cbrdf/encoder_options.h"
+#include "cbrdf/encoder_settings.h"
 #include "metrics.h"
 #include "rate/byte_predictor.h"
 #include "rate/model_search.h"
@@ -182,14 +183,6 @@ Status check_target(const RateTarget& target) {
   if (by_bytes == by_psnr) {
     return error(ErrorCode::kInvalidArgument,
                  "give exactly one target: a byte budget or a PSNR to reach");
-  }
-  if (target.max_components < 1 || target.max_components > kMaxComponents) {
-    return error(ErrorCode::kInvalidArgument,
-                 "max_components " + std::to_string(target.max_components) + " is outside 1 to " +
-                     std::to_string(kMaxComponents));
-  }
-  if (target.slice_counts.empty()) {
-    return error(ErrorCode::kInvalidArgument, "no slice counts to search");
   }
   return ok_status();
 }
@@ -396,6 +389,9 @@ namespace internal {
 
 Expected<RateResult> search_model(const BrdfTable& table, const EncoderSettings& base,
                                   const RateTarget& target, bool for_ladder) {
+  std::vector<SettingProblem> problems = validate(base);
+  for (SettingProblem& p : validate(target)) problems.push_back(std::move(p));
+  CBRDF_RETURN_IF_ERROR(settings_status(problems, cxx_spelling));
   if (Status s = check_target(target); !s.ok()) return s;
   Grid grid(table, base, target, for_ladder);
   if (Status s = grid.run(); !s.ok()) return s;

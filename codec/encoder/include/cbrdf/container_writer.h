@@ -21,6 +21,7 @@ namespace cbrdf {
 struct ContainerSettings {
   /// Bits per marginal code, 6..16: the quality knob. 12 keeps the tone-mapped sphere PSNR within
   /// 0.02 dB of the unquantized model on the 20 real materials, at 4.4 to 6.7 KB per file.
+  /// encode_table() reads it only when EncoderSettings::auto_bits is off.
   int bits = 12;
   int zstd_level = 19;         ///< 1..22: the effort knob
   std::string source_name;     ///< recorded in the metadata chunk (e.g. the .binary's file name)
@@ -29,20 +30,19 @@ struct ContainerSettings {
   /// or, when one K has no normal binary32, all K as binary64; range-coded marginal tables) when
   /// its model chunks are smaller than 1.2's, else the lowest of 1.0-1.2 that holds the model,
   /// byte for byte as before. Both keep K at any scale. kV12: never 1.3. kV13: 1.3 whenever the
-  /// parameters have binary32 forms (always for fitted models). kV12 here keeps this struct's
-  /// files as before; encoder_settings (the command, the report) defaults to kAuto.
+  /// parameters have binary32 forms (always for fitted models). The default is the command's.
   enum class Format {
     kAuto,  ///< 1.3 where smaller
     kV12,   ///< the 1.0-1.2 chunks only
     kV13    ///< 1.3 whenever possible
   };
-  Format format = Format::kV12;  ///< the coding written
+  Format format = Format::kAuto;  ///< the coding written
   /// What 'mETA' holds when written.
   enum class Metadata {
     kShort,  ///< the source and encoder only (bits are in the file's coding already)
     kFull    ///< source, encoder, bits and zstd level
   };
-  Metadata metadata = Metadata::kFull;  ///< what 'mETA' holds
+  Metadata metadata = Metadata::kShort;  ///< what 'mETA' holds
 };
 
 /// Fails with kInvalidArgument when the settings or the model are outside what a file can hold

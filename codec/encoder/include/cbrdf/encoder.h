@@ -27,7 +27,7 @@ namespace cbrdf {
 /// ../shared this chose 6 to 12 bits (the knee differs by material: 9 for most) at 55% of the
 /// 12-bit bytes, losing 0.008 dB tone-mapped on average (0.049 at worst).
 struct AutoBitsSettings {
-  bool enabled = false;                  ///< when false, ContainerSettings::bits is used as it is
+  bool enabled = true;                   ///< when false, ContainerSettings::bits is used as it is
   double max_tonemapped_loss_db = 0.05;  ///< tone-mapped sphere PSNR
   double max_linear_loss_db = 0.5;       ///< linear sphere PSNR
 };
@@ -37,7 +37,8 @@ struct ResidualSettings {
   /// > 0: every measured bin decodes within this bound, |log1p(decoded / k) - log1p(source / k)|
   /// <= E with the values a MERL file stores (physical value / the MERL colour scale) and the knee
   /// k = 1e-4 (about 6.7e-8 physical): a relative error of at most e^E - 1 above the knee, an
-  /// absolute one of about E k below; 1e-6 to 16. 0: no residual layer.
+  /// absolute one of about E k below; kMinResidualBound to kMaxResidualBound (encoder_settings.h).
+  /// 0: no residual layer.
   double max_error = 0;
   bool lossless = false;  ///< the decoded table equal to the source bit for bit
   /// A coarser step where a bin counts less in rendered images (RESD mode 2): each theta_h,
@@ -66,7 +67,10 @@ struct ResidualSettings {
 /// container 1.3: RESD mode 4); in a 1.2 file (mode 3) the finest level's 8 times its row's.
 ResidualSettings target_residual_settings(double max_error);
 
-/// Everything encode_table() needs.
+/// Everything encode_table() needs. The defaults are `cbrdf encode`'s without options: version
+/// 1.3 where smaller, short metadata, bits chosen per material (`--bits auto`), one fitting thread
+/// (the threads change the time, not the bytes). validate() (cbrdf/encoder_settings.h) checks them
+/// as encode_table() does.
 struct EncoderSettings {
   FitSettings fit;              ///< the model fit
   ContainerSettings container;  ///< quantization and compression
@@ -76,11 +80,6 @@ struct EncoderSettings {
   /// calls.
   ProgressCallback progress;
 };
-
-/// The settings `cbrdf encode` uses when given no options (version 1.3 where smaller, short
-/// metadata, bits chosen per material). EncoderSettings{} instead writes the 1.2 coding with full
-/// metadata at 12 bits, as releases before 2.1 did.
-EncoderSettings command_defaults();
 
 /// What encode_table() produced.
 struct EncodeResult {
@@ -104,7 +103,9 @@ Expected<AutoBitsChoice> choose_bits(const BrdfTable& source, const Model& model
                                      const ContainerSettings& container,
                                      const AutoBitsSettings& settings);
 
-/// Fits the model to the table and writes it as a .cbrdf container.
+/// Fits the model to the table and writes it as a .cbrdf container. Settings that validate()
+/// faults fail with kInvalidArgument naming each member ("fit.slices must be from 1 to 90, not
+/// 0"); fit.threads 0 takes one thread per core (thread_limit()).
 Expected<EncodeResult> encode_table(const BrdfTable& table, const EncoderSettings& settings);
 
 /// What encode_table does after the fit: `result` holds a base file (bytes, bits, model) of

@@ -70,9 +70,9 @@ struct ParsedOptions {
 ParsedOptions parse_options(const EncoderOptions& options);
 
 /// parse_options() as settings, or kInvalidArgument naming every problem in `spell`'s words
-/// (settings_status()).
+/// (settings_status(); none: the neutral names, which are EncoderOptions' fields).
 Expected<EncoderSettings> encoder_settings(const EncoderOptions& options,
-                                           const SettingSpelling& spell);
+                                           const SettingSpelling& spell = {});
 
 /// The residual layer a bound (0: none), lossless or visibility steps ask for: what
 /// `--max-error E [--residual-steps visibility]` and `--lossless` write, for every front end.
@@ -86,8 +86,8 @@ struct GivenResidualOptions {
   bool residual_steps = false;  ///< residual_steps
 };
 
-/// A target chooses the residual layer itself, and steps shape the layer a bound adds: the
-/// problem with options given together that do not fit together, else nullopt.
+/// A target chooses the residual layer itself: the problem with a bound, lossless or residual
+/// steps given beside one, else nullopt. (Visibility steps without a bound are validate()'s.)
 std::optional<SettingProblem> residual_option_conflict(const GivenResidualOptions& given);
 
 /// Sets a slice count (fixed: explicit boundaries cleared, auto_slices off; auto: chosen from the

@@ -17,6 +17,13 @@
 
 namespace cbrdf {
 
+/// The range of the residual layer's bound, ResidualSettings::max_error (0: no layer): the
+/// format's limits (spec/container.md 4.6).
+///@{
+inline constexpr double kMinResidualBound = 1e-6;
+inline constexpr double kMaxResidualBound = 16.0;
+///@}
+
 /// One setting that cannot be encoded.
 struct SettingProblem {
   /// The setting's neutral name: the snake_case name of its field ("slices", "components",
@@ -24,8 +31,9 @@ struct SettingProblem {
   /// "residual_steps", "format_version", "metadata", "mixture_copulas", "placement",
   /// "slice_bounds", "target_psnr", "target_bytes").
   std::string setting;
-  /// The rest of the sentence after the setting's name, e.g. "must be from 1e-06 to 16 (or 0: no
-  /// residual layer), not 20". Another setting it names is written as its neutral name in braces
+  /// The rest of the sentence after the setting's name, e.g. "must be from 1e-06 to 16, not 20"
+  /// (for max_error, whose 0 means no residual layer). Another setting it names is written as its
+  /// neutral name in braces
   /// ("{max_error}"), which spell_problem() replaces with the front end's spelling.
   std::string message;
 
@@ -33,7 +41,8 @@ struct SettingProblem {
 };
 
 /// A front end's spelling of a neutral setting name: `--max-error` for the command,
-/// `max_error=` for Python, `settings.max_error` for the C API.
+/// `max_error=` for Python, `cbrdf_encode_settings.max_error` for the C API. An empty function
+/// leaves the neutral names as they are.
 using SettingSpelling = std::function<std::string(std::string_view setting)>;
 
 /// The C++ API's spelling: the setting's member of EncoderSettings ("fit.slices",

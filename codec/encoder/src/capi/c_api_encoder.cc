@@ -19,6 +19,8 @@
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/cbrdf_encode.h"
 #include "cbrdf/encoder.h"
+#include "cbrdf/encoder_options.h"
+#include "cbrdf/encoder_settings.h"
 #include "cbrdf/file_io.h"
 #include "cbrdf/fit.h"
 #include "cbrdf/merl_io.h"
@@ -26,7 +28,6 @@
 #include "cbrdf/parallel.h"
 #include "cbrdf/status.h"
 #include "copula/registry.h"
-#include "encoder_options.h"
 
 namespace cbrdf::internal {
 namespace {
@@ -56,14 +57,21 @@ cbrdf_encode_settings default_settings() {
 // A struct from before 2.2 ends before these fields; its callers keep the coding they had.
 constexpr std::size_t kSettingsSize22 = offsetof(cbrdf_encode_settings, metadata) + sizeof(int);
 
-Status check_range(const char* field, int value, int lo, int hi) {
-  if (value >= lo && value <= hi) return ok_status();
-  return invalid_argument(std::string("cbrdf_encode_settings.") + field + " must be " +
-                          std::to_string(lo) + " to " + std::to_string(hi) + ", not " +
-                          std::to_string(value));
+// The C API's spelling of a neutral setting name: its field.
+std::string c_spelling(std::string_view setting) {
+  return "cbrdf_encode_settings." + std::string(setting);
 }
 
-// The C settings (NULL: the defaults) as the C++ encoder's.
+// A C value that stands for one of a few named constants: a problem when it is none of them.
+void check_choice(std::vector<SettingProblem>* problems, const char* setting, int value, bool known,
+                  const char* values) {
+  if (!known) {
+    problems->push_back(
+        {setting, std::string("must be ") + values + ", not " + std::to_string(value)});
+  }
+}
+
+// The C settings (NULL: the defaults) as the C++ encoder's, checked by validate().
 Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   cbrdf_encode_settings s = default_settings();
   if (in != nullptr) {
@@ -80,52 +88,29 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
       s.metadata = CBRDF_METADATA_FULL;
     }
   }
-  if (s.bits != CBRDF_BITS_AUTO && (s.bits < 6 || s.bits > 16)) {
-    return invalid_argument(
-        "cbrdf_encode_settings.bits must be 6 to 16 or CBRDF_BITS_AUTO (0), not " +
-        std::to_string(s.bits));
-  }
-  CBRDF_RETURN_IF_ERROR(check_range("zstd_level", s.zstd_level, 1, 22));
-  CBRDF_RETURN_IF_ERROR(check_range("slices", s.slices, 1, kThetaDBins));
-  CBRDF_RETURN_IF_ERROR(check_range("components", s.components, 1, kMaxComponents));
-  CBRDF_RETURN_IF_ERROR(
-      check_range("family", s.family, CBRDF_FAMILY_AUTO, int(kCopulaFamilyCount) - 1));
-  CBRDF_RETURN_IF_ERROR(check_range("threads", s.threads, 0, 256));
-  CBRDF_RETURN_IF_ERROR(check_range("lossless", s.lossless, 0, 1));
-  CBRDF_RETURN_IF_ERROR(check_range("mixture_copulas", s.mixture_copulas, 0, 1));
-  if (s.format_version != CBRDF_FORMAT_AUTO && s.format_version != CBRDF_FORMAT_1_2 &&
-      s.format_version != CBRDF_FORMAT_1_3) {
-    return invalid_argument(
-        "cbrdf_encode_settings.format_version must be CBRDF_FORMAT_AUTO (0), CBRDF_FORMAT_1_2 "
-        "(12) or CBRDF_FORMAT_1_3 (13), not " +
-        std::to_string(s.format_version));
-  }
-  CBRDF_RETURN_IF_ERROR(
-      check_range("metadata", s.metadata, CBRDF_METADATA_NONE, CBRDF_METADATA_FULL));
-  if (s.max_error != 0 && !(s.max_error >= 1e-6 && s.max_error <= 16)) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", s.max_error);
-    return invalid_argument(
-        std::string("cbrdf_encode_settings.max_error must be 1e-06 to 16 (or 0: "
-                    "no residual layer), not ") +
-        text);
-  }
-  if (s.lossless != 0 && s.max_error != 0) {
-    return invalid_argument(
-        "cbrdf_encode_settings.max_error and .lossless exclude each other (lossless has no error)");
-  }
-  if (s.residual_steps != CBRDF_RESIDUAL_STEPS_ONE &&
-      s.residual_steps != CBRDF_RESIDUAL_STEPS_VISIBILITY) {
-    return invalid_argument(
-        "cbrdf_encode_settings.residual_steps must be CBRDF_RESIDUAL_STEPS_ONE (0) or "
-        "CBRDF_RESIDUAL_STEPS_VISIBILITY (1), not " +
-        std::to_string(s.residual_steps));
-  }
-  if (s.residual_steps == CBRDF_RESIDUAL_STEPS_VISIBILITY && s.max_error == 0) {
-    return invalid_argument(
-        "cbrdf_encode_settings.residual_steps CBRDF_RESIDUAL_STEPS_VISIBILITY needs max_error > 0 "
-        "(the bound of the most visible rows)");
-  }
+  // Only what C spells as integer constants is read here; every range is validate()'s.
+  std::vector<SettingProblem> problems;
+  const bool family_known =
+      s.family == CBRDF_FAMILY_AUTO ||
+      (s.family >= 0 && family_valid(std::uint8_t(s.family)) && s.family < int(kCopulaFamilyCount));
+  const std::string families = "a cbrdf_family (0 to " + std::to_string(kCopulaFamilyCount - 1) +
+                               ") or CBRDF_FAMILY_AUTO (-1)";
+  check_choice(&problems, "family", s.family, family_known, families.c_str());
+  check_choice(&problems, "lossless", s.lossless, s.lossless == 0 || s.lossless == 1, "0 or 1");
+  check_choice(&problems, "mixture_copulas", s.mixture_copulas,
+               s.mixture_copulas == 0 || s.mixture_copulas == 1, "0 or 1");
+  check_choice(&problems, "format_version", s.format_version,
+               s.format_version == CBRDF_FORMAT_AUTO || s.format_version == CBRDF_FORMAT_1_2 ||
+                   s.format_version == CBRDF_FORMAT_1_3,
+               "CBRDF_FORMAT_AUTO (0), CBRDF_FORMAT_1_2 (12) or CBRDF_FORMAT_1_3 (13)");
+  check_choice(&problems, "metadata", s.metadata,
+               s.metadata >= CBRDF_METADATA_NONE && s.metadata <= CBRDF_METADATA_FULL,
+               "CBRDF_METADATA_NONE (0), CBRDF_METADATA_SHORT (1) or CBRDF_METADATA_FULL (2)");
+  check_choice(&problems, "residual_steps", s.residual_steps,
+               s.residual_steps == CBRDF_RESIDUAL_STEPS_ONE ||
+                   s.residual_steps == CBRDF_RESIDUAL_STEPS_VISIBILITY,
+               "CBRDF_RESIDUAL_STEPS_ONE (0) or CBRDF_RESIDUAL_STEPS_VISIBILITY (1)");
+  if (!problems.empty()) return settings_status(problems, c_spelling);
 
   EncoderSettings out;
   out.auto_bits.enabled = s.bits == CBRDF_BITS_AUTO;
@@ -138,8 +123,7 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   } else {
     out.fit.family = CopulaFamily(s.family);
   }
-  // 0: one thread per core, as `cbrdf encode --threads 0`.
-  out.fit.threads = s.threads > 0 ? s.threads : thread_limit();
+  out.fit.threads = s.threads;
   out.residual = residual_request(s.max_error, s.lossless != 0,
                                   s.residual_steps == CBRDF_RESIDUAL_STEPS_VISIBILITY);
   out.fit.mixture_copulas = s.mixture_copulas != 0;
@@ -149,6 +133,9 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   out.container.write_metadata = s.metadata != CBRDF_METADATA_NONE;
   out.container.metadata = s.metadata == CBRDF_METADATA_FULL ? ContainerSettings::Metadata::kFull
                                                              : ContainerSettings::Metadata::kShort;
+  CBRDF_RETURN_IF_ERROR(settings_status(validate(out), c_spelling));
+  // 0: one thread per core, as `cbrdf encode --threads 0`.
+  if (out.fit.threads == 0) out.fit.threads = thread_limit();
   return out;
 }
 
