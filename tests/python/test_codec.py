@@ -50,7 +50,7 @@ def test_mixture_copulas_at_independence_match_the_command(work, tmp_path):
     # Not larger: in the 1.3 coding parameters are fixed-size binary32 (BASE), so copulas at
     # independence no longer save the bytes they saved under zstd in 1.2 (issue 28).
     assert len(data) <= len(fitted)
-    with pytest.raises(cbrdf.Error, match="unknown mixture_copulas 'some'"):
+    with pytest.raises(cbrdf.Error, match="^mixture_copulas= .*'some'"):
         cbrdf.encode(work / "plastic.binary", mixture_copulas="some")
 
 
@@ -83,7 +83,7 @@ def test_default_bits_are_chosen_from_the_data_as_the_command_does(work, tmp_pat
     assert data == out.read_bytes()
     assert data == cbrdf.encode(work / "plastic.binary", bits="auto")
     assert 6 <= cbrdf.decode(data).bits <= 16
-    with pytest.raises(cbrdf.Error, match="bits must be 6 to 16 or 'auto'"):
+    with pytest.raises(cbrdf.Error, match="^bits= .*auto, not 'most'"):
         cbrdf.encode(work / "plastic.binary", bits="most")
 
 
@@ -139,9 +139,9 @@ def test_lossless_decodes_to_the_source_bit_for_bit(work):
 
 
 @pytest.mark.parametrize("kwargs, message", [
-    (dict(max_error=1e-7), "max_error must be a number from 1e-06 to 16"),
-    (dict(max_error=float("nan")), "max_error must be a number from 1e-06 to 16"),
-    (dict(max_error=-1), "max_error must be a number from 1e-06 to 16"),
+    (dict(max_error=1e-7), "^max_error= must be from 1e-06 to 16"),
+    (dict(max_error=float("nan")), "^max_error= must be from 1e-06 to 16"),
+    (dict(max_error=-1), "^max_error= must be from 1e-06 to 16"),
     (dict(max_error=0.01, lossless=True), "exclude each other"),
 ])
 def test_residual_options_are_checked(work, kwargs, message):
@@ -286,11 +286,11 @@ def test_residual_steps_visibility_matches_the_command(work, tmp_path):
     one = cbrdf.encode(work / "plastic.binary", bits=8, max_error=0.05, residual_steps="one")
     assert one == cbrdf.encode(work / "plastic.binary", bits=8, max_error=0.05)
     assert len(data) < len(one)  # coarser steps where bins count less in images
-    for kwargs, words in (({"residual_steps": "visibility"}, "give max_error too"),
+    for kwargs, words in (({"residual_steps": "visibility"}, "max_error="),
                           ({"residual_steps": "visibility", "target_psnr": 50.0},
-                           "residual_steps and a target"),
+                           "residual_steps= and a target"),
                           ({"residual_steps": "rows", "max_error": 0.05},
-                           "residual_steps must be one or visibility, not 'rows'")):
+                           "residual_steps= must be one or visibility, not 'rows'")):
         with pytest.raises(cbrdf.Error) as e:
             cbrdf.encode(work / "plastic.binary", bits=8, **kwargs)
         assert e.value.exit_code == 2 and words in str(e.value), str(e.value)

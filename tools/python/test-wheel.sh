@@ -30,7 +30,7 @@ cd "$work"
 for module in build venv ensurepip; do
   "$python" -c "import $module" 2> /dev/null ||
     fail "$python has no '$module' module: install Debian's python3-build and python3-venv" \
-      "(tools/install-deps.sh)"
+      "(tools/scripts/install-deps.sh)"
 done
 version=$(sed -n 's/^project(cbrdf VERSION \([0-9.]*\).*/\1/p' "$root/CMakeLists.txt")
 [[ -n $version ]] || fail "no project(cbrdf VERSION ...) in CMakeLists.txt"

@@ -93,6 +93,7 @@ class ErrorCode:
     INVALID_ARGUMENT = 9  #: a caller passed a value outside its domain
     NUMERIC = 10  #: NaN, Inf or a value outside a parameter's domain in the data
     INTERNAL = 11  #: a bug in cbrdf
+    CANCELLED = 12  #: the caller cancelled the operation (encode's ``progress`` returned False)
 
     #: code -> name, as the library names them ("corrupt", "checksum", ...)
     NAMES: dict = dict(_cbrdf.ERROR_CODES)
@@ -501,7 +502,8 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
            max_error: float | None = None, lossless: bool = False,
            mask: _Any = None, source_name: str | None = None,
            mixture_copulas: str | None = None, format_version: str = "auto",
-           metadata: str = "short", residual_steps: str | None = None) -> bytes:
+           metadata: str = "short", residual_steps: str | None = None,
+           progress: _Any = None) -> bytes:
     """Fit the copula model to a table and return the bytes of a .cbrdf file.
 
     With the same input and options the bytes equal those ``cbrdf encode`` writes
@@ -558,26 +560,37 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
             (``--format-version``).
         metadata: the metadata chunk: ``"none"``, ``"short"`` (source file name and
             encoder) or ``"full"`` (also bits and zstd level) (``--metadata``).
+        progress: ``None``, or a function ``progress(fraction, stage)`` called on the
+            calling thread at least every 50 ms while the encoder works: ``fraction``
+            the share done, 0 to 1 and never decreasing (negative when it cannot be
+            estimated), ``stage`` one of ``"fit"``, ``"bits"``, ``"residual"``,
+            ``"target"``. Returning ``False`` cancels the encode (cbrdf.Error with
+            code ``ErrorCode.CANCELLED``); any other return value, ``None`` included,
+            goes on. An exception it raises stops the encode and propagates.
 
     Returns:
         The .cbrdf file's bytes.
 
     Raises:
-        Error: an option out of range (``exit_code`` 2, the message naming the
-            option and its valid values) or a table the encoder refuses (``exit_code`` 1).
+        Error: an option out of range (``exit_code`` 2, the message naming every bad
+            option as its keyword, ``max_error=``, with its valid values, in the
+            library's words, the same as the command's), a table the encoder refuses
+            (``exit_code`` 1), or a cancel by ``progress`` (code ``CANCELLED``).
         ArgumentTypeError: an option of the wrong type (a cbrdf.Error and a TypeError).
 
-    The GIL is released while fitting, and Ctrl-C raises KeyboardInterrupt within
-    about 20 ms (the interrupted fit finishes on its own thread, its result dropped;
-    a normal interpreter exit waits for it).
+    The encode runs on the calling thread with the GIL released; it stops within
+    about 50 ms of Ctrl-C (KeyboardInterrupt, when called from the main thread), of
+    ``progress`` returning False or raising, and leaves no work running behind.
     """
     naive_marginals = _flag("encode", "naive_marginals", naive_marginals)
     lossless = _flag("encode", "lossless", lossless)
+    if progress is not None and not callable(progress):
+        raise _wrong_type("encode", "progress", "None or a function (fraction, stage)", progress)
     # The options are checked in C++ by the command's own rules, before the table is made.
     return _cbrdf._encode(_table_maker(table, mask, fn="encode", name="table"), bits, components, slices, family, loss, level, placement,
                           naive_marginals, threads, target_bytes, target_psnr, max_error,
                           lossless, source_name, mixture_copulas, format_version,
-                          metadata, residual_steps)
+                          metadata, residual_steps, progress)
 
 
 def _record(fn: str, name: str, d: _Any, keys: tuple) -> None:
@@ -901,9 +914,7 @@ def estimate_noise(table: _Any) -> dict:
         ``"not measurable"`` where it cannot be measured, e.g. when the simulated noise
         overflows a table whose values span 1e-30 to 1e30)``}``.
     """
-    d = _cbrdf._estimate_noise(_to_table(table, fn="estimate_noise", name="table"))
-    del d["file"]
-    return d
+    return _cbrdf._estimate_noise(_to_table(table, fn="estimate_noise", name="table"))
 
 
 @_entry

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 # Type stubs for the cbrdf module (docstrings: help(cbrdf.<name>)).
 import os
-from typing import Any, Literal, Sequence, TypedDict, Union, overload
+from typing import Any, Callable, Literal, Sequence, TypedDict, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -34,6 +34,7 @@ class ErrorCode:
     INVALID_ARGUMENT: int
     NUMERIC: int
     INTERNAL: int
+    CANCELLED: int
     NAMES: dict[int, str]
 
 class Error(ValueError):
@@ -220,7 +221,8 @@ def encode(
     mixture_copulas: Literal["fit", "independence"] | None = ...,
     format_version: Literal["auto", "1.2", "1.3"] = ...,
     metadata: Literal["none", "short", "full"] = ...,
-    residual_steps: Literal["one", "visibility"] | None = ...
+    residual_steps: Literal["one", "visibility"] | None = ...,
+    progress: Callable[[float, str], object] | None = ...
 ) -> bytes: ...
 def decode(source: _Path | _Bytes) -> Model: ...
 def info(source: _Path | _Bytes) -> Union[ContainerInfo, MerlInfo]: ...
