@@ -37,6 +37,7 @@ struct SettingProblem {
   /// ("{max_error}"), which spell_problem() replaces with the front end's spelling.
   std::string message;
 
+  /// Equal when both the setting and the message are.
   bool operator==(const SettingProblem&) const = default;
 };
 
