@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // GLSL ES 3.00 sources of the viewer: the copula model evaluated from the evaluator's float32
 // tables (ModelEvaluator::eval_f32's formulas, eval/interp_tables.h and scalar_eval.cc, read from
-// the flat layout of tools/wasm/viewer_tables.cc), a MERL table as a 3D texture (trilinear, as
+// the flat layout of cbrdf/gpu_tables.h), a MERL table as a 3D texture (trilinear, as
 // lookup_linear), and the programs built on them: pairs (the browser test), sphere and images.
 
 export const kTableWidth = 4096;  // the tables' 2D texture: one float per texel, rows of 4096

@@ -2,7 +2,7 @@
 // The product form of a component (interp_tables.h): whether it has one and, if so, its slot
 // constants and its per-axis terms (g, w, y) at the midpoint CDF of the axis's masses, as
 // FrankGrid::prepare forms them. Shared by the evaluator's tables (interp_tables.cc) and the
-// browser viewer's GPU tables (tools/wasm/viewer_tables.cc), which must agree to the last bit
+// GPU tables (gpu_tables.cc, cbrdf/gpu_tables.h), which must agree to the last bit
 // before the viewer rounds them to float.
 #pragma once
 
