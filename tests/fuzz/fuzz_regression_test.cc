@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Replays every seed in fuzz/corpus/<target>/ and every crash input kept in
-// fuzz/regressions/<target>/ through the fuzz targets' own entry points (fuzz/harness/), as one
-// test per file: no broken invariant, and the outcome recorded for the file in the directory's
-// EXPECTED.txt ("accepted" or "rejected <error code>"). A file without a record fails, so a new
-// regression input is never kept without saying what it must do.
+// fuzz/regressions/<target>/ through the fuzz targets' own entry points (fuzz/harness/, and
+// tests/encoder/fuzz_roundtrip_target.h for fuzz_roundtrip), as one test per file: no broken
+// invariant, and the outcome recorded for the file in the directory's EXPECTED.txt ("accepted" or
+// "rejected <error code>"). A file without a record fails, so a new regression input is never kept
+// without saying what it must do.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,7 +21,7 @@
 #include "../../fuzz/harness/container_target.h"
 #include "../../fuzz/harness/decode_target.h"
 #include "../../fuzz/harness/merl_target.h"
-#include "../../fuzz/harness/roundtrip_target.h"
+#include "../encoder/fuzz_roundtrip_target.h"
 
 namespace cbrdf {
 namespace {

@@ -14,6 +14,11 @@
 // exactly; 1.3 is written when asked for and the parameters allow it, never when 1.2 is. One input
 // in two (by a byte) breaks one rule of the model instead, and encode_model must then refuse it
 // with kInvalidArgument.
+//
+// The harness lives with the encoder's tests, not in fuzz/ (whose harnesses use the installed
+// API only): its model builder and checks use the encoder's internals as their oracle (the
+// families' parameter ranges, the binary32 forms BASE stores and whether it can hold a model, the
+// residual's interpolated levels, the residual limits).
 #pragma once
 
 #include <algorithm>
@@ -26,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "../../fuzz/harness/common.h"
 #include "bitstream/chunks.h"
 #include "bitstream/residual_levels.h"
 #include "cbrdf/codec.h"
@@ -33,7 +39,6 @@
 #include "cbrdf/container_writer.h"
 #include "cbrdf/coords.h"
 #include "cbrdf/model.h"
-#include "common.h"
 #include "copula/registry.h"
 
 namespace cbrdf::fuzz {
