@@ -60,6 +60,10 @@ PLANTS = [
       'include "cbrdf/metrics.h" instead']),
     ("tool test includes format/src", "tests/tools/report_test.cc", '#include "byte_reader.h"\n',
      ['tests/tools/report_test.cc:3: includes "byte_reader.h" (format/src/byte_reader.h)']),
+    ("tool test includes an internal header in angle brackets", "tests/tools/report_test.cc",
+     "#include <bitstream/chunks.h>\n",
+     ["tests/tools/report_test.cc:3: includes <bitstream/chunks.h> "
+      "(codec/decoder/src/bitstream/chunks.h)"]),
     ("benchmark includes an internal header", "tests/bench/encode_bench.cc",
      '#include "bitstream/chunks.h"\n', ["tests/bench/encode_bench.cc:2: includes"]),
     ("fuzz harness includes an internal header", "fuzz/harness/decode_target.h",

@@ -42,7 +42,7 @@ MEMBERS = [
 PROGRAMS = ["tools/", "tests/tools/", "tests/bench/", "fuzz/"]
 INTERNAL = [d for _, dirs in LAYERS[:-1] for d in dirs if d.endswith("/src")]
 PUBLIC = [d for _, dirs in LAYERS[:-1] for d in dirs if d.endswith("/include")]
-INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"')
+INCLUDE = re.compile(r'^\s*#\s*include\s*(?:"([^"]+)"|<([^>]+)>)')
 SOURCE = (".h", ".cc", ".c", ".cpp", ".def")
 COMPILED = (".cc", ".c", ".cpp")
 SKIP_DIRS = {"node_modules", "__pycache__"}
@@ -56,9 +56,14 @@ def layer_of(rel):
 
 
 def resolve(rel_file, target):
-    """The repository path the include names, and the layer that owns it (None: not ours)."""
-    here = os.path.join(ROOT, os.path.dirname(rel_file), target)
-    if os.path.isfile(here):
+    """The repository path the include names, and the layer that owns it (None: not ours). An
+    <angle> include (target starting with "<") skips the including file's folder."""
+    if target.startswith("<"):
+        target = target[1:]
+        here = None
+    else:
+        here = os.path.join(ROOT, os.path.dirname(rel_file), target)
+    if here and os.path.isfile(here):
         rel = os.path.relpath(os.path.normpath(here), ROOT)
         return rel, layer_of(rel)
     for name, dirs in LAYERS:
@@ -75,7 +80,7 @@ def public_instead(internal_path, target):
     with open(os.path.join(ROOT, internal_path), encoding="utf-8") as f:
         code = [line.strip() for line in f
                 if line.strip() and not line.strip().startswith(("//", "#pragma"))]
-    forwards = [m.group(1) for m in map(INCLUDE.match, code) if m]
+    forwards = [m.group(1) for m in map(INCLUDE.match, code) if m and m.group(1)]
     if len(code) == 1 and forwards and any(os.path.isfile(os.path.join(ROOT, d, forwards[0]))
                                            for d in PUBLIC):
         return f'include "{forwards[0]}" instead'
@@ -101,7 +106,7 @@ def includes(rel):
         for line_no, line in enumerate(f, 1):
             m = INCLUDE.match(line)
             if m:
-                yield line_no, m.group(1)
+                yield line_no, m.group(1) if m.group(1) is not None else "<" + m.group(2)
 
 
 def check_upward(problems):
@@ -114,10 +119,15 @@ def check_upward(problems):
             for line_no, target in includes(rel):
                 path, layer = resolve(rel, target)
                 if layer is not None and RANK[layer] > RANK[owner]:
-                    problems.append(f"{rel}:{line_no}: includes \"{target}\" ({path}, layer "
+                    problems.append(f"{rel}:{line_no}: includes {shown(target)} ({path}, layer "
                                     f"{layer}) from layer {owner}: includes run downward only "
                                     "(format < decoder < encoder < extras < tools)")
     return checked
+
+
+def shown(target):
+    """An include's name as written: "x.h" or <x.h>."""
+    return f"<{target[1:]}>" if target.startswith("<") else f'"{target}"'
 
 
 def tool_of(rel):
@@ -139,7 +149,7 @@ def check_programs(problems):
                     continue
                 internal = next((d for d in INTERNAL if path.startswith(d + "/")), None)
                 if internal is not None:
-                    problems.append(f"{rel}:{line_no}: includes \"{target}\" ({path}), a "
+                    problems.append(f"{rel}:{line_no}: includes {shown(target)} ({path}), a "
                                     f"library's internal header ({internal}/ is not installed): "
                                     f"{public_instead(path, target)}")
                 elif path.endswith(COMPILED):
