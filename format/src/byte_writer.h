@@ -3,12 +3,23 @@
 #pragma once
 
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <utility>
 #include <vector>
 
 namespace cbrdf {
+
+// The bytes ByteWriter::varint32 (unsigned LEB128) takes for v: a writer's size estimate.
+inline std::size_t varint_bytes(std::uint64_t v) {
+  std::size_t n = 1;
+  while (v >= 0x80) {
+    v >>= 7;
+    ++n;
+  }
+  return n;
+}
 
 class ByteWriter {
  public:

@@ -11,15 +11,6 @@
 namespace cbrdf {
 namespace {
 
-std::size_t varint_bytes(std::uint64_t v) {
-  std::size_t n = 1;
-  while (v >= 0x80) {
-    v >>= 7;
-    ++n;
-  }
-  return n;
-}
-
 // Tag and length field, and the payload length field of a compressed chunk.
 std::size_t compact_frame_bytes(std::size_t stored, bool compressed, std::uint32_t payload_bytes) {
   return 4 + varint_bytes(std::uint64_t(stored) << 2) +

@@ -11,8 +11,8 @@
 #include <random>
 #include <vector>
 
-#include "bitstream/chunks.h"
-#include "bitstream/quantize.h"
+#include "bitstream/chunk_writers.h"
+#include "bitstream/mass_quantizer.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container_writer.h"
 #include "coding_1_2.h"

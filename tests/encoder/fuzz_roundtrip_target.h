@@ -32,7 +32,7 @@
 #include <vector>
 
 #include "../../fuzz/harness/common.h"
-#include "bitstream/chunks.h"
+#include "bitstream/chunk_writers.h"
 #include "bitstream/residual_levels.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"

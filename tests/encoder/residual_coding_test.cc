@@ -8,9 +8,10 @@
 #include <functional>
 #include <limits>
 
-#include "bitstream/chunks.h"
+#include "bitstream/chunk_writers.h"
 #include "bitstream/residual_codes.h"
-#include "bitstream/residual_levels.h"
+#include "bitstream/residual_codes_writer.h"
+#include "bitstream/residual_levels_writer.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"

@@ -246,10 +246,10 @@ TEST(ParameterRanges, FormatRangesAreTheFitRanges) {
   for (CopulaFamily f : {CopulaFamily::kFrank, CopulaFamily::kClayton, CopulaFamily::kGumbel,
                          CopulaFamily::kJoe, CopulaFamily::kIndependence}) {
     const auto grid = internal::make_grid_copula(f);
-    EXPECT_TRUE(copula_parameter_valid(f, grid->fit_lo()));
-    EXPECT_TRUE(copula_parameter_valid(f, grid->fit_hi()));
-    EXPECT_FALSE(copula_parameter_valid(f, std::nextafter(grid->fit_lo(), -kDblMax)));
-    EXPECT_FALSE(copula_parameter_valid(f, std::nextafter(grid->fit_hi(), kDblMax)));
+    EXPECT_TRUE(copula_parameter_valid(f, grid->search_lo()));
+    EXPECT_TRUE(copula_parameter_valid(f, grid->search_hi()));
+    EXPECT_FALSE(copula_parameter_valid(f, std::nextafter(grid->search_lo(), -kDblMax)));
+    EXPECT_FALSE(copula_parameter_valid(f, std::nextafter(grid->search_hi(), kDblMax)));
   }
 }
 

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "bitstream/chunks.h"
+#include "bitstream/chunk_writers.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"

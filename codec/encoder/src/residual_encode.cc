@@ -8,8 +8,8 @@
 #include <limits>
 #include <memory>
 
-#include "bitstream/chunks.h"
-#include "bitstream/residual_levels.h"
+#include "bitstream/chunk_writers.h"
+#include "bitstream/residual_levels_writer.h"
 #include "cbrdf/container.h"
 
 namespace cbrdf::internal {

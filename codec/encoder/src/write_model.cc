@@ -5,8 +5,8 @@
 #include <cmath>
 #include <string>
 
-#include "bitstream/chunks.h"
-#include "bitstream/residual_levels.h"
+#include "bitstream/chunk_writers.h"
+#include "bitstream/residual_levels_writer.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "cbrdf/container_writer.h"

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-// The payloads of the version-1 chunks (spec/container.md section 4): one file per chunk with its
-// reader and writer side by side (head.cc, modl.cc, marg.cc, mask.cc, meta.cc), the constants and
-// rules they share (params.cc), and the model-level reader and writer (read_model.cc,
-// write_model.cc). Readers' messages carry no location: read_model.cc prefixes the chunk tag and
-// offset. Writers assume a model that encode_model has validated.
+// The payloads of the version-1 chunks (spec/container.md section 4), the reader's side: one file
+// per chunk (head.cc, modl.cc, marg.cc, mask.cc, meta.cc, base.cc, resd.cc), the constants and
+// rules reader and writer share (params.cc), and the model-level reader (read_model.cc). The
+// writers are the encoder's (codec/encoder/src/bitstream/chunk_writers.h), so that a program
+// linking only the decoder carries none. Readers' messages carry no location: read_model.cc
+// prefixes the chunk tag and offset.
 #pragma once
 
 #include <array>
@@ -102,10 +103,16 @@ inline constexpr std::uint8_t kMaxResidualShift = 24;
 // Up to 4.4 million varints: zstd's top levels cost seconds there for little (measured).
 inline constexpr int kResidualZstdLevel = 19;
 
-// Whether any slice channel has further components (a version 1.1 file).
-bool has_mixtures(const Model& model);
-// The lowest minor version that holds the model: 2 with a residual layer, 1 with mixtures, else 0.
-std::uint16_t container_minor(const Model& model);
+// RESD predictors 0 and 1: the prediction of code (c, i) from codes already decoded: 0 (predictor
+// 0), or the previous phi_d bin's code of the same channel (predictor 1; 0 at phi_d = 0).
+// Not-measured bins hold code 0. i is a MERL index, phi_d = i mod 180. (Measured on real materials:
+// the previous phi_d bin wins where the residual is quantized finely, no prediction where it is
+// coarse and mostly 0; the channel before, Lorenzo across theta_d and both lost to these.)
+inline std::int64_t varint_code_prediction(const std::int32_t* q, int c, std::size_t i,
+                                           std::uint8_t predictor) {
+  if (predictor == kResidualPredictorNone || i % kPhiDBins == 0) return 0;
+  return q[std::size_t(c) * kBinsPerChannel + i - 1];
+}
 
 // Bit b of a mask held as 64-bit words, least significant bit first.
 inline bool mask_bit(const std::vector<std::uint64_t>& bits, std::size_t b) {
@@ -172,77 +179,11 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
 Status decode_metadata_chunk(std::span<const std::uint8_t> payload,
                              std::vector<std::pair<std::string, std::string>>* out);
 
-std::vector<std::uint8_t> encode_header_chunk(const Model& model, bool compact);
-// The binary32 BASE holds for a parameter (spec 4.8) with K as BASE stores it: the nearest, or its
-// neighbour towards the inside of the family's range; nullopt when neither is inside it.
-std::optional<float> parameter_f32(std::uint8_t family, double theta, double scale);
-// Whether K keeps binary32's relative precision (2^-24) as a binary32: 0, or a normal binary32
-// after rounding to nearest. A table scaled by 1e-50 has K near 1e-47, which binary32 rounds to
-// 0 (issue 40: such files decoded to zeros).
-bool scale_fits_f32(double k);
-// Whether BASE holds the model's K as binary64 (flags bit 1): some K does not fit binary32.
-bool base_wide_scales(const Model& model);
-// The K a BASE chunk holds for k: binary32's nearest, or k itself when its K are binary64.
-double base_scale(double k, bool wide);
-// Version 1.3: MODL and MARG in one chunk; nullopt when a parameter has no binary32 inside its
-// family's range (the writer then uses the 1.2 chunks).
-std::optional<std::vector<std::uint8_t>> encode_base_chunk(const Model& model, int bits);
-
-// How the BASE writer chooses a marginal table's codes (encoder only: the decoder reads any codes
-// and its ratios depend on D alone, spec 4.7). Exposed for the tests.
-namespace base_codes {
-// A table's exact code positions: D the grid span holding its log masses (the smallest, or up to
-// kSpanSearch units more where plain rounding then errs least on the mass-squared-weighted log
-// masses: what a linear image sees), the largest
-// mass at the top code (exact, as 1.2's range made it), position[i] in [1, top] (0 for a zero
-// mass), weight[i] the mass over the largest raised to kWeightPower (what a rendered image sees
-// of a relative error in bin i: 0.45 is the display curve's exponent, 1 / 2.2, so the tails a
-// tone-mapped image shows keep their codes; at 1, the linear image's view, the rounding moved
-// them freely and cost up to 1.5 dB tone-mapped at 6 bits, e.g. nickel 47.46 dB in 954 B against
-// 48.95 dB in 929 B at 0.45).
-struct Positions {
-  std::uint32_t span_units = 0;
-  std::vector<double> position, weight;
-};
-inline constexpr double kWeightPower = 0.45;
-inline constexpr std::uint32_t kSpanSearch = 8;
-Positions positions(std::span<const double> masses, int bits);
-// Plain rounding of every position.
-std::vector<std::uint32_t> rounded(const Positions& p);
-// Rate-distortion cost of codes under a predictor from the given contexts: sum of weight x (code -
-// position)^2 (in code steps) plus lambda x the range coder's bits.
-struct Predicting {
-  int mode = 0;
-  const std::vector<std::uint32_t>* ref_codes = nullptr;
-  std::uint32_t ref_span = 0;
-  std::int64_t first = 0, top = 0;
-};
-double rd_cost(const Positions& p, const std::vector<std::uint32_t>& codes, const Predicting& how,
-               std::array<internal::SIntContexts, 3> contexts, double lambda);
-// Each code the neighbour of its position (floor or ceiling) with the least weighted error plus
-// lambda x its bits from the contexts as they adapt, in coding order; then whichever of these
-// codes and the plain rounding costs less (rd_cost): never more than plain rounding.
-std::vector<std::uint32_t> rd_rounded(const Positions& p, const Predicting& how,
-                                      const std::array<internal::SIntContexts, 3>& contexts,
-                                      double lambda);
-// The writer's lambda, per squared log mass per bit (a table's lambda in squared code steps is
-// this over its step squared): measured on 6 real materials at 8 to 12 bits, 12 to 17% fewer
-// marginal bytes for 0.00 to 0.16 dB tone-mapped, about 0.1 dB more at equal bytes (with the
-// weight's power at 1). docs/benchmarks.md has the figures.
-inline constexpr double kWriterLambda = 3e-5;
-double writer_lambda();
-}  // namespace base_codes
-std::vector<std::uint8_t> encode_model_chunk(const Model& model);
-std::vector<std::uint8_t> encode_marginals_chunk(const Model& model, int bits);
-std::vector<std::uint8_t> encode_mask_chunk(const NotMeasured& mask);
-// range_coding: the file is version 1.3 or later, so the codes may be range coded (the writer
-// takes that or the 1.2 coding, whichever is smaller after zstd).
-std::vector<std::uint8_t> encode_residual_chunk(const Model& model, bool range_coding);
-std::vector<std::uint8_t> encode_metadata_chunk(
-    const std::vector<std::pair<std::string, std::string>>& entries);
-
 // The below-horizon mask of one channel (bit i = bin_below_horizon(merl_bin(i))), computed once.
 const std::vector<std::uint64_t>& below_horizon_bits();
+// Flips every channel's below-horizon bins: the mask relative to the below-horizon reference, and
+// back (MASK's reference 1, spec 4.4).
+void xor_below_horizon(std::vector<std::uint64_t>* bits);
 // XXH64 of the mask's 4,374,000 bits as LSB-first bytes (the words' little-endian bytes).
 std::uint64_t mask_hash(const std::vector<std::uint64_t>& bits);
 

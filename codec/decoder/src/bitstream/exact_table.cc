@@ -13,66 +13,15 @@
 #include <string>
 
 #include "byte_reader.h"
-#include "byte_writer.h"
+#include "exact_table_coding.h"
 #include "parallel_for.h"
 #include "zstd_util.h"
 
 namespace cbrdf::internal {
 namespace {
 
-constexpr std::uint8_t kMethodPredictive = 1;
-constexpr int kRowsPerChannel = kThetaHBins * kThetaDBins;
-constexpr std::size_t kTotalBins = std::size_t{kChannels} * kBinsPerChannel;
-constexpr std::size_t kBitmapBytes = kTotalBins / 8;
-constexpr std::size_t kPlaneStride = std::size_t{kThetaDBins} * kPhiDBins;  // theta_h step
-constexpr int kContexts = 8;
-constexpr int kSymbols = 128;
+using namespace exact_coding;
 
-// Difference orders along (theta_h, theta_d, phi_d); one is chosen per row.
-struct Order {
-  int h, d, p;
-};
-constexpr std::array<Order, 16> kPredictors = {{{0, 0, 1},
-                                                {0, 0, 2},
-                                                {1, 0, 1},
-                                                {1, 0, 2},
-                                                {1, 1, 1},
-                                                {0, 1, 2},
-                                                {2, 0, 2},
-                                                {2, 0, 3},
-                                                {3, 0, 3},
-                                                {3, 0, 4},
-                                                {4, 0, 3},
-                                                {4, 0, 4},
-                                                {1, 2, 3},
-                                                {2, 1, 3},
-                                                {1, 1, 3},
-                                                {2, 2, 2}}};
-constexpr int kMaxOrder = 4;
-
-std::uint64_t zigzag(std::uint64_t r) {
-  return (r << 1) ^ (std::uint64_t{0} - (r >> 63));
-}
-std::uint64_t unzigzag(std::uint64_t z) {
-  return (z >> 1) ^ (std::uint64_t{0} - (z & 1));
-}
-int bit_length(std::uint64_t z) {
-  return 64 - std::countl_zero(z);
-}
-
-// The symbol stream of a residual's size s = a + b, a and b the sizes at the previous bin and at
-// the same (theta_d, phi_d) one theta_h plane back.
-int context_of(int a, int b) {
-  static constexpr std::array<int, kContexts - 1> kUpper = {8, 20, 28, 34, 40, 46, 54};
-  const int s = a + b;
-  int ctx = 0;
-  while (ctx < kContexts - 1 && s >= kUpper[std::size_t(ctx)]) ++ctx;
-  return ctx;
-}
-
-bool is_exception(std::uint64_t bits) {
-  return (bits >> 63) != 0;
-}
 bool bit_set(std::span<const std::uint8_t> bitmap, std::size_t b) {
   return ((bitmap[b >> 3] >> (b & 7)) & 1) != 0;
 }
@@ -126,37 +75,6 @@ static_assert(kMaxOrder < 5);
 
 // ---- bits: LSB first, at most 32 per call ----------------------------------------------------
 
-class BitWriter {
- public:
-  void put(std::uint64_t v, int n) {
-    while (n > 32) {
-      put32(v & 0xFFFFFFFFu, 32);
-      v >>= 32;
-      n -= 32;
-    }
-    put32(v, n);
-  }
-  std::vector<std::uint8_t> finish() {
-    while (bits_ > 0) flush_byte();
-    return std::move(out_);
-  }
-
- private:
-  void put32(std::uint64_t v, int n) {
-    acc_ |= v << bits_;
-    bits_ += n;
-    while (bits_ >= 8) flush_byte();
-  }
-  void flush_byte() {
-    out_.push_back(std::uint8_t(acc_));
-    acc_ >>= 8;
-    bits_ = bits_ >= 8 ? bits_ - 8 : 0;
-  }
-  std::uint64_t acc_ = 0;
-  int bits_ = 0;
-  std::vector<std::uint8_t> out_;
-};
-
 class BitReader {
  public:
   explicit BitReader(std::span<const std::uint8_t> data) : data_(data) {}
@@ -197,17 +115,6 @@ class BitReader {
 
 // ---- streams: u8 form (0 stored, 1 zstd), u32 content bytes, u32 stored bytes, bytes ----------
 
-void put_stream(ByteWriter* w, std::span<const std::uint8_t> content, int level) {
-  auto packed = zstd_compress(content, level);
-  const bool use_zstd = packed.ok() && packed->size() < content.size();
-  const std::span<const std::uint8_t> stored =
-      use_zstd ? std::span<const std::uint8_t>(*packed) : content;
-  w->u8(use_zstd ? 1 : 0);
-  w->u32(std::uint32_t(content.size()));
-  w->u32(std::uint32_t(stored.size()));
-  w->bytes(stored);
-}
-
 // A stream's content; `exact` says whether its size must equal `max_bytes` or may be below it.
 Expected<std::vector<std::uint8_t>> get_stream(ByteReader* r, const std::string& name,
                                                std::size_t max_bytes, bool exact) {
@@ -241,101 +148,6 @@ std::string channel_stream(int c, const char* what, int ctx = -1) {
   std::string s = std::string("exact table channel ") + "RGB"[c] + " " + what;
   if (ctx >= 0) s += " " + std::to_string(ctx);
   return s;
-}
-
-// ---- encoder ----------------------------------------------------------------------------------
-
-// One channel's bit patterns with each exception (sign bit set) replaced by the working value
-// before it (0 for the first bin), so that predictions run smoothly across not-measured bins.
-std::vector<std::uint64_t> working_values(const double* v) {
-  std::vector<std::uint64_t> w(kBinsPerChannel);
-  std::uint64_t prev = 0;
-  for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
-    const auto bits = std::bit_cast<std::uint64_t>(v[i]);
-    w[i] = is_exception(bits) ? prev : bits;
-    prev = w[i];
-  }
-  return w;
-}
-
-// Applies (1 - z)^min(n, position) along one axis (0 theta_h, 1 theta_d, 2 phi_d), in place and
-// modulo 2^64. Going down the index keeps each pass reading its predecessor's values.
-void difference(std::vector<std::uint64_t>* a, int axis, int n) {
-  const std::size_t stride = axis == 0 ? kPlaneStride : axis == 1 ? kPhiDBins : 1;
-  std::uint64_t* v = a->data();
-  for (int t = 1; t <= n; ++t) {
-    for (int h = kThetaHBins - 1; h >= 0; --h) {
-      for (int d = kThetaDBins - 1; d >= 0; --d) {
-        const int pos_hd = axis == 0 ? h : d;
-        const std::size_t row = merl_index(h, d, 0);
-        for (int p = kPhiDBins - 1; p >= 0; --p) {
-          if ((axis == 2 ? p : pos_hd) >= t)
-            v[row + std::size_t(p)] -= v[row + std::size_t(p) - stride];
-        }
-      }
-    }
-  }
-}
-
-struct ChannelPlan {
-  std::vector<std::uint64_t> residual;  // per bin, modulo 2^64
-  std::vector<std::uint8_t> choice;     // predictor per row
-};
-
-// The predictor per row that minimizes the summed residual sizes over the row's coded bins.
-ChannelPlan plan_channel(const std::vector<std::uint64_t>& w, const double* v) {
-  ChannelPlan plan{std::vector<std::uint64_t>(kBinsPerChannel),
-                   std::vector<std::uint8_t>(kRowsPerChannel)};
-  std::vector<std::uint64_t> best_cost(kRowsPerChannel, ~std::uint64_t{0});
-  std::vector<std::uint64_t> r;
-  for (std::size_t p = 0; p < kPredictors.size(); ++p) {
-    r = w;
-    difference(&r, 0, kPredictors[p].h);
-    difference(&r, 1, kPredictors[p].d);
-    difference(&r, 2, kPredictors[p].p);
-    for (int row = 0; row < kRowsPerChannel; ++row) {
-      const std::size_t base = std::size_t(row) * kPhiDBins;
-      std::uint64_t cost = 0;
-      for (std::size_t k = base; k < base + kPhiDBins; ++k) {
-        if (!is_exception(std::bit_cast<std::uint64_t>(v[k]))) cost += bit_length(zigzag(r[k]));
-      }
-      if (cost < best_cost[std::size_t(row)]) {
-        best_cost[std::size_t(row)] = cost;
-        plan.choice[std::size_t(row)] = std::uint8_t(p);
-        std::memcpy(plan.residual.data() + base, r.data() + base,
-                    kPhiDBins * sizeof(std::uint64_t));
-      }
-    }
-  }
-  return plan;
-}
-
-// The channel's symbol streams and low-bit stream, written as streams.
-std::vector<std::uint8_t> encode_channel(const double* v, const std::vector<std::uint64_t>& res,
-                                         int level) {
-  std::array<std::vector<std::uint8_t>, kContexts> symbols;
-  BitWriter bits;
-  std::vector<std::uint8_t> size(kBinsPerChannel, 0);
-  for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
-    if (is_exception(std::bit_cast<std::uint64_t>(v[i]))) continue;
-    const std::uint64_t z = zigzag(res[i]);
-    const int len = bit_length(z);
-    const int a = i > 0 ? size[i - 1] : 0;
-    const int b = i >= kPlaneStride ? size[i - kPlaneStride] : 0;
-    if (len < 2) {
-      symbols[std::size_t(context_of(a, b))].push_back(std::uint8_t(len));
-    } else {
-      symbols[std::size_t(context_of(a, b))].push_back(
-          std::uint8_t(2 * len - 2 + int((z >> (len - 2)) & 1)));
-      bits.put(z & ((std::uint64_t{1} << (len - 2)) - 1), len - 2);
-    }
-    size[i] = std::uint8_t(len);
-  }
-  ByteWriter w;
-  for (const auto& s : symbols) put_stream(&w, s, level);
-  // Low bits are close to noise: a fast level finds what little there is to gain.
-  put_stream(&w, bits.finish(), std::min(level, 3));
-  return w.take();
 }
 
 // ---- decoder ----------------------------------------------------------------------------------
@@ -521,41 +333,6 @@ Expected<SharedStreams> read_shared_streams(ByteReader* r) {
   }
   return s;
 }
-
-}  // namespace
-
-std::vector<std::uint8_t> encode_exact_table(const BrdfTable& table, int zstd_level) {
-  std::vector<std::uint8_t> bitmap(kBitmapBytes, 0);
-  ByteWriter values;
-  std::uint32_t count = 0;
-  const std::vector<double>& v = table.stored_values();
-  for (std::size_t i = 0; i < kTotalBins; ++i) {
-    const auto bits = std::bit_cast<std::uint64_t>(v[i]);
-    if (!is_exception(bits)) continue;
-    bitmap[i >> 3] = std::uint8_t(bitmap[i >> 3] | (1u << (i & 7)));
-    values.u64(bits);
-    ++count;
-  }
-  std::vector<std::uint8_t> choices(std::size_t{kChannels} * kRowsPerChannel);
-  std::array<std::vector<std::uint8_t>, kChannels> channel_bytes;
-  parallel_for(kChannels, 0, [&](int c) {
-    const double* data = table.channel_data(c);
-    const ChannelPlan plan = plan_channel(working_values(data), data);
-    std::memcpy(choices.data() + std::size_t(c) * kRowsPerChannel, plan.choice.data(),
-                kRowsPerChannel);
-    channel_bytes[std::size_t(c)] = encode_channel(data, plan.residual, zstd_level);
-  });
-  ByteWriter w;
-  w.u8(kMethodPredictive);
-  w.u32(count);
-  put_stream(&w, bitmap, zstd_level);
-  put_stream(&w, values.data(), zstd_level);
-  put_stream(&w, choices, zstd_level);
-  for (const auto& b : channel_bytes) w.bytes(b);
-  return w.take();
-}
-
-namespace {
 
 Expected<BrdfTable> decode_streams(std::span<const std::uint8_t> bytes) {
   ByteReader r(bytes, 0, "exact table offset");

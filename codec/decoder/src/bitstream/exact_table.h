@@ -4,6 +4,7 @@
 // included. Each channel is predicted from already decoded neighbours by integer differences of
 // the bit patterns (one predictor chosen per row of phi_d), and the residuals are coded as a
 // size symbol (zstd, split by context) and raw low bits. Decoding uses integer operations only.
+// The reader; the writer is the encoder's (codec/encoder/src/bitstream/exact_table_writer.h).
 #pragma once
 
 #include <cstdint>
@@ -14,12 +15,6 @@
 #include "cbrdf/status.h"
 
 namespace cbrdf::internal {
-
-// zstd level of the compressed streams; decoding does not depend on it.
-inline constexpr int kExactTableZstdLevel = 16;
-
-std::vector<std::uint8_t> encode_exact_table(const BrdfTable& table,
-                                             int zstd_level = kExactTableZstdLevel);
 
 // kCorrupt (with a message naming the stream, or the bin) for anything encode_exact_table could
 // not have written, data ending early included; allocations are bounded by the table's fixed size

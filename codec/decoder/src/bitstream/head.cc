@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-// HEAD (spec 4.1): the grid, the colour scales and the slice count. Reader and writer.
+// HEAD (spec 4.1): the grid, the colour scales and the slice count. The reader (the writer is the
+// encoder's, head_writer.cc).
 #include <string>
 
 #include "byte_reader.h"
-#include "byte_writer.h"
 #include "chunks.h"
 
 namespace cbrdf {
@@ -69,23 +69,6 @@ Status decode_header_chunk(std::span<const std::uint8_t> payload, std::uint16_t 
   }
   out->slice_count = slices;
   return ok_status();
-}
-
-std::vector<std::uint8_t> encode_header_chunk(const Model& model, bool compact) {
-  ByteWriter w;
-  if (compact) {
-    w.u8(kGridMerl);
-    w.u8(std::uint8_t(model.slices.size()));
-    return w.take();
-  }
-  w.u16(kThetaHBins);
-  w.u16(kThetaDBins);
-  w.u16(kPhiDBins);
-  w.u8(kThetaHMappingMerlSqrt);
-  w.u8(kChannels);
-  for (double s : kMerlScale) w.f64(s);
-  w.u16(std::uint16_t(model.slices.size()));
-  return w.take();
 }
 
 }  // namespace cbrdf

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// MASK (spec 4.4): the not-measured mask (exact) and the stored values at its bins. Reader and
-// writer; the writer chooses the reference (none or the below-horizon mask) and the form (bitmap or
-// runs) that make the mask smallest, so a standard MERL mask costs a few bytes.
+// MASK (spec 4.4): the not-measured mask (exact) and the stored values at its bins. The
+// reader (the writer, which chooses the reference and form that make the mask smallest, is the
+// encoder's, mask_writer.cc).
 #include <xxhash.h>
 
 #include <bit>
@@ -10,22 +10,9 @@
 #include <string>
 
 #include "byte_reader.h"
-#include "byte_writer.h"
 #include "chunks.h"
 
 namespace cbrdf {
-namespace {
-
-std::size_t varint_bytes(std::size_t v) {
-  std::size_t n = 1;
-  while (v >= 0x80) {
-    v >>= 7;
-    ++n;
-  }
-  return n;
-}
-
-}  // namespace
 
 const std::vector<std::uint64_t>& below_horizon_bits() {
   // bin_below_horizon for every bin, built on first use, with each axis's sines and cosines
@@ -76,10 +63,6 @@ std::uint64_t mask_hash(const std::vector<std::uint64_t>& bits) {
   return XXH64(bits.data(), kMaskBytes, 0);
 }
 
-namespace {
-
-// Flips every channel's below-horizon bins: the mask relative to the below-horizon reference, and
-// back.
 void xor_below_horizon(std::vector<std::uint64_t>* bits) {
   // Word by word: each channel's copy of the reference starts at a bit offset that is not a
   // multiple of 64, so every word of it is split over two words of the mask.
@@ -94,27 +77,7 @@ void xor_below_horizon(std::vector<std::uint64_t>* bits) {
   }
 }
 
-// The lengths of the runs of equal bits in the first kMaskBits bits, alternately clear and set,
-// starting with a clear run (possibly empty). Word by word: the next bit that differs from the
-// current run's is the lowest set bit of the word XOR the run's fill.
-std::vector<std::uint32_t> mask_runs(const std::vector<std::uint64_t>& coded) {
-  std::vector<std::uint32_t> runs;
-  bool current = false;
-  std::size_t start = 0, b = 0;
-  while (b < kMaskBits) {
-    const std::uint64_t fill = current ? ~std::uint64_t{0} : 0;
-    std::size_t w = b >> 6;
-    std::uint64_t x = (coded[w] ^ fill) & (~std::uint64_t{0} << (b & 63));
-    while (x == 0 && ++w < coded.size()) x = coded[w] ^ fill;
-    const std::size_t next = x == 0 ? kMaskBits : 64 * w + std::size_t(std::countr_zero(x));
-    if (next >= kMaskBits) break;  // bits past the mask (a set run's padding reads as a change)
-    runs.push_back(std::uint32_t(next - start));
-    start = b = next;
-    current = !current;
-  }
-  runs.push_back(std::uint32_t(kMaskBits - start));
-  return runs;
-}
+namespace {
 
 // The fixed fields before the mask: reference, form, values mode, count and hash.
 Status read_mask_header(ByteReader& r, MaskFields* fields, std::uint32_t* set_count,
@@ -243,40 +206,6 @@ Status decode_mask_chunk(std::span<const std::uint8_t> payload, std::uint16_t fi
   const std::size_t n_values = fields->values == MaskValues::kSingle ? 1 : *count;
   CBRDF_RETURN_IF_ERROR(read_not_measured_values(r, n_values, &out->values));
   return check_trailing(r.remaining(), file_minor);
-}
-
-std::vector<std::uint8_t> encode_mask_chunk(const NotMeasured& mask) {
-  std::vector<std::uint64_t> xored = mask.bits;
-  xor_below_horizon(&xored);
-  std::size_t set = 0, set_xored = 0;
-  for (std::size_t k = 0; k < mask.bits.size(); ++k) {
-    set += std::size_t(std::popcount(mask.bits[k]));
-    set_xored += std::size_t(std::popcount(xored[k]));
-  }
-  const bool use_reference = set_xored <= set;
-  const std::vector<std::uint64_t>& coded = use_reference ? xored : mask.bits;
-
-  const std::vector<std::uint32_t> runs = mask_runs(coded);
-  std::size_t run_bytes = 4;
-  for (std::uint32_t r : runs) run_bytes += varint_bytes(r);
-  const bool use_runs = run_bytes < kMaskBytes;
-
-  const bool per_bin = mask.values.size() != 1;
-  ByteWriter w;
-  w.u8(std::uint8_t(use_reference ? MaskReference::kBelowHorizon : MaskReference::kNone));
-  w.u8(std::uint8_t(use_runs ? MaskForm::kRuns : MaskForm::kBitmap));
-  w.u8(std::uint8_t(per_bin ? MaskValues::kPerBin : MaskValues::kSingle));
-  w.u8(0);
-  w.u32(std::uint32_t(set));
-  w.u64(mask_hash(mask.bits));
-  if (use_runs) {
-    w.u32(std::uint32_t(runs.size()));
-    for (std::uint32_t r : runs) w.varint32(r);
-  } else {
-    for (std::size_t i = 0; i < kMaskBytes; ++i) w.u8(std::uint8_t(coded[i >> 3] >> (8 * (i & 7))));
-  }
-  for (double v : mask.values) w.f64(v);
-  return w.take();
 }
 
 }  // namespace cbrdf

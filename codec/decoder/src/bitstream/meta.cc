@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// mETA (spec 4.5): key=value metadata lines. Reader and writer.
+// mETA (spec 4.5): key=value metadata lines. The reader (the writer is the encoder's,
+// meta_writer.cc).
 #include <string>
 
 #include "chunks.h"
@@ -66,18 +67,6 @@ Status decode_metadata_chunk(std::span<const std::uint8_t> payload,
     pos = nl + 1;
   }
   return ok_status();
-}
-
-std::vector<std::uint8_t> encode_metadata_chunk(
-    const std::vector<std::pair<std::string, std::string>>& entries) {
-  std::vector<std::uint8_t> out;
-  for (const auto& [key, value] : entries) {
-    out.insert(out.end(), key.begin(), key.end());
-    out.push_back('=');
-    out.insert(out.end(), value.begin(), value.end());
-    out.push_back('\n');
-  }
-  return out;
 }
 
 }  // namespace cbrdf

@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: MIT
 // MODL (spec 4.2): slice bounds and, per slice, channel and component, the copula family,
-// its parameter and the scale K. Reader and writer.
+// its parameter and the scale K. The reader (the writer is the encoder's, modl_writer.cc).
 #include <string>
 
 #include "byte_reader.h"
-#include "byte_writer.h"
 #include "chunks.h"
 
 namespace cbrdf {
@@ -27,19 +26,6 @@ Status read_component(ByteReader* r, const std::string& where, Component* out) {
 }
 
 }  // namespace
-
-bool has_mixtures(const Model& model) {
-  for (const Slice& s : model.slices) {
-    for (const ChannelSlice& c : s.channel) {
-      if (!c.extra.empty()) return true;
-    }
-  }
-  return false;
-}
-
-std::uint16_t container_minor(const Model& model) {
-  return model.residual.present() ? 2 : has_mixtures(model) ? 1 : 0;
-}
 
 Status read_slice_bounds(ByteReader& r, int slice_count, std::vector<Slice>* slices) {
   slices->assign(std::size_t(slice_count), Slice{});
@@ -105,34 +91,6 @@ Status decode_model_chunk(std::span<const std::uint8_t> payload, std::uint16_t f
     }
   }
   return check_trailing(r.remaining(), file_minor);
-}
-
-std::vector<std::uint8_t> encode_model_chunk(const Model& model) {
-  ByteWriter w;
-  for (const Slice& s : model.slices) w.u8(std::uint8_t(s.theta_d_end));
-  for (const Slice& s : model.slices) {
-    for (const ChannelSlice& c : s.channel) {
-      w.u8(std::uint8_t(c.family));
-      w.f64(c.theta);
-      w.f64(c.scale);
-    }
-  }
-  // Version 1.1: the number of further components of every slice and channel, then theirs.
-  // (A file of minor >= 1 holds the counts even when all are 0: a residual file without mixtures.)
-  if (container_minor(model) == 0) return w.take();
-  for (const Slice& s : model.slices) {
-    for (const ChannelSlice& c : s.channel) w.u8(std::uint8_t(c.extra.size()));
-  }
-  for (const Slice& s : model.slices) {
-    for (const ChannelSlice& c : s.channel) {
-      for (const Component& e : c.extra) {
-        w.u8(std::uint8_t(e.family));
-        w.f64(e.theta);
-        w.f64(e.scale);
-      }
-    }
-  }
-  return w.take();
 }
 
 }  // namespace cbrdf

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Quantization of marginal probability-mass tables in the log domain (spec/container.md, "MARG").
+// Quantized marginal probability-mass tables in the log domain (spec/container.md, "MARG"): the
+// codes' meaning and the normative reconstruction. The quantizers are the encoder's
+// (codec/encoder/src/bitstream/mass_quantizer.h).
 //
 // Code 0 is an exact zero; codes 1..2^bits-1 sit evenly in log mass between the table's lo and
 // hi (stored as float32, lo rounded down and hi up so every mass lies inside). The decoder
@@ -7,8 +9,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
-#include <span>
 #include <vector>
 
 #include "cbrdf/status.h"
@@ -30,15 +30,6 @@ inline std::uint32_t max_code(int bits) {
   return (std::uint32_t{1} << bits) - 1;
 }
 
-// The log of the masses' sum (nonpositive ones count as 0), or nothing when none is positive.
-// Finite even where the plain sum overflows (masses near the double maximum): then summed
-// relative to the largest mass. Both quantizers once coded such a table as all zeros.
-std::optional<double> log_mass_sum(std::span<const double> masses);
-
-// Masses must be finite and >= 0 (the caller checks). The table is scaled to sum 1 first, which
-// the decoder's renormalization reproduces; an all-zero table gives all codes 0.
-QuantizedTable quantize_masses(std::span<const double> masses, int bits);
-
 // Version 1.3 (BASE): the range is stored on a grid of 1/32 in log mass, hi = -H/32 and
 // lo = -(H + D)/32 with integers H, D >= 0 (exact in binary32), H + D <= 746 x 32. Coarser than
 // binary32 but smaller to code; the step grows by at most 2/32 over the span (0.3% at a span of
@@ -51,17 +42,9 @@ struct GridRange {
 };
 // The table's lo and hi for a grid range (codes empty).
 QuantizedTable grid_table(const GridRange& range);
-// quantize_masses with the range on the grid; *range receives H and D.
-QuantizedTable quantize_masses_on_grid(std::span<const double> masses, int bits, GridRange* range);
-
 // The normative reconstruction. Fails (kCorrupt / kNumeric, message without location) on a code
 // above 2^bits-1, a range outside [kMinLogMass, 0] or lo > hi, or weights that underflow to 0.
 Expected<std::vector<double>> dequantize_masses(const QuantizedTable& table, int bits);
-
-// Largest relative error |m'/m - 1| of any nonzero mass after decoding, for this table's range:
-// rounding moves each log mass by at most step/2 and renormalization by at most another step/2,
-// so the bound is e^step - 1 with step = (hi - lo) / (2^bits - 2).
-double relative_error_bound(const QuantizedTable& table, int bits);
 
 // Zigzag maps a signed residual to an unsigned one with small magnitudes first.
 inline std::uint32_t zigzag(std::int32_t v) {

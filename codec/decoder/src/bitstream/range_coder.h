@@ -3,11 +3,12 @@
 // coder (11-bit probabilities, 32-bit range, carry through a cached byte) with the always-zero
 // first byte dropped and up to 4 trailing zero bytes trimmed, and the binarizations built on it.
 // Small tables of smooth data (a few thousand values) are where zstd's frame and literal costs are
-// largest; an adaptive coder with a few contexts learns their statistics within a table.
+// largest; an adaptive coder with a few contexts learns their statistics within a table. The
+// decoding side and the probabilities and contexts both sides adapt alike; the encoding side is the
+// encoder's (codec/encoder/src/bitstream/range_encoder.h).
 #pragma once
 
 #include <array>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -46,51 +47,6 @@ using Prob = BasicProb<kProbBits>;
 // bits cannot go below 15/2048 = 0.7% for a 1 (measured: 10% fewer bytes at E 0.01 on
 // beige-fabric's codes).
 using FineProb = BasicProb<15>;
-
-class Encoder {
- public:
-  template <class P>
-  void bit(P& prob, int b) {
-    const std::uint32_t bound = (range_ >> P::kBits) * prob.p;
-    if (b == 0) {
-      range_ = bound;
-    } else {
-      low_ += bound;
-      range_ -= bound;
-    }
-    prob.update(b);
-    while (range_ < (1u << 24)) {
-      range_ <<= 8;
-      shift_low();
-    }
-  }
-  // Flushes and returns the bytes (first byte dropped, up to 4 trailing zeros trimmed).
-  std::vector<std::uint8_t> finish();
-
- private:
-  void shift_low();
-  std::uint64_t low_ = 0;
-  std::uint32_t range_ = 0xFFFFFFFFu;
-  std::uint8_t cache_ = 0;
-  std::uint64_t cache_size_ = 1;
-  std::vector<std::uint8_t> out_;
-};
-
-// Accumulates the cost in bits of what an Encoder would write, adapting the same probabilities:
-// the writer's way of choosing between codings before writing one.
-class CostMeter {
- public:
-  template <class P>
-  void bit(P& prob, int b) {
-    const double p0 = double(prob.p) / double(P::kOne);
-    bits_ -= std::log2(b == 0 ? p0 : 1.0 - p0);
-    prob.update(b);
-  }
-  double bits() const { return bits_; }
-
- private:
-  double bits_ = 0.0;
-};
 
 // Bounds-checked: bytes past the end read as zero (the writer trims trailing zeros), at most 4 of
 // them; finish() reports a stream that needed more, or that left bytes unread.
@@ -144,29 +100,6 @@ struct SIntContexts {
   Prob sign;
   UIntContexts magnitude;
 };
-
-// v >= 0, v < 2^kMaxExponent - 1: n = bit length of v + 1, minus 1, in unary (n ones, a zero),
-// then the n bits of v + 1 below its top bit, most significant first.
-template <class Sink>
-void put_uint(Sink& s, UIntContexts& c, std::uint32_t v) {
-  const std::uint32_t x = v + 1;
-  int n = 0;
-  while ((x >> (n + 1)) != 0) ++n;
-  for (int i = 0; i < n; ++i) s.bit(c.exponent[std::size_t(i)], 1);
-  s.bit(c.exponent[std::size_t(n)], 0);
-  for (int i = n - 1; i >= 0; --i) {
-    s.bit(c.mantissa[std::size_t(n)][std::size_t(i)], int((x >> i) & 1u));
-  }
-}
-
-template <class Sink>
-void put_sint(Sink& s, SIntContexts& c, std::int32_t v) {
-  s.bit(c.zero, v == 0 ? 0 : 1);
-  if (v == 0) return;
-  s.bit(c.sign, v < 0 ? 1 : 0);
-  const std::uint32_t m = v < 0 ? std::uint32_t(-std::int64_t(v)) : std::uint32_t(v);
-  put_uint(s, c.magnitude, m - 1);
-}
 
 // The readers fail (kCorrupt) on an exponent above kMaxExponent: a damaged stream cannot loop.
 Status get_uint(Decoder& d, UIntContexts& c, std::uint32_t* out);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// RESD (spec 4.6): the error-bounded residual layer of container 1.2. Reader and writer.
+// RESD (spec 4.6): the error-bounded residual layer of container 1.2. The reader (the writer is
+// the encoder's, resd_writer.cc).
 //
 // Modes 0 and 2 hold one integer code per measured bin (channel, then MERL index order), each
 // coded as the zigzag of its difference from a prediction out of codes already decoded, as an
@@ -17,51 +18,14 @@
 #include <string>
 
 #include "byte_reader.h"
-#include "byte_writer.h"
 #include "chunks.h"
 #include "exact_table.h"
 #include "residual_codes.h"
 #include "residual_levels.h"
 #include "residual_prediction.h"
-#include "zstd_util.h"
 
 namespace cbrdf {
 namespace {
-
-// The prediction of code (c, i) from codes already decoded: 0 (predictor 0), or the previous
-// phi_d bin's code of the same channel (predictor 1; 0 at phi_d = 0). Not-measured bins hold
-// code 0. i is a MERL index, phi_d = i mod 180. (Measured on real materials: the previous
-// phi_d bin wins where the residual is quantized finely, no prediction where it is coarse and
-// mostly 0; the channel before, Lorenzo across theta_d and both lost to these.)
-inline std::int64_t predict(const std::int32_t* q, int c, std::size_t i, std::uint8_t predictor) {
-  if (predictor == kResidualPredictorNone || i % kPhiDBins == 0) return 0;
-  return q[std::size_t(c) * kBinsPerChannel + i - 1];
-}
-
-// The zigzag varints of the measured bins' codes under a predictor.
-std::vector<std::uint8_t> code_stream(const Model& model, std::uint8_t predictor) {
-  ByteWriter w;
-  const std::int32_t* q = model.residual.codes.data();
-  for (int c = 0; c < kChannels; ++c) {
-    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
-      if (model.not_measured.test(c, i)) continue;
-      const std::int64_t d = q[std::size_t(c) * kBinsPerChannel + i] - predict(q, c, i, predictor);
-      w.varint32(zigzag(std::int32_t(d)));
-    }
-  }
-  return w.take();
-}
-
-// Order-0 entropy of a byte stream, in bits: what zstd's literal coding approaches.
-double entropy_bits(const std::vector<std::uint8_t>& s) {
-  std::array<std::size_t, 256> n{};
-  for (std::uint8_t b : s) ++n[b];
-  double bits = 0;
-  for (std::size_t k : n) {
-    if (k > 0) bits -= double(k) * std::log2(double(k) / double(s.size()));
-  }
-  return bits;
-}
 
 Status check_header(std::uint8_t predictor, std::uint16_t reserved, double max_error, double step,
                     double knee, std::uint32_t escapes, std::uint16_t file_minor) {
@@ -127,7 +91,8 @@ Expected<std::size_t> read_codes(std::span<const std::uint8_t> in, std::size_t b
                                                 " is longer than 5 bytes");
         }
       }
-      const std::int64_t code = predict(q, c, i, predictor) + unzigzag(std::uint32_t(z));
+      const std::int64_t code =
+          varint_code_prediction(q, c, i, predictor) + unzigzag(std::uint32_t(z));
       if (code < -kMaxResidualCode || code > kMaxResidualCode) {
         return error(ErrorCode::kCorrupt, "code " + std::to_string(code) + " of channel " +
                                               kChannelNames[c] + " bin " + std::to_string(i) +
@@ -326,96 +291,6 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
   }
   if (out->interpolated()) internal::rebuild_interpolated(out);
   return check_residual_values(*out, codes_at);
-}
-
-namespace {
-
-// The payload with the codes as given (range-coded predictors: their u32 length first, after the
-// coefficients of predictor 3).
-std::vector<std::uint8_t> residual_payload(const Residual& res, std::uint8_t predictor,
-                                           const std::vector<std::uint8_t>& codes,
-                                           const internal::CodePrediction* prediction = nullptr) {
-  ByteWriter w;
-  // Mode 3 always carries row shifts (check_residual: all 0 for one step).
-  w.u8(res.middle_steps()      ? kResidualModeLevelSteps
-       : res.interpolated()    ? kResidualModeInterp
-       : res.row_shift.empty() ? kResidualModeLog
-                               : kResidualModeRows);
-  w.u8(predictor);
-  w.u16(0);
-  w.f64(res.max_error);
-  w.f64(res.step);
-  w.f64(res.knee);
-  w.u32(std::uint32_t(res.escapes.size()));
-  if (!res.row_shift.empty()) w.bytes(res.row_shift);
-  if (res.interpolated()) {
-    w.u8(res.levels);
-    w.u8(res.fine_multiplier);
-    for (int l = 1; res.middle_steps() && l < res.levels; ++l) {
-      w.u8(res.middle_multipliers[std::size_t(l - 1)]);
-    }
-  }
-  if (predictor == kResidualPredictorRangePredicted) internal::write_prediction(w, *prediction);
-  if (predictor != kResidualPredictorNone && predictor != kResidualPredictorPhi) {
-    w.u32(std::uint32_t(codes.size()));
-  }
-  w.bytes(codes);
-  std::uint64_t next = 0;
-  for (const ResidualEscape& e : res.escapes) {
-    w.varint32(std::uint32_t(e.bin - next));
-    w.f64(e.stored);
-    next = std::uint64_t(e.bin) + 1;
-  }
-  return w.take();
-}
-
-// What the chunk will take in the file: the payload or its zstd frame, whichever is smaller (as
-// write_container stores it).
-std::size_t stored_size(const std::vector<std::uint8_t>& payload) {
-  Expected<std::vector<std::uint8_t>> z = zstd_compress(payload, kResidualZstdLevel);
-  return z.ok() ? std::min(z->size(), payload.size()) : payload.size();
-}
-
-}  // namespace
-
-std::vector<std::uint8_t> encode_residual_chunk(const Model& model, bool range_coding) {
-  const Residual& res = model.residual;
-  if (res.exact) {
-    ByteWriter w;
-    w.u8(kResidualModeExact);
-    w.bytes(internal::encode_exact_table(*res.exact));
-    return w.take();
-  }
-  // The predictor whose stream has the lower order-0 entropy (ties: none).
-  std::vector<std::uint8_t> none = code_stream(model, kResidualPredictorNone);
-  std::vector<std::uint8_t> phi = code_stream(model, kResidualPredictorPhi);
-  const bool use_phi = entropy_bits(phi) < entropy_bits(none);
-  std::vector<std::uint8_t> varints = residual_payload(
-      res, use_phi ? kResidualPredictorPhi : kResidualPredictorNone, use_phi ? phi : none);
-  if (!range_coding) return varints;
-  std::vector<std::uint8_t> coded =
-      residual_payload(res, kResidualPredictorRange,
-                       internal::encode_residual_codes(res.codes.data(), model.not_measured));
-  std::size_t best = stored_size(varints);
-  std::vector<std::uint8_t>* chosen = &varints;
-  if (const std::size_t n = stored_size(coded); n < best) {
-    best = n;
-    chosen = &coded;
-  }
-  // Predictor 3 where the fit finds anything to predict and the chunk comes out smaller.
-  std::vector<std::uint8_t> predicted;
-  const internal::CodePrediction prediction =
-      internal::fit_prediction(res.codes.data(), model.not_measured, res);
-  if (prediction.any()) {
-    std::vector<std::int32_t> r(kMaskBits);
-    if (internal::predict_codes(res.codes.data(), model.not_measured, res, prediction, r.data())) {
-      predicted = residual_payload(res, kResidualPredictorRangePredicted,
-                                   internal::encode_residual_codes(r.data(), model.not_measured),
-                                   &prediction);
-      if (stored_size(predicted) < best) chosen = &predicted;
-    }
-  }
-  return std::move(*chosen);
 }
 
 }  // namespace cbrdf

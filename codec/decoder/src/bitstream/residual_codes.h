@@ -23,9 +23,6 @@ namespace cbrdf::internal {
 std::span<const std::uint8_t> measured_bins(const NotMeasured& mask, std::size_t b0,
                                             std::array<std::uint8_t, kPhiDBins>& list);
 
-// The codes q (kMaskBits, channel-major MERL order) of the bins `mask` does not mark, coded.
-std::vector<std::uint8_t> encode_residual_codes(const std::int32_t* q, const NotMeasured& mask);
-
 // Decodes exactly `in` into q (kMaskBits, zero-filled by the caller; not-measured bins stay 0).
 // `at` is the stream's payload offset, for messages. kCorrupt: a code beyond +-2^28, or bytes
 // left unread; kTruncated: the stream ends before the last code.

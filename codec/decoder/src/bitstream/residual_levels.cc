@@ -62,7 +62,9 @@ void run_slab(Slab& s) {
   }
 }
 
-void run(const double* target, Residual* r) {
+}  // namespace
+
+void interpolate_levels(const double* target, Residual* r) {
   r->values.assign(kMaskBits, 0.0);
   double multiplier[kMaxResidualLevels];  // per level below the coarsest
   for (int l = 0; l < r->levels; ++l) multiplier[l] = double(r->multiplier_of_level(l));
@@ -83,15 +85,8 @@ void run(const double* target, Residual* r) {
   }
 }
 
-}  // namespace
-
 void rebuild_interpolated(Residual* residual) {
-  run(nullptr, residual);
-}
-
-void quantize_interpolated(const double* target, Residual* residual) {
-  residual->codes.assign(kMaskBits, 0);
-  run(target, residual);
+  interpolate_levels(nullptr, residual);
 }
 
 }  // namespace cbrdf::internal

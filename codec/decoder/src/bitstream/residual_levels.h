@@ -37,9 +37,9 @@ inline int level_multiplier_out_of_range(const Residual& r) {
 // taken from `residual`). Codes at not-measured bins are 0 and their values predictions only.
 void rebuild_interpolated(Residual* residual);
 
-// The writer's side: `target` holds the residual to code (kMaskBits values, NaN where any value
-// will do, e.g. not-measured bins). Sets residual.codes to round((target - prediction) / step),
-// clamped to -2^28..2^28 (0 where the target is NaN), and residual.values to the rebuilt values.
-void quantize_interpolated(const double* target, Residual* residual);
+// The one routine of reader and writer: with `target` null, rebuilds residual.values from
+// residual.codes (rebuild_interpolated); else sets each code from target as it goes
+// (the encoder's quantize_interpolated, bitstream/residual_levels_writer.h).
+void interpolate_levels(const double* target, Residual* residual);
 
 }  // namespace cbrdf::internal

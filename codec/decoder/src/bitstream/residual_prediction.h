@@ -20,7 +20,6 @@
 
 namespace cbrdf {
 class ByteReader;
-class ByteWriter;
 }  // namespace cbrdf
 
 namespace cbrdf::internal {
@@ -44,22 +43,14 @@ struct CodePrediction {
 // The groups of a residual: levels + 1 in modes 3 and 4, 1 in modes 0 and 2.
 int prediction_groups(const Residual& residual);
 
+// The shift of a row's step (0 without row shifts) and the group of every (theta_d, phi_d)
+// position (the level in modes 3 and 4, else 0), as the reader and the writer's fit see them.
+int row_shift_of(const Residual& residual, std::size_t row);
+std::vector<std::uint8_t> group_table(const Residual& residual);
+
 // The coefficients as stored: for c = R, G, B, for g = 0 .. groups - 1: a (R), or a, b, g
 // (G and B), each an i16.
-void write_prediction(ByteWriter& w, const CodePrediction& p);
 Status read_prediction(ByteReader& r, int groups, CodePrediction* out);
-
-// The writer's coefficients for codes q (kMaskBits, 0 at not-measured bins): per group, a
-// weighted least-absolute-deviation fit (iteratively reweighted least squares) on every fourth
-// phi_d bin, kept only where it lowers sum log2(1 + |code|) (the size the range coder's exponents
-// pay) there by 1% or more. All zero when prediction does not help.
-CodePrediction fit_prediction(const std::int32_t* q, const NotMeasured& mask,
-                              const Residual& residual);
-
-// The codes the stream carries, r = q - P (encoder). False when an r falls outside
-// -2^28..2^28 (the writer then keeps predictor 2).
-bool predict_codes(const std::int32_t* q, const NotMeasured& mask, const Residual& residual,
-                   const CodePrediction& p, std::int32_t* r);
 
 // q = r + P in place, slab by slab (decoder). kCorrupt when a code leaves -2^28..2^28; `at`
 // (the stream's payload offset) is for the message.

@@ -53,10 +53,10 @@ class FrankGridCopula final : public GridCopula {
 CopulaFamily GridCopula::family() const {
   return row_->id;
 }
-double GridCopula::fit_lo() const {
+double GridCopula::search_lo() const {
   return row_->search_lo;
 }
-double GridCopula::fit_hi() const {
+double GridCopula::search_hi() const {
   return row_->search_hi;
 }
 double GridCopula::independence() const {

@@ -22,8 +22,8 @@ class GridCopula {
   CopulaFamily family() const;
   // The parameter range the fitter searches (the family's row), and the parameter of
   // independence.
-  double fit_lo() const;
-  double fit_hi() const;
+  double search_lo() const;
+  double search_hi() const;
   double independence() const;
   virtual void prepare(double theta, const std::vector<double>& u1, const std::vector<double>& u2,
                        const std::vector<double>& u3) = 0;

@@ -156,7 +156,7 @@ ParameterFit evaluate_parameter(const SliceData& s, const Marginals& m, GridCopu
 
 ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& copula,
                            FitLoss loss) {
-  const double lo = copula.fit_lo(), hi = copula.fit_hi();
+  const double lo = copula.search_lo(), hi = copula.search_hi();
   ParameterFit best = evaluate_parameter(s, m, copula, copula.independence(), loss);
   best.objective_independence = best.objective;
   if (lo == hi || s.mv.empty() || best.scale <= 0) return best;

@@ -25,7 +25,7 @@ struct ParameterFit {
 ParameterFit evaluate_parameter(const SliceData& s, const Marginals& m, GridCopula& copula,
                                 double theta, FitLoss loss = FitLoss::kLinear);
 
-// Fits theta in [copula.fit_lo(), copula.fit_hi()] and K jointly, started from the best of a
+// Fits theta in [copula.search_lo(), copula.search_hi()] and K jointly, started from the best of a
 // coarse scan of theta. Deterministic.
 ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& copula,
                            FitLoss loss = FitLoss::kLinear);

@@ -593,8 +593,8 @@ void solve_copulas_and_weights(const SliceData& s, std::vector<Term>& terms, dou
   ceres::Problem problem(problem_options);
   problem.AddResidualBlock(new MixtureCost(s, terms, vbar, loss), nullptr, x->data());
   for (std::size_t r = 0; r < terms.size(); ++r) {
-    problem.SetParameterLowerBound(x->data(), int(2 * r + 1), probe.fit_lo());
-    problem.SetParameterUpperBound(x->data(), int(2 * r + 1), probe.fit_hi());
+    problem.SetParameterLowerBound(x->data(), int(2 * r + 1), probe.search_lo());
+    problem.SetParameterUpperBound(x->data(), int(2 * r + 1), probe.search_hi());
   }
   ceres::Solver::Options options = small_problem_options();
   // The fit's last digits are below what quantization keeps: stopping at a relative change of
@@ -626,7 +626,7 @@ ChannelSlice largest_first(std::vector<Term>& terms, const std::vector<double>& 
     const std::size_t r = order[o];
     Component comp;
     comp.family = family;
-    comp.theta = std::clamp(x[2 * r + 1], probe.fit_lo(), probe.fit_hi());
+    comp.theta = std::clamp(x[2 * r + 1], probe.search_lo(), probe.search_hi());
     comp.scale = std::exp(x[2 * r]) * vbar;
     comp.pdf_h = std::move(terms[r].pdf_h);
     comp.pdf_d = std::move(terms[r].pdf_d);

@@ -17,8 +17,8 @@
 #include <string_view>
 #include <vector>
 
-#include "bitstream/chunks.h"
-#include "bitstream/exact_table.h"
+#include "bitstream/chunk_writers.h"
+#include "bitstream/exact_table_writer.h"
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
 #include "heap_meter.h"

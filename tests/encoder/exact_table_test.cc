@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The exact table coding (codec/decoder/src/bitstream/exact_table.h): bit-exact round trips of
+// The exact table coding (codec/decoder/src/bitstream/exact_table.h, its writer
+// codec/encoder/src/bitstream/exact_table_writer.h): bit-exact round trips of
 // every kind of IEEE pattern, and refusal of malformed payloads with kCorrupt and a message naming
 // the problem.
 #include "bitstream/exact_table.h"
@@ -13,6 +14,7 @@
 #include <random>
 #include <string>
 
+#include "bitstream/exact_table_writer.h"
 #include "byte_writer.h"
 #include "heap_meter.h"
 

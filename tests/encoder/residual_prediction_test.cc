@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bitstream/chunks.h"
+#include "bitstream/residual_prediction_fit.h"
 
 namespace cbrdf::internal {
 namespace {
