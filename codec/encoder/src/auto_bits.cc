@@ -4,6 +4,7 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/encoder.h"
+#include "encode_watch.h"
 #include "metrics.h"
 
 namespace cbrdf {
@@ -30,7 +31,11 @@ Expected<AutoBitsChoice> choose_bits(const BrdfTable& source, const Model& model
   const SphereScorer scorer(source);
   const ImageMetrics reference = scorer.score(model);
   std::map<int, Probe> probes;
+  // Progress: a bisection of 6..16 writes and scores 3 or 4 files.
+  const internal::ProgressPart part("bits", 0, 1);
   auto probe = [&](int bits) -> Expected<const Probe*> {
+    CBRDF_RETURN_IF_ERROR(internal::check_cancel());
+    part.report(double(probes.size()) / 4);
     ContainerSettings c = container;
     c.bits = bits;
     auto bytes = encode_model(model, c);

@@ -11,6 +11,7 @@
 
 #include "cbrdf/encoder_options.h"
 #include "cbrdf/encoder_settings.h"
+#include "encode_watch.h"
 #include "metrics.h"
 #include "rate/byte_predictor.h"
 #include "rate/model_search.h"
@@ -38,6 +39,7 @@ class Search {
   // Encodes, decodes and measures one setting of a fitted model and keeps it when it is the best.
   Expected<RateCandidate> measure(const Model& model, const FitReport& report, int slices,
                                   int components, int bits) {
+    CBRDF_RETURN_IF_ERROR(internal::check_cancel());
     ContainerSettings cs = base_.container;
     cs.bits = bits;
     auto bytes = encode_model(model, cs);
@@ -64,6 +66,7 @@ class Search {
   // Bytes only (no decode, no PSNR): encoding is a small part of a measurement, so the bits of a
   // byte budget are searched this way and only the setting found is measured.
   Expected<double> bytes_at(const Model& model, int bits) const {
+    CBRDF_RETURN_IF_ERROR(internal::check_cancel());
     ContainerSettings cs = base_.container;
     cs.bits = bits;
     auto bytes = encode_model(model, cs);
@@ -338,6 +341,11 @@ class Grid {
   // One row: the slice count's ladder (fit.h, FitLadder: each component count continues the
   // factorization of the one before) fitted at `components`, and its bits searched.
   Expected<Row> fit_row(int slices, int components) {
+    // Progress: each row an equal share of the most rows the search could fit (pruning ends it
+    // early, so the fraction jumps at the end rather than run past 1).
+    const double most = double(target_.slice_counts.size()) * target_.max_components;
+    const internal::ProgressPart part("target", rows_ / most, std::min(1.0, (rows_ + 1) / most));
+    ++rows_;
     auto lane = lanes_.find(slices);
     if (lane == lanes_.end()) {
       FitSettings fs = base_.fit;
@@ -376,13 +384,17 @@ class Grid {
   std::map<int, Lane> lanes_;                   // per slice count fitted
   double floor_bytes_ = -1;  // one component at 6 bits at the smallest slice count fitted
   int floor_count_ = 0;
+  int rows_ = 0;  // rows fitted, for progress
 };
 
 }  // namespace
 
 Expected<RateResult> encode_to_target(const BrdfTable& table, const EncoderSettings& base,
                                       const RateTarget& target) {
-  return internal::search_model(table, base, target, false);
+  return internal::watched<RateResult>(base.progress, [&] {
+    const internal::ProgressPart part("target", 0, 1);
+    return internal::search_model(table, base, target, false);
+  });
 }
 
 namespace internal {

@@ -11,6 +11,7 @@
 #include "bitstream/chunk_writers.h"
 #include "bitstream/residual_levels_writer.h"
 #include "cbrdf/container.h"
+#include "encode_watch.h"
 
 namespace cbrdf::internal {
 namespace {
@@ -130,6 +131,7 @@ Status add_exact(const BrdfTable& source, const ContainerSettings& container,
 
 Status add_residual(const BrdfTable& source, const EncoderSettings& settings, EncodeResult* result,
                     const BrdfTable* base_table, BrdfTable* decoded_out) {
+  CBRDF_RETURN_IF_ERROR(check_cancel());
   ContainerSettings container = settings.container;
   container.bits = result->bits > 0 ? result->bits : container.bits;
   if (settings.residual.lossless) return add_exact(source, container, result);
@@ -186,8 +188,10 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings, En
   } else if (model.residual.interpolated()) {
     model.residual.row_shift.assign(kResidualRows, 0);  // mode 3 always has them
   }
+  CBRDF_RETURN_IF_ERROR(check_cancel());
   const std::vector<double> target =
       residual_target(source, *base_table, model.not_measured, model.residual.knee);
+  CBRDF_RETURN_IF_ERROR(check_cancel());
   if (model.residual.interpolated()) {
     quantize_interpolated(target.data(), &model.residual);
   } else {
@@ -202,10 +206,13 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings, En
   // Write, decode, check every bin; bins that miss the bound (rounding at the margin, or a code
   // beyond the format's range) are stored exactly as escapes and the file written again.
   for (int attempt = 0; attempt < 2; ++attempt) {
+    CBRDF_RETURN_IF_ERROR(check_cancel());
     Expected<std::vector<std::uint8_t>> bytes = encode_model(model, container);
     if (!bytes.ok()) return bytes.status();
+    CBRDF_RETURN_IF_ERROR(check_cancel());
     Expected<BrdfTable> decoded = decode_table(*bytes);
     if (!decoded.ok()) return decoded.status();
+    CBRDF_RETURN_IF_ERROR(check_cancel());
     std::vector<std::uint32_t> bad;
     max_log_error(source, *decoded, model.residual, &bad);
     if (bad.empty()) {
@@ -256,7 +263,10 @@ ResidualSettings target_residual_settings(double max_error) {
 
 Status add_residual_layer(const BrdfTable& table, const EncoderSettings& settings,
                           EncodeResult* result) {
-  return internal::add_residual(table, settings, result);
+  return internal::run_watched(settings.progress, [&] {
+    const internal::ProgressPart part("residual", 0, 1);
+    return internal::add_residual(table, settings, result);
+  });
 }
 
 }  // namespace cbrdf

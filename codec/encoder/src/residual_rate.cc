@@ -12,6 +12,7 @@
 #include "cbrdf/encoder.h"
 #include "cbrdf/noise.h"
 #include "cbrdf/rate_control.h"
+#include "encode_watch.h"
 #include "metrics.h"
 #include "rate/model_search.h"
 #include "rate/secant.h"
@@ -86,6 +87,7 @@ Expected<RateCandidate> try_error(const BrdfTable& source, const SphereScorer& s
   RateCandidate c = base.chosen;
   c.bytes = double(out->bytes.size());
   c.max_error = e;
+  CBRDF_RETURN_IF_ERROR(internal::check_cancel());
   const ImageMetrics im = scorer.score(decoded);
   c.psnr_tonemapped = im.psnr_tonemapped;
   c.psnr_linear = im.psnr_linear;
@@ -121,6 +123,12 @@ class ResidualSearch {
 
  private:
   Expected<std::optional<RateCandidate>> attempt_once(double e) {
+    CBRDF_RETURN_IF_ERROR(internal::check_cancel());
+    // Progress: the searches end after about 3 tries, at most kMaxTries plus the coarsest.
+    constexpr double kMostTries = kMaxTries + 2;
+    const internal::ProgressPart part("residual", std::min(tries_ / kMostTries, 1.0),
+                                      std::min((tries_ + 1) / kMostTries, 1.0));
+    ++tries_;
     const bool by_bytes = target_.max_bytes > 0;
     if (e <= uncodable_from_) return std::optional<RateCandidate>();
     EncodeResult encoded;
@@ -129,6 +137,7 @@ class ResidualSearch {
       Expected<Model> base = decode_model(model_.encoded.bytes);
       if (!base.ok()) return base.status();
       base_table_ = base->table();
+      CBRDF_RETURN_IF_ERROR(internal::check_cancel());
       // A noisy table: the residual codes the model times the smoothed ratio of the table to it,
       // the signal the model misses without the noise (the scorer still measures the input).
       if (floor_.active) {
@@ -200,6 +209,7 @@ class ResidualSearch {
   std::optional<RateResult> best_, closest_;
   double uncodable_from_ = 0;  // the largest bound the layer could not hold (0: none)
   bool coarsest_tried_ = false;
+  int tries_ = 0;  // for progress
 };
 
 // The largest E reaching the PSNR: PSNR falls as log E grows.
@@ -318,14 +328,26 @@ Expected<RateResult> residual_within_budget(const BrdfTable& table, const Encode
 
 }  // namespace
 
-Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const EncoderSettings& base,
-                                             const RateTarget& target) {
-  Expected<RateResult> rc = internal::search_model(table, base, target, true);
+namespace {
+
+// encode_to_target_ladder's work, on the encode's watch (encode_watch.h).
+Expected<RateResult> ladder(const BrdfTable& table, const EncoderSettings& base,
+                            const RateTarget& target) {
+  // Progress: shares of the time of --target-psnr 60 on real materials.
+  Expected<RateResult> rc = [&] {
+    const internal::ProgressPart part("target", 0, 0.45);
+    return internal::search_model(table, base, target, true);
+  }();
   if (!rc.ok()) return rc;
   const bool by_bytes = target.max_bytes > 0;
   // The model alone reaches the PSNR, or leaves no room in the budget for a better file.
   if (!by_bytes && rc->met) return rc;
-  const NoiseFloor floor = noise_floor(table, base);
+  const NoiseFloor floor = [&] {
+    const internal::ProgressPart part("residual", 0.45, 0.5);
+    return noise_floor(table, base);
+  }();
+  CBRDF_RETURN_IF_ERROR(internal::check_cancel());
+  const internal::ProgressPart residual_part("residual", 0.5, 1);
   bool uncodable = false;  // the residual layer could not be written at any bound tried
   const auto with_note = [&](Expected<RateResult> r) -> Expected<RateResult> {
     if (!r.ok()) return r;
@@ -408,6 +430,13 @@ Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const Encod
   RateResult best = *search.best();
   best.tried = std::move(result.tried);
   return with_note(std::move(best));
+}
+
+}  // namespace
+
+Expected<RateResult> encode_to_target_ladder(const BrdfTable& table, const EncoderSettings& base,
+                                             const RateTarget& target) {
+  return internal::watched<RateResult>(base.progress, [&] { return ladder(table, base, target); });
 }
 
 }  // namespace cbrdf

@@ -80,8 +80,10 @@ typedef struct cbrdf_encode_settings {
   /* Since 2.3. A caller built against an older struct (a smaller struct_size) gets no callback. */
   /** NULL (the default), or called on the calling thread at least every 50 ms of encoder work
       with the share of the encode done (0 to 1, never decreasing; negative when it cannot be
-      estimated) and progress_user. Returning nonzero cancels: the encode stops within about
-      50 ms and fails with CBRDF_ERROR_CANCELLED ("cancelled"). Must not call the encoder. */
+      estimated) and progress_user. Returning nonzero cancels: the work stops at its next
+      checkpoint (usually tens of milliseconds; up to a few hundred while a residual layer is
+      compressed) and the call fails with CBRDF_ERROR_CANCELLED ("cancelled"). Must not call the
+      encoder. */
   int (*progress)(void* user, double fraction);
   void* progress_user; /**< passed to progress as it is (NULL by default) */
 } cbrdf_encode_settings;

@@ -22,10 +22,15 @@ struct EncodeProgress {
   std::string_view stage;  ///< the stage above; valid only during the call
 };
 
-/// Called on the thread that called the encoder (never on a fitting thread) at least every 50 ms
-/// of encoder work, so a front end can draw progress and poll for Ctrl-C. Return true to go on,
-/// false to cancel: the encode then stops within about 50 ms and returns a Status with
-/// ErrorCode::kCancelled and the message "cancelled". Must not call back into the same encode.
+/// Called on the thread that called the encoder (never on a fitting thread) every 20 ms or so
+/// (at most 50 ms apart on an idle machine) while the work runs on a thread of its own, so a front
+/// end can draw progress and poll for Ctrl-C; the first call comes after the first interval, and
+/// none after the encode's work has ended. Return true to go on, false to cancel: the work stops
+/// at its next checkpoint (a solver iteration, a HALS sweep, a parallel task, a file written or
+/// scored: usually tens of milliseconds; one zstd compression of a residual layer at level 19
+/// cannot be interrupted and may take a few hundred) and the encode returns a Status with
+/// ErrorCode::kCancelled and the message "cancelled". An exception thrown by the callback also
+/// stops the work, and is rethrown once it has stopped. Must not call into the same encode.
 using ProgressCallback = std::function<bool(const EncodeProgress&)>;
 
 }  // namespace cbrdf

@@ -133,6 +133,12 @@ Expected<EncoderSettings> to_encoder_settings(const cbrdf_encode_settings* in) {
   out.container.write_metadata = s.metadata != CBRDF_METADATA_NONE;
   out.container.metadata = s.metadata == CBRDF_METADATA_FULL ? ContainerSettings::Metadata::kFull
                                                              : ContainerSettings::Metadata::kShort;
+  // (NULL for a struct from before 2.3: the bytes past its struct_size keep the defaults.)
+  if (s.progress != nullptr) {
+    out.progress = [fn = s.progress, user = s.progress_user](const EncodeProgress& p) {
+      return fn(user, p.fraction) == 0;
+    };
+  }
   CBRDF_RETURN_IF_ERROR(settings_status(validate(out), c_spelling));
   // 0: one thread per core, as `cbrdf encode --threads 0`.
   if (out.fit.threads == 0) out.fit.threads = thread_limit();

@@ -7,6 +7,7 @@
 
 #include "cbrdf/fit.h"
 #include "density/grid_copula.h"
+#include "encode_watch.h"
 #include "fit/fit_families.h"
 #include "fit/fit_parameter.h"
 #include "fit/marginals.h"
@@ -37,7 +38,8 @@ SliceFitResult fit_family(const internal::SliceData& s, CopulaFamily family,
   r.report.solver_iterations += p.iterations;
   // The marginals were imputed under independence: once the parameter is known, impute under the
   // fitted copula and refit (one more round gains nothing measurable).
-  if (st.impute_missing && st.impute_with_copula && p.theta != copula->independence()) {
+  if (st.impute_missing && st.impute_with_copula && p.theta != copula->independence() &&
+      !internal::cancel_requested()) {
     internal::Marginals m2 = m;
     r.report.impute_rounds += internal::impute_marginals(s, *copula, p.theta, st.impute_iterations,
                                                          st.impute_tolerance, &m2);
@@ -257,12 +259,13 @@ Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings, F
   // Jobs are independent (slice, channel) pairs; each writes only its own result, so the output
   // does not depend on the thread count.
   const int jobs = slices * kChannels;
-  internal::parallel_for(jobs, st.threads, [&](int job) {
+  internal::watched_parallel_for(jobs, st.threads, [&](int job) {
     const int s = job / kChannels, c = job % kChannels;
     SliceFitResult r = fit_slice_channel(table, c, (*bounds)[s], (*bounds)[s + 1], st);
     model.slices[s].channel[c] = std::move(r.cs);
     if (report) report->slices[s][c] = r.report;
   });
+  CBRDF_RETURN_IF_ERROR(internal::check_cancel());
   for (int s = 0; s < slices; ++s) {
     model.slices[s].theta_d_begin = (*bounds)[s];
     model.slices[s].theta_d_end = (*bounds)[s + 1];
@@ -369,13 +372,18 @@ Expected<Model> FitLadder::fit(int components, FitReport* report) {
     L.unit.assign(std::size_t(jobs), 1.0);
     L.zero.assign(std::size_t(jobs), 0);
     L.mixture.assign(std::size_t(jobs), {});
-    internal::parallel_for(jobs, threads, [&](int job) {
+    internal::watched_parallel_for(jobs, threads, [&](int job) {
       const internal::SliceData s = L.slice(job);
       bool zero = false;
       L.single[std::size_t(job)] = fit_single(s, L.st, &zero);
       L.unit[std::size_t(job)] = s.unit;
       L.zero[std::size_t(job)] = zero;
     });
+    // A cancelled loop leaves fits undone: nothing of it may be kept for a later call.
+    if (internal::cancel_requested()) {
+      L.top = 0;
+      return internal::cancelled_status();
+    }
     L.top = 1;
     ++L.fits;
   }
@@ -384,7 +392,7 @@ Expected<Model> FitLadder::fit(int components, FitReport* report) {
     // add_components at a fixed count, with the factorization continued.
     const CopulaFamily family = L.st.auto_family ? internal::kAutoMixtureFamily : L.st.family;
     std::vector<long long> sweeps(std::size_t(jobs), 0);
-    internal::parallel_for(jobs, threads, [&](int job) {
+    internal::watched_parallel_for(jobs, threads, [&](int job) {
       SliceFitResult* r = &results[std::size_t(job)];
       if (L.zero[std::size_t(job)] || !(r->cs.scale > 0)) return;
       const internal::SliceData s = L.slice(job);
@@ -401,6 +409,11 @@ Expected<Model> FitLadder::fit(int components, FitReport* report) {
       r->report.hals_unconverged += m.unconverged;
       r->report.solver_iterations += m.solver_iterations;
     });
+    if (internal::cancel_requested()) {
+      L.top = 0;  // the factorizations are left part-way: start again on a later call
+      L.mixture.assign(std::size_t(jobs), {});
+      return internal::cancelled_status();
+    }
     for (long long n : sweeps) L.sweeps += n;
     L.top = components;
     ++L.fits;

@@ -163,6 +163,7 @@ ParameterFit fit_parameter(const SliceData& s, const Marginals& m, GridCopula& c
   // Coarse scan for a start (the family's fitter row): the objective can have shallow local
   // minima far from independence.
   for (double theta : fit_family_row(copula.family())->scan) {
+    if (cancel_requested()) return best;  // the encode returns kCancelled
     if (theta < lo || theta > hi) continue;
     ParameterFit r = evaluate_parameter(s, m, copula, theta, loss);
     r.objective_independence = best.objective_independence;

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "encode_watch.h"
+
 namespace cbrdf::internal {
 namespace {
 
@@ -153,6 +155,7 @@ int impute_marginals(const SliceData& s, GridCopula& copula, double theta, int m
   int rounds = 0;
   double moved = 0;
   for (; rounds < max_rounds; ++rounds) {
+    if (cancel_requested()) break;  // the encode returns kCancelled: m need not be good
     moved = 0;
     for (int axis = 0; axis < 3; ++axis) {
       prepare(copula, theta, *m);

@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "density/grid_copula.h"
+#include "encode_watch.h"
 #include "fit/fit_families.h"
 #include "fit/loss.h"
 #include "fit/marginals.h"
@@ -486,6 +487,7 @@ bool converge(const SliceData& s, const std::vector<double>& vs, Factors* f, std
   double beta = kExtrapolationStart, beta_cap = 1.0;
   Factors x_prev = *f, x;
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+    if (cancel_requested()) return false;  // the encode returns kCancelled: f need not be good
     hals_sweep(s, *y, *t, f);
     x = *f;  // the sweep's own point
     extrapolate(x, x_prev, beta, f);
@@ -533,7 +535,7 @@ Factors factorize(const SliceData& s, const ChannelSlice& start, int components,
   const std::vector<double> vs = values_or_sentinel(s);
   std::vector<double> t;
   double sse = fill_and_measure(s, vs, f, &y, nullptr);
-  while (!exhausted && f.rank() < components) {
+  while (!exhausted && f.rank() < components && !cancel_requested()) {
     const int before = f.rank();
     add_residual_component(s, y, &f);
     if (f.rank() == before) {

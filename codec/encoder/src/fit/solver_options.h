@@ -6,7 +6,19 @@
 
 #include <ceres/ceres.h>
 
+#include "encode_watch.h"
+
 namespace cbrdf::internal {
+
+// Ends a solve once the encode is cancelled (the encode then returns kCancelled, so the unfinished
+// result is never used). Stateless: one instance serves every solve on every thread.
+class CancelSolve final : public ceres::IterationCallback {
+ public:
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    return cancel_requested() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+  }
+};
+inline CancelSolve g_cancel_solve;
 
 inline ceres::Solver::Options small_problem_options() {
   ceres::Solver::Options options;
@@ -18,6 +30,7 @@ inline ceres::Solver::Options small_problem_options() {
   options.gradient_tolerance = 1e-12;
   options.parameter_tolerance = 1e-10;
   options.num_threads = 1;
+  options.callbacks.push_back(&g_cancel_solve);
   return options;
 }
 
