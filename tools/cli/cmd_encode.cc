@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 // `cbrdf encode`: MERL .binary -> .cbrdf.
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -14,6 +17,7 @@
 #include "cbrdf/encoder_settings.h"
 #include "cbrdf/merl_io.h"
 #include "cbrdf/metrics.h"
+#include "cbrdf/progress.h"
 #include "cbrdf/rate_control.h"
 #include "cli.h"
 #include "cli_io.h"
@@ -21,6 +25,52 @@
 
 namespace cbrdf::cli {
 namespace {
+
+// Stopped by SIGINT, as a shell reports a process the signal ended (128 + 2).
+constexpr int kExitInterrupted = 130;
+
+// SIGINT sets *flag while the scope lasts (interrupt_sets_flag, files/file_io.h).
+class InterruptScope {
+ public:
+  explicit InterruptScope(std::atomic<bool>* flag) { interrupt_sets_flag(flag); }
+  ~InterruptScope() { end(); }
+  // From here SIGINT ends the process again (removing the temporaries of writes).
+  void end() { interrupt_sets_flag(nullptr); }
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+};
+
+// The encode's progress on stderr, when it is a terminal: "encoding: 42% (fit)", redrawn at most
+// ten times a second on one line, cleared when the encode ends.
+class ProgressLine {
+ public:
+  explicit ProgressLine(bool enabled) : enabled_(enabled) {}
+  void draw(const EncodeProgress& p) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (drawn_ && now - last_ < std::chrono::milliseconds(100)) return;
+    last_ = now;
+    drawn_ = true;
+    if (p.fraction >= 0) {
+      std::fprintf(stderr, "\rencoding: %3.0f%% (%-8.*s)", 100 * p.fraction, int(p.stage.size()),
+                   p.stage.data());
+    } else {
+      std::fprintf(stderr, "\rencoding: (%-8.*s)    ", int(p.stage.size()), p.stage.data());
+    }
+    std::fflush(stderr);
+  }
+  void clear() {
+    if (!drawn_) return;
+    std::fprintf(stderr, "\r%*s\r", 32, "");
+    std::fflush(stderr);
+    drawn_ = false;
+  }
+
+ private:
+  bool enabled_;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point last_{};
+};
 
 struct EncodeOptions {
   std::string input, output;
@@ -236,8 +286,17 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
   if (!o.mixture_copulas.empty()) target.mixture_copulas = st.settings.fit.mixture_copulas;
 
   const auto t0 = std::chrono::steady_clock::now();
+  // Ctrl-C from here to the write stops the command through the encode's progress callback, and
+  // nothing is written.
+  std::atomic<bool> interrupted{false};
+  InterruptScope interrupt_scope(&interrupted);
+  const auto cancelled = [] {
+    std::fprintf(stderr, "cbrdf: cancelled\n");
+    return kExitInterrupted;
+  };
   MerlInfo merl;
   auto table = read_merl_input(input_path(o.input), {}, &merl);
+  if (interrupted) return cancelled();
   if (!table.ok()) return fail(table.status());
   // The 360 layout is read as 180 phi_d bins (each the mean of phi_d and phi_d + 180): what
   // --lossless would keep is that table, not the file.
@@ -248,7 +307,15 @@ int run_encode(const EncodeOptions& o, const Context& ctx) {
                        "90x90x180 .binary, or drop --lossless");
   }
   bool smoothed = false;
+  ProgressLine line(!ctx.quiet && ::isatty(STDERR_FILENO));
+  st.settings.progress = [&](const EncodeProgress& p) {
+    line.draw(p);
+    return !interrupted.load();
+  };
   auto result = encode(*table, st.settings, target, ctx, info, &smoothed);
+  interrupt_scope.end();
+  line.clear();
+  if (interrupted) return cancelled();
   if (!result.ok()) return fail(result.status().with_context(shown(o.input, false)));
   if (Status s = write_file_atomic(output_path(o.output), result->bytes); !s.ok()) return fail(s);
   const double seconds =

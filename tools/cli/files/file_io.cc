@@ -525,6 +525,10 @@ void remove_temporaries_on_signals() {
   temp_registry::install_signal_handlers();
 }
 
+void interrupt_sets_flag(std::atomic<bool>* flag) {
+  temp_registry::interrupt_sets(flag);
+}
+
 Expected<BrdfTable> read_merl_input(const fs::path& path, const MerlReadOptions& options,
                                     MerlInfo* info) {
   Expected<FileReader> reader = FileReader::open(path);

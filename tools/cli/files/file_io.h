@@ -27,6 +27,7 @@
 // (/dev/stdin, /dev/fd/N, /proc/self/fd/N) is read from that descriptor to its end, whatever it is.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -103,5 +104,11 @@ Status write_merl_output(const std::filesystem::path& path, const BrdfTable& tab
 // temporaries of writes in progress, then let the signal end the process as it would have. For
 // programs (the `cbrdf` command calls it first thing); a library never installs handlers itself.
 void remove_temporaries_on_signals();
+
+// While `flag` is set here (not null), the first SIGINT sets *flag instead of ending the process
+// (handled once: a second SIGINT ends it, removing temporaries, as before), for work that stops
+// cleanly when asked, such as an encode watching the flag from its progress callback. Null: back
+// to ending the process. Needs remove_temporaries_on_signals() first.
+void interrupt_sets_flag(std::atomic<bool>* flag);
 
 }  // namespace cbrdf::cli

@@ -26,13 +26,36 @@ Slot g_slots[kSlots];
 
 static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs lock-free atomics");
 
+// interrupt_sets(): the flag the next SIGINT sets instead of ending the process.
+std::atomic<std::atomic<bool>*> g_interrupt{nullptr};
+static_assert(std::atomic<std::atomic<bool>*>::is_always_lock_free);
+
+void install(int sig);
+
 void on_signal(int sig) {
   const int saved_errno = errno;
+  if (sig == SIGINT) {
+    if (std::atomic<bool>* flag = g_interrupt.exchange(nullptr)) {
+      flag->store(true);
+      install(SIGINT);  // SA_RESETHAND restored the default: a second SIGINT ends the process
+      errno = saved_errno;
+      return;
+    }
+  }
   unlink_all();
   errno = saved_errno;
   // SA_RESETHAND restored the default action; the signal is blocked until we return, then ends the
   // process as it would have without us.
   ::raise(sig);
+}
+
+// Async-signal-safe (sigaction is): on_signal reinstalls itself with it.
+void install(int sig) {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;
+  (void)::sigaction(sig, &sa, nullptr);
 }
 
 }  // namespace
@@ -67,12 +90,12 @@ void install_signal_handlers() {
     if (::sigaction(sig, nullptr, &old) != 0) continue;
     // A signal the caller ignores (nohup's SIGHUP) or handles stays as it is.
     if (old.sa_handler != SIG_DFL || (old.sa_flags & SA_SIGINFO)) continue;
-    struct sigaction sa {};
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESETHAND;
-    (void)::sigaction(sig, &sa, nullptr);
+    install(sig);
   }
+}
+
+void interrupt_sets(std::atomic<bool>* flag) {
+  g_interrupt.store(flag);
 }
 
 }  // namespace cbrdf::cli::temp_registry

@@ -5,6 +5,7 @@
 // always valid and calls unlink, both async-signal-safe.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <string>
 
@@ -26,6 +27,8 @@ void remove(int slot);
 void unlink_all();
 // See remove_temporaries_on_signals in cbrdf/file_io.h.
 void install_signal_handlers();
+// See interrupt_sets_flag in files/file_io.h.
+void interrupt_sets(std::atomic<bool>* flag);
 
 }  // namespace temp_registry
 }  // namespace cbrdf::cli
