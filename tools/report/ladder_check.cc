@@ -118,7 +118,7 @@ std::vector<LosslessCheck> lossless_checks(const std::vector<LadderMaterial>& la
 
 std::string ladder_check_text(const std::vector<LadderMaterial>& ladders) {
   std::ostringstream out;
-  out << "Ladder check (issue 18 targets, tone-mapped PSNR, means over materials):\n";
+  out << "Ladder check (cbrdf's targets, tone-mapped PSNR, means over materials):\n";
   for (const LadderTarget& t : ladder_targets(ladders)) {
     out << "  " << fmt("%.0f dB", t.psnr) << ": ";
     if (t.materials == 0) {

@@ -128,8 +128,8 @@ TextTable target_table(const std::vector<LadderMaterial>& ladders) {
       "its points that nothing beats in both bytes and PSNR, read at each PSNR by "
       "interpolation in log bytes (below a curve's first point, its bytes). Means over the "
       "materials cbrdf reaches (where ZFP's finest point falls short, its largest file counts and "
-      "the ZFP figures are lower bounds: column ZFP short); the issue's target is a ratio of at "
-      "least 4. " +
+      "the ZFP figures are lower bounds: column ZFP short); cbrdf aims for a ratio of at least "
+      "4. " +
       ladder_60db_text(ladders) + ". " + ladder_lossless_text(ladders) + ".";
   t.header = {"PSNR tm (dB)",    "materials",          "ZFP short",       "cbrdf KB",
               "ZFP KB",          "ZFP / cbrdf",        "min ZFP / cbrdf", "float16 KB",
