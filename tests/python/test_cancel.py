@@ -98,6 +98,14 @@ def test_an_exception_from_progress_propagates(table):
 
     with pytest.raises(Stop):
         cbrdf.encode(table, slices=1, bits=8, progress=fail)
+
+    def wrong(fraction, stage):
+        raise TypeError("the caller's own")
+
+    # Exactly the caller's exception: not turned into cbrdf.ArgumentTypeError like a bad argument.
+    with pytest.raises(TypeError) as e:
+        cbrdf.encode(table, slices=1, bits=8, progress=wrong)
+    assert type(e.value) is TypeError and str(e.value) == "the caller's own"
     # None and True go on.
     assert cbrdf.encode(table, slices=1, bits=8, progress=lambda f, s: None)
     assert cbrdf.encode(table, slices=1, bits=8, progress=lambda f, s: True)

@@ -173,6 +173,25 @@ def _named(fn: str, name: str, err: Error) -> Error:
     return cls(f"{fn}: {name}: {err.message}", err.code, err.code_name, err.exit_code)
 
 
+class _FromCaller(BaseException):
+    """An exception raised by a function the caller passed in (encode's progress), carried
+    through _entry's net unchanged: it is the caller's, not a bad argument."""
+
+    def __init__(self, error: BaseException):
+        super().__init__(error)
+        self.error = error
+
+
+def _from_caller(fn):
+    """`fn` with any exception it raises marked as the caller's (_FromCaller)."""
+    def call(*args):
+        try:
+            return fn(*args)
+        except Exception as e:
+            raise _FromCaller(e) from None
+    return call
+
+
 def _entry(fn):
     """The public entry point `fn`, raising only cbrdf.Error.
 
@@ -191,6 +210,8 @@ def _entry(fn):
     def call(*args, **kwargs):
         try:
             return fn(*args, **kwargs)
+        except _FromCaller as e:
+            raise e.error from None
         except Error:
             raise
         except TypeError as e:
@@ -586,7 +607,9 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
     lossless = _flag("encode", "lossless", lossless)
     if progress is not None and not callable(progress):
         raise _wrong_type("encode", "progress", "None or a function (fraction, stage)", progress)
-    # The options are checked in C++ by the command's own rules, before the table is made.
+    if progress is not None:
+        progress = _from_caller(progress)
+    # The options are checked in C++ by the library's validate(), before the table is made.
     return _cbrdf._encode(_table_maker(table, mask, fn="encode", name="table"), bits, components, slices, family, loss, level, placement,
                           naive_marginals, threads, target_bytes, target_psnr, max_error,
                           lossless, source_name, mixture_copulas, format_version,
