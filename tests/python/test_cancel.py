@@ -87,6 +87,14 @@ def test_progress_is_called_in_order_and_false_cancels(table):
     assert e.value.code == cbrdf.ErrorCode.CANCELLED and e.value.code_name == "cancelled"
     assert len(calls) == 1  # the first False stops it
     assert time.monotonic() - calls[0] < 0.1
+    assert str(e.value) == "cancelled"
+
+
+def test_encode_errors_start_with_the_path_as_the_commands_do(work):
+    path = str(work / "plastic.binary")
+    with pytest.raises(cbrdf.Error) as e:
+        cbrdf.encode(path, slices=1, bits=8, progress=lambda fraction, stage: False)
+    assert str(e.value) == f"{path}: cancelled"
 
 
 def test_an_exception_from_progress_propagates(table):

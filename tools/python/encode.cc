@@ -211,9 +211,12 @@ class ProgressBridge {
   bool cancelled_by_user_ = false;
 };
 
-std::vector<std::uint8_t> run_encode(const BrdfTable& table, EncoderSettings settings,
+// The encode with the GIL released; its errors start with the table's name (the path as given,
+// as the command prefixes them; none for arrays).
+std::vector<std::uint8_t> run_encode(const PyTable& t, EncoderSettings settings,
                                      const RateTarget& target, bool targeted,
                                      ProgressBridge* bridge) {
+  const BrdfTable& table = t.table;
   settings.progress = [bridge](const EncodeProgress& p) { return (*bridge)(p); };
   Expected<std::vector<std::uint8_t>> out = std::vector<std::uint8_t>{};
   {
@@ -233,7 +236,7 @@ std::vector<std::uint8_t> run_encode(const BrdfTable& table, EncoderSettings set
     }
   }
   bridge->rethrow();
-  return take(std::move(out));
+  return take(std::move(out), t.name);
 }
 
 // `make_table()` gives the cbrdf._Table, called once every option has been checked: reading or
@@ -254,7 +257,7 @@ py::bytes encode(const EncodeArgs& a) {
                   2);
   }
   ProgressBridge bridge(a.progress);
-  auto out = run_encode(t.table, std::move(settings), target, targeted, &bridge);
+  auto out = run_encode(t, std::move(settings), target, targeted, &bridge);
   return py::bytes(reinterpret_cast<const char*>(out.data()), out.size());
 }
 
