@@ -29,9 +29,9 @@ int lines(const std::string& s) {
 
 TEST(ReportArgs, BadSweepsAreOneLineUsageErrors) {
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"slices=0", "slices='0'"},
+      {"slices=0", "slices must be from 1 to 90, not 0"},
       {"slices=91", "1 to 90"},
-      {"bits=5", "bits='5'"},
+      {"bits=5", "bits must be from 6 to 16, not 5"},
       {"bits=17", "6 to 16"},
       {"bits=8.5", "bits='8.5'"},
       {"slices=a", "slices='a'"},
@@ -43,7 +43,7 @@ TEST(ReportArgs, BadSweepsAreOneLineUsageErrors) {
       {"slices=2 slices=3", "given twice"},
       {"'slices=2 bits=6' slices=3", "given twice"},
       {"nokey", "'nokey' is not KEY=VALUES"},
-      {"components=0", "components='0' is not an integer from 1 to"},
+      {"components=0", "components must be from 1 to 8, not 0"},
       {"components=1,auto,auto", "components lists auto twice"},
   };
   for (const auto& [sweep, expect] : cases) {
