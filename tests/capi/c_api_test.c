@@ -142,12 +142,13 @@ static void test_version_and_names(void) {
   CHECK(strcmp(cbrdf_status_name(CBRDF_ERROR_INVALID_ARGUMENT), "invalid-argument") == 0);
   CHECK(strcmp(cbrdf_status_name(CBRDF_ERROR_NUMERIC), "numeric") == 0);
   CHECK(strcmp(cbrdf_status_name(CBRDF_ERROR_INTERNAL), "internal") == 0);
-  CHECK(strcmp(cbrdf_status_name((cbrdf_status)12), "unknown") == 0);
+  CHECK(strcmp(cbrdf_status_name(CBRDF_ERROR_CANCELLED), "cancelled") == 0);
+  CHECK(strcmp(cbrdf_status_name((cbrdf_status)13), "unknown") == 0);
   CHECK(strcmp(cbrdf_status_name((cbrdf_status)-1), "unknown") == 0);
   /* The numeric values are the stable codes of cbrdf::ErrorCode. */
   CHECK(CBRDF_OK == 0 && CBRDF_ERROR_IO == 1 && CBRDF_ERROR_NOT_FOUND == 2);
   CHECK(CBRDF_ERROR_CHECKSUM == 7 && CBRDF_ERROR_INVALID_ARGUMENT == 9);
-  CHECK(CBRDF_ERROR_INTERNAL == 11);
+  CHECK(CBRDF_ERROR_INTERNAL == 11 && CBRDF_ERROR_CANCELLED == 12);
 
   CHECK(strcmp(cbrdf_family_name(CBRDF_FAMILY_INDEPENDENCE), "independence") == 0);
   CHECK(strcmp(cbrdf_family_name(CBRDF_FAMILY_FRANK), "frank") == 0);
