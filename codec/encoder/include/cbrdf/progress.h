@@ -27,7 +27,8 @@ struct EncodeProgress {
 /// end can draw progress and poll for Ctrl-C; the first call comes after the first interval, and
 /// none after the encode's work has ended. Return true to go on, false to cancel: the work stops
 /// at its next checkpoint (a solver iteration, a HALS sweep, a parallel task, a file written or
-/// scored: usually tens of milliseconds; one zstd compression of a residual layer at level 19
+/// scored: usually tens of milliseconds; the setup of a first encode in a process, which builds
+/// the sphere renders' geometry, and one zstd compression of a residual layer at level 19
 /// cannot be interrupted and may take a few hundred) and the encode returns a Status with
 /// ErrorCode::kCancelled and the message "cancelled". An exception thrown by the callback also
 /// stops the work, and is rethrown once it has stopped. Must not call into the same encode.
