@@ -413,9 +413,9 @@ Expected<ParsedContainer> decompress_checked(ParsedContainer pc,
   CBRDF_RETURN_IF_ERROR(check_complete(pc, r));
   pc.payloads.reserve(pc.layout.chunks.size());
   for (std::size_t i = 0; i < pc.layout.chunks.size(); ++i) {
-    Expected<std::vector<std::uint8_t>> payload = chunk_payload(pc.layout.chunks[i], stored[i]);
-    if (!payload.ok()) return payload.status();
-    pc.payloads.push_back(std::move(payload).value());
+    CBRDF_ASSIGN_OR_RETURN(std::vector<std::uint8_t> payload,
+                           chunk_payload(pc.layout.chunks[i], stored[i]));
+    pc.payloads.push_back(std::move(payload));
   }
   return pc;
 }

@@ -15,9 +15,8 @@ Expected<Model> decode_model_file(const std::string& path, ContainerInfo* info) 
     return Status(ErrorCode::kInvalidArgument,
                   "decode_model_file: the path is empty (give the path of a .cbrdf file)");
   }
-  auto bytes = read_file(path, kMaxContainerBytes);
-  if (!bytes.ok()) return bytes.status();
-  auto model = decode_model(std::span<const std::uint8_t>(*bytes), info);
+  CBRDF_ASSIGN_OR_RETURN(auto bytes, read_file(path, kMaxContainerBytes));
+  auto model = decode_model(std::span<const std::uint8_t>(bytes), info);
   if (!model.ok()) return model.status().with_context(path);
   return model;
 }

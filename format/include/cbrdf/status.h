@@ -104,3 +104,25 @@ class [[nodiscard]] Expected {
     ::cbrdf::Status cbrdf_status_ = (expr);        \
     if (!cbrdf_status_.ok()) return cbrdf_status_; \
   } while (0)
+
+/// Unwraps an expression returning Expected<T>: on an error, returns its Status unchanged from the
+/// enclosing function (which returns Status or any Expected<U>); else moves the value into `lhs`.
+///
+///     CBRDF_ASSIGN_OR_RETURN(auto bytes, read_file(path));
+///     CBRDF_ASSIGN_OR_RETURN(model, decode_model(bytes));  // an existing variable
+///
+/// `lhs` declares a value (`auto x`, `Model m`) or names an assignable variable. A reference
+/// (`const auto& x`) is not supported: it would name the macro's hidden temporary rather than own
+/// its value. The macro is several statements (use braces around it under an `if`), and a type
+/// with a comma in `lhs` needs an alias. Temporaries are unique per line, so one line holds one.
+#define CBRDF_ASSIGN_OR_RETURN(lhs, expr) \
+  CBRDF_ASSIGN_OR_RETURN_IMPL_(CBRDF_STATUS_CONCAT_(cbrdf_expected_, __LINE__), lhs, expr)
+
+/// @cond internal
+#define CBRDF_STATUS_CONCAT_INNER_(a, b) a##b
+#define CBRDF_STATUS_CONCAT_(a, b) CBRDF_STATUS_CONCAT_INNER_(a, b)
+#define CBRDF_ASSIGN_OR_RETURN_IMPL_(tmp, lhs, expr) \
+  auto tmp = (expr);                                 \
+  if (!tmp.ok()) return tmp.status();                \
+  lhs = std::move(tmp).value()
+/// @endcond

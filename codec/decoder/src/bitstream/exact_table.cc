@@ -165,15 +165,15 @@ Expected<ChannelStreams> read_channel_streams(ByteReader* r, int c, std::size_t 
   ChannelStreams s;
   std::size_t left = coded;
   for (int ctx = 0; ctx < kContexts; ++ctx) {
-    auto sym = get_stream(r, channel_stream(c, "symbol stream", ctx), left, false);
-    if (!sym.ok()) return sym.status();
-    left -= sym->size();
-    s.symbols[std::size_t(ctx)] = std::move(*sym);
+    CBRDF_ASSIGN_OR_RETURN(auto sym,
+                           get_stream(r, channel_stream(c, "symbol stream", ctx), left, false));
+    left -= sym.size();
+    s.symbols[std::size_t(ctx)] = std::move(sym);
   }
   // At most 62 low bits per coded bin.
-  auto bits = get_stream(r, channel_stream(c, "low-bit stream"), (coded * 62 + 7) / 8, false);
-  if (!bits.ok()) return bits.status();
-  s.bits = std::move(*bits);
+  CBRDF_ASSIGN_OR_RETURN(
+      auto bits, get_stream(r, channel_stream(c, "low-bit stream"), (coded * 62 + 7) / 8, false));
+  s.bits = std::move(bits);
   return s;
 }
 
@@ -302,9 +302,9 @@ Expected<SharedStreams> read_shared_streams(ByteReader* r) {
                                           std::to_string(kTotalBins) + " bins");
   }
   SharedStreams s;
-  auto bitmap = get_stream(r, "exact table exception bitmap", kBitmapBytes, true);
-  if (!bitmap.ok()) return bitmap.status();
-  s.bitmap = std::move(*bitmap);
+  CBRDF_ASSIGN_OR_RETURN(auto bitmap,
+                         get_stream(r, "exact table exception bitmap", kBitmapBytes, true));
+  s.bitmap = std::move(bitmap);
   std::size_t set = 0;
   for (std::uint8_t byte : s.bitmap) set += std::size_t(std::popcount(byte));
   if (set != count) {
@@ -312,19 +312,18 @@ Expected<SharedStreams> read_shared_streams(ByteReader* r) {
                                           std::to_string(set) + " bins but the header declares " +
                                           std::to_string(count));
   }
-  auto values = get_stream(r, "exact table exception values", std::size_t{8} * count, true);
-  if (!values.ok()) return values.status();
-  s.values = std::move(*values);
+  CBRDF_ASSIGN_OR_RETURN(
+      auto values, get_stream(r, "exact table exception values", std::size_t{8} * count, true));
+  s.values = std::move(values);
   for (std::size_t i = 0; i < count; ++i) {
     if ((s.values[8 * i + 7] & 0x80) == 0) {
       return error(ErrorCode::kCorrupt, "exact table: exception value " + std::to_string(i) +
                                             " lacks the sign bit of a not-measured value");
     }
   }
-  auto choices = get_stream(r, "exact table predictor choices",
-                            std::size_t{kChannels} * kRowsPerChannel, true);
-  if (!choices.ok()) return choices.status();
-  s.choices = std::move(*choices);
+  CBRDF_ASSIGN_OR_RETURN(auto choices, get_stream(r, "exact table predictor choices",
+                                                  std::size_t{kChannels} * kRowsPerChannel, true));
+  s.choices = std::move(choices);
   for (std::size_t i = 0; i < s.choices.size(); ++i) {
     if (s.choices[i] >= kPredictors.size()) {
       return error(ErrorCode::kCorrupt, "exact table: predictor " + std::to_string(s.choices[i]) +
@@ -336,22 +335,20 @@ Expected<SharedStreams> read_shared_streams(ByteReader* r) {
 
 Expected<BrdfTable> decode_streams(std::span<const std::uint8_t> bytes) {
   ByteReader r(bytes, 0, "exact table offset");
-  auto shared = read_shared_streams(&r);
-  if (!shared.ok()) return shared.status();
+  CBRDF_ASSIGN_OR_RETURN(auto shared, read_shared_streams(&r));
   // Each channel's exceptions: where its values start, and how many bins it codes.
   std::array<std::size_t, kChannels + 1> first{};
   for (int c = 0; c < kChannels; ++c) {
     std::size_t n = 0;
     for (std::size_t i = 0; i < kBinsPerChannel; ++i)
-      n += bit_set(shared->bitmap, std::size_t(c) * kBinsPerChannel + i) ? 1 : 0;
+      n += bit_set(shared.bitmap, std::size_t(c) * kBinsPerChannel + i) ? 1 : 0;
     first[std::size_t(c) + 1] = first[std::size_t(c)] + n;
   }
   std::array<ChannelStreams, kChannels> streams;
   for (int c = 0; c < kChannels; ++c) {
     const std::size_t exceptions = first[std::size_t(c) + 1] - first[std::size_t(c)];
-    auto s = read_channel_streams(&r, c, kBinsPerChannel - exceptions);
-    if (!s.ok()) return s.status();
-    streams[std::size_t(c)] = std::move(*s);
+    CBRDF_ASSIGN_OR_RETURN(streams[std::size_t(c)],
+                           read_channel_streams(&r, c, kBinsPerChannel - exceptions));
   }
   if (!r.at_end()) {
     return error(ErrorCode::kCorrupt,
@@ -360,7 +357,7 @@ Expected<BrdfTable> decode_streams(std::span<const std::uint8_t> bytes) {
   BrdfTable table;
   std::array<Status, kChannels> status;
   parallel_for(kChannels, 0, [&](int c) {
-    status[std::size_t(c)] = decode_channel(c, *shared, first[std::size_t(c)],
+    status[std::size_t(c)] = decode_channel(c, shared, first[std::size_t(c)],
                                             streams[std::size_t(c)], table.channel_data(c));
   });
   for (const Status& s : status) CBRDF_RETURN_IF_ERROR(s);

@@ -75,10 +75,9 @@ Status decode_marginals_chunk(std::span<const std::uint8_t> payload, std::uint16
                                           std::to_string(kMinMarginalBits) + ".." +
                                           std::to_string(kMaxMarginalBits));
   }
-  Expected<std::size_t> expected_tables =
-      expected_table_count(*slices, file_minor, reserved, table_count);
-  if (!expected_tables.ok()) return expected_tables.status();
-  std::vector<QuantizedTable> tables(*expected_tables);
+  CBRDF_ASSIGN_OR_RETURN(std::size_t expected_tables,
+                         expected_table_count(*slices, file_minor, reserved, table_count));
+  std::vector<QuantizedTable> tables(expected_tables);
   for (QuantizedTable& t : tables) {
     CBRDF_RETURN_IF_ERROR(r.f32(&t.lo, "table range lo"));
     CBRDF_RETURN_IF_ERROR(r.f32(&t.hi, "table range hi"));

@@ -201,9 +201,9 @@ Status decode_mask_chunk(std::span<const std::uint8_t> payload, std::uint16_t fi
     CBRDF_RETURN_IF_ERROR(read_mask_runs(r, &out->bits));
   }
   if (fields->reference == MaskReference::kBelowHorizon) xor_below_horizon(&out->bits);
-  Expected<std::size_t> count = check_mask(out->bits, set_count, stored_hash, fields->reference);
-  if (!count.ok()) return count.status();
-  const std::size_t n_values = fields->values == MaskValues::kSingle ? 1 : *count;
+  CBRDF_ASSIGN_OR_RETURN(std::size_t count,
+                         check_mask(out->bits, set_count, stored_hash, fields->reference));
+  const std::size_t n_values = fields->values == MaskValues::kSingle ? 1 : count;
   CBRDF_RETURN_IF_ERROR(read_not_measured_values(r, n_values, &out->values));
   return check_trailing(r.remaining(), file_minor);
 }

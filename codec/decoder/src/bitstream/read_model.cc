@@ -24,9 +24,7 @@ std::string where(const ParsedContainer& pc, int index) {
 }
 
 Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
-  Expected<ParsedContainer> parsed = parse_container(bytes);
-  if (!parsed.ok()) return parsed.status();
-  ParsedContainer& pc = *parsed;
+  CBRDF_ASSIGN_OR_RETURN(ParsedContainer pc, parse_container(bytes));
   const std::uint16_t minor = pc.layout.minor;
   Decoded d;
   d.info.layout = pc.layout;
@@ -111,22 +109,19 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
 }  // namespace
 
 Expected<Model> decode_model(std::span<const std::uint8_t> bytes, ContainerInfo* info) {
-  Expected<Decoded> d = decode_all(bytes);
-  if (!d.ok()) return d.status();
-  if (info) *info = std::move(d->info);
-  return std::move(d->model);
+  CBRDF_ASSIGN_OR_RETURN(Decoded d, decode_all(bytes));
+  if (info) *info = std::move(d.info);
+  return std::move(d.model);
 }
 
 Expected<ContainerInfo> inspect_container(std::span<const std::uint8_t> bytes) {
-  Expected<Decoded> d = decode_all(bytes);
-  if (!d.ok()) return d.status();
-  return std::move(d->info);
+  CBRDF_ASSIGN_OR_RETURN(Decoded d, decode_all(bytes));
+  return std::move(d.info);
 }
 
 Expected<BrdfTable> decode_table(std::span<const std::uint8_t> bytes) {
-  auto model = decode_model(bytes);
-  if (!model.ok()) return model.status();
-  return model->table();
+  CBRDF_ASSIGN_OR_RETURN(auto model, decode_model(bytes));
+  return model.table();
 }
 
 }  // namespace cbrdf

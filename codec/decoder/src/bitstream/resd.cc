@@ -283,9 +283,9 @@ Status decode_residual_chunk(std::span<const std::uint8_t> payload, std::uint16_
     CBRDF_RETURN_IF_ERROR(check_trailing(r.remaining(), file_minor));
   } else {
     CBRDF_RETURN_IF_ERROR(r.bytes(r.remaining(), &rest, "codes"));
-    Expected<std::size_t> used = read_codes(rest, codes_at, mask, predictor, out->codes.data());
-    if (!used.ok()) return used.status();
-    ByteReader tail(rest.subspan(*used), codes_at + *used, "payload offset");
+    CBRDF_ASSIGN_OR_RETURN(std::size_t used,
+                           read_codes(rest, codes_at, mask, predictor, out->codes.data()));
+    ByteReader tail(rest.subspan(used), codes_at + used, "payload offset");
     CBRDF_RETURN_IF_ERROR(read_escapes(tail, escapes, mask, &out->escapes));
     CBRDF_RETURN_IF_ERROR(check_trailing(tail.remaining(), file_minor));
   }

@@ -160,9 +160,7 @@ Status check_slice_channel(const cbrdf_model* model, int slice, int channel) {
 // (chunk layout, header fields, metadata) that Model does not hold.
 Expected<std::unique_ptr<cbrdf_model>> build_model(std::span<const std::uint8_t> bytes) {
   auto handle = std::make_unique<cbrdf_model>();
-  auto decoded = decode_model(bytes, &handle->info);
-  if (!decoded.ok()) return decoded.status();
-  handle->model = std::move(decoded.value());
+  CBRDF_ASSIGN_OR_RETURN(handle->model, decode_model(bytes, &handle->info));
   // The handle owns the model and never moves, so the evaluator shares it without owning it.
   handle->evaluator = std::make_unique<const ModelEvaluator>(
       std::shared_ptr<const Model>(std::shared_ptr<const Model>(), &handle->model));
@@ -305,9 +303,8 @@ cbrdf_model* cbrdf_model_open_file(const char* path) {
       return invalid_argument(
           "cbrdf_model_open_file: path is empty (give the path of a .cbrdf file)");
     }
-    auto bytes = cbrdf::read_file(path, cbrdf::kMaxContainerBytes);
-    if (!bytes.ok()) return bytes.status();
-    auto handle = cbrdf::internal::build_model(*bytes);
+    CBRDF_ASSIGN_OR_RETURN(auto bytes, cbrdf::read_file(path, cbrdf::kMaxContainerBytes));
+    auto handle = cbrdf::internal::build_model(bytes);
     if (!handle.ok()) return handle.status().with_context(path);
     return handle;
   });
