@@ -3,7 +3,6 @@
 // a decoded model satisfies, so that renderers and the MERL writer can trust it.
 #pragma once
 
-#include <bit>
 #include <cmath>
 #include <string>
 
@@ -33,53 +32,25 @@ inline void check_mass_table(const std::vector<double>& t, std::size_t size,
            what + " sums to " + std::to_string(sum) + ", neither 0 nor 1");
 }
 
+// The rules of a model a file can hold are validate_model's (cbrdf/model.h), the encoder's own
+// check; a decoded model besides holds its tables renormalized.
 inline void check_decoded_model(const Model& m, Result* r) {
-  if (m.slices.empty() || m.slices.size() > std::size_t{kThetaDBins}) {
-    r->check(false, "decoded model has " + std::to_string(m.slices.size()) + " slices");
+  const Status st = validate_model(m);
+  if (!st.ok()) {
+    r->check(false, "decoded model breaks a rule of validate_model: " + st.message());
     return;
   }
-  int begin = 0;
   for (std::size_t s = 0; s < m.slices.size(); ++s) {
-    const Slice& slice = m.slices[s];
-    const std::string name = "slice " + std::to_string(s);
-    if (slice.theta_d_begin != begin || slice.theta_d_end <= begin ||
-        slice.theta_d_end > kThetaDBins) {
-      r->check(false, name + " bounds are not contiguous");
-      return;
-    }
-    begin = slice.theta_d_end;
     for (int c = 0; c < kChannels; ++c) {
-      const ChannelSlice& channel = slice.channel[std::size_t(c)];
-      r->check(channel.components() <= 8, name + ": more than 8 components");
+      const ChannelSlice& channel = m.slices[s].channel[std::size_t(c)];
       for (int k = 0; k < channel.components(); ++k) {
         const Component& cs = channel.component(k);
-        const std::string cname =
-            name + " channel " + std::to_string(c) + " component " + std::to_string(k);
-        r->check(copula_parameter_valid(cs.family, cs.theta), cname + ": parameter outside domain");
-        r->check(std::isfinite(cs.scale) && cs.scale >= 0.0, cname + ": K not finite or negative");
+        const std::string cname = "slice " + std::to_string(s) + " channel " + std::to_string(c) +
+                                  " component " + std::to_string(k);
         check_mass_table(cs.pdf_h, kThetaHBins, cname + " theta_h", r);
-        check_mass_table(cs.pdf_d, std::size_t(slice.width()), cname + " theta_d", r);
+        check_mass_table(cs.pdf_d, std::size_t(m.slices[s].width()), cname + " theta_d", r);
         check_mass_table(cs.pdf_p, kPhiDBins, cname + " phi_d", r);
       }
-    }
-  }
-  r->check(begin == kThetaDBins, "slices do not end at theta_d bin 90");
-  const NotMeasured& nm = m.not_measured;
-  constexpr std::size_t kBits = std::size_t{kChannels} * kBinsPerChannel;
-  if (nm.bits.size() != (kBits + 63) / 64) {
-    r->check(false, "mask has the wrong number of words");
-    return;
-  }
-  r->check((nm.bits.back() >> (kBits % 64)) == 0, "mask has bits set past its last bin");
-  std::size_t count = 0;
-  for (std::uint64_t w : nm.bits) count += std::size_t(std::popcount(w));
-  r->check(nm.values.size() == 1 || nm.values.size() == count,
-           "not-measured values: " + std::to_string(nm.values.size()) + " for " +
-               std::to_string(count) + " masked bins");
-  for (double v : nm.values) {
-    if (v >= 0.0) {
-      r->check(false, "a not-measured value is >= 0 (it would read as measured)");
-      break;
     }
   }
 }

@@ -20,6 +20,7 @@
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/coords.h"
 #include "cbrdf/copula_family.h"
+#include "cbrdf/status.h"
 
 namespace cbrdf {
 
@@ -192,6 +193,15 @@ struct Model {
   /// The full table: model values at measured bins, the source's stored values at the others.
   BrdfTable table() const;
 };
+
+/// Whether a container can hold `model`: 1 to 90 slices, contiguous from theta_d bin 0 to 90; at
+/// most 8 components per slice and channel, each with a family's parameter inside its range and K
+/// finite and >= 0; marginal tables of the grid's sizes holding finite masses >= 0; a mask of
+/// kChannels x kBinsPerChannel bits with one negative value or one per set bit; and a residual
+/// layer within RESD's limits (spec/container.md section 4). kInvalidArgument with a message naming
+/// the first rule broken (slice, channel, component, table, bin). encode_model refuses exactly
+/// these models (its message prefixed "cannot encode: "); every model decode_model returns passes.
+Status validate_model(const Model& model);
 
 namespace internal {
 class GridCopula;
