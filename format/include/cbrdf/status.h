@@ -105,8 +105,9 @@ class [[nodiscard]] Expected {
     if (!cbrdf_status_.ok()) return cbrdf_status_; \
   } while (0)
 
-/// Unwraps an expression returning Expected<T>: on an error, returns its Status unchanged from the
-/// enclosing function (which returns Status or any Expected<U>); else moves the value into `lhs`.
+/// Unwraps an expression returning `Expected<T>`: on an error, returns its Status unchanged from
+/// the enclosing function (which returns `Status` or any `Expected<U>`); else moves the value into
+/// `lhs`.
 ///
 ///     CBRDF_ASSIGN_OR_RETURN(auto bytes, read_file(path));
 ///     CBRDF_ASSIGN_OR_RETURN(model, decode_model(bytes));  // an existing variable
