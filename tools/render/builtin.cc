@@ -38,14 +38,13 @@ Status write_text(const std::filesystem::path& path, const std::string& text) {
 // Fits a built-in sample and writes it as .cbrdf: 12 bits in the 1.2 coding with full metadata,
 // the files the built-in scenes have always rendered.
 Status write_sample_cbrdf(const std::string& sample, const std::filesystem::path& path) {
-  auto table = make_sample(sample);
-  if (!table.ok()) return table.status();
+  CBRDF_ASSIGN_OR_RETURN(auto table, make_sample(sample));
   EncoderSettings settings;
   settings.auto_bits.enabled = false;
   settings.container.format = ContainerSettings::Format::kV12;
   settings.container.metadata = ContainerSettings::Metadata::kFull;
   settings.container.source_name = "sample:" + sample;
-  auto encoded = encode_table(*table, settings);
+  auto encoded = encode_table(table, settings);
   if (!encoded.ok()) return encoded.status().with_context(path.string());
   return write_file_atomic(path, encoded->bytes);
 }

@@ -67,15 +67,13 @@ Expected<std::unique_ptr<Material>> Material::create(const MaterialDesc& desc) {
   };
   switch (desc.type) {
     case MaterialType::kMerl: {
-      auto table = read_merl(desc.file);
-      if (!table.ok()) return table.status();
-      m->description_ = "measured table, " + use_table(std::move(*table)) + " (" + file + ")";
+      CBRDF_ASSIGN_OR_RETURN(auto table, read_merl(desc.file));
+      m->description_ = "measured table, " + use_table(std::move(table)) + " (" + file + ")";
       break;
     }
     case MaterialType::kCbrdf: {
-      auto bytes = read_file(desc.file, kMaxContainerBytes);
-      if (!bytes.ok()) return bytes.status();
-      auto model = decode_model(*bytes);
+      CBRDF_ASSIGN_OR_RETURN(auto bytes, read_file(desc.file, kMaxContainerBytes));
+      auto model = decode_model(bytes);
       if (!model.ok()) return model.status().with_context(desc.file.string());
       m->use_model(std::move(*model));
       m->description_ =

@@ -58,10 +58,9 @@ Expected<TriangleMesh> load_mesh(const std::filesystem::path& path) {
   }
   std::unique_ptr<draco::Mesh> mesh;
   if (path.extension() == ".drc") {
-    auto bytes = read_file(path, kMaxMeshFileBytes);
-    if (!bytes.ok()) return bytes.status();
+    CBRDF_ASSIGN_OR_RETURN(auto bytes, read_file(path, kMaxMeshFileBytes));
     draco::DecoderBuffer buffer;
-    buffer.Init(reinterpret_cast<const char*>(bytes->data()), bytes->size());
+    buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     draco::Decoder decoder;
     auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
     if (!decoded.ok()) {

@@ -49,29 +49,28 @@ Status write_exr_table(const std::filesystem::path& path, const BrdfTable& table
 }
 
 Expected<BrdfTable> read_exr_table(const std::filesystem::path& path) {
-  Expected<internal::ExrChannels> exr =
-      internal::read_exr_channels(path, {"R", "G", "B", "A"}, kMosaicPixels);
-  if (!exr.ok()) return exr.status();
-  const auto layout = exr->strings.find("cbrdf.layout");
-  if (layout == exr->strings.end() || layout->second != kExrTableLayout) {
+  CBRDF_ASSIGN_OR_RETURN(internal::ExrChannels exr,
+                         internal::read_exr_channels(path, {"R", "G", "B", "A"}, kMosaicPixels));
+  const auto layout = exr.strings.find("cbrdf.layout");
+  if (layout == exr.strings.end() || layout->second != kExrTableLayout) {
     return error(
         ErrorCode::kBadSignature,
         path.string() + ": not a cbrdf table mosaic (header attribute cbrdf.layout is " +
-            (layout == exr->strings.end() ? std::string("missing") : "'" + layout->second + "'") +
+            (layout == exr.strings.end() ? std::string("missing") : "'" + layout->second + "'") +
             ", expected '" + kExrTableLayout + "')");
   }
-  if (exr->width != kExrTableWidth || exr->height != kExrTableHeight) {
+  if (exr.width != kExrTableWidth || exr.height != kExrTableHeight) {
     return error(ErrorCode::kCorrupt, path.string() + ": table mosaic is " +
-                                          std::to_string(exr->width) + "x" +
-                                          std::to_string(exr->height) + ", expected 1800x810");
+                                          std::to_string(exr.width) + "x" +
+                                          std::to_string(exr.height) + ", expected 1800x810");
   }
   for (const char* name : {"R", "G", "B", "A"}) {
-    if (!exr->planes.contains(name)) {
+    if (!exr.planes.contains(name)) {
       return error(ErrorCode::kCorrupt, path.string() + ": table mosaic has no channel " + name);
     }
   }
-  const std::vector<float>* planes[3] = {&exr->planes["R"], &exr->planes["G"], &exr->planes["B"]};
-  const std::vector<float>& alpha = exr->planes["A"];
+  const std::vector<float>* planes[3] = {&exr.planes["R"], &exr.planes["G"], &exr.planes["B"]};
+  const std::vector<float>& alpha = exr.planes["A"];
   BrdfTable table;
   for (int h = 0; h < kThetaHBins; ++h) {
     for (int d = 0; d < kThetaDBins; ++d) {

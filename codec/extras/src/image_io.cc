@@ -54,11 +54,10 @@ Status write_exr(const std::filesystem::path& path, const Image& image) {
 }
 
 Expected<Image> read_exr(const std::filesystem::path& path) {
-  Expected<internal::ExrChannels> exr =
-      internal::read_exr_channels(path, {"R", "G", "B", "Y"}, kMaxImagePixels);
-  if (!exr.ok()) return exr.status();
-  const auto& planes = exr->planes;
-  Image image(exr->width, exr->height);
+  CBRDF_ASSIGN_OR_RETURN(internal::ExrChannels exr,
+                         internal::read_exr_channels(path, {"R", "G", "B", "Y"}, kMaxImagePixels));
+  const auto& planes = exr.planes;
+  Image image(exr.width, exr.height);
   const bool grey = !planes.contains("R") && !planes.contains("G") && !planes.contains("B") &&
                     planes.contains("Y");
   const char* names[3] = {"R", "G", "B"};
@@ -98,16 +97,15 @@ Status write_png(const std::filesystem::path& path, const Image& image) {
 }
 
 Expected<Image> read_png(const std::filesystem::path& path) {
-  Expected<std::vector<std::uint8_t>> bytes = read_file(path, kMaxPngFileBytes);
-  if (!bytes.ok()) return bytes.status();
+  CBRDF_ASSIGN_OR_RETURN(std::vector<std::uint8_t> bytes, read_file(path, kMaxPngFileBytes));
   static constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (bytes->size() < 8 || !std::equal(kSignature, kSignature + 8, bytes->begin())) {
+  if (bytes.size() < 8 || !std::equal(kSignature, kSignature + 8, bytes.begin())) {
     return error(ErrorCode::kBadSignature,
                  path.string() + ": not a PNG file (bad signature at offset 0)");
   }
   png_image png{};
   png.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_memory(&png, bytes->data(), bytes->size())) {
+  if (!png_image_begin_read_from_memory(&png, bytes.data(), bytes.size())) {
     const std::string why = png.message;
     png_image_free(&png);
     return error(ErrorCode::kCorrupt, path.string() + ": unreadable PNG header: " + why);
