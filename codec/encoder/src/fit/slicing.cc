@@ -194,9 +194,8 @@ Partitions solve(const SegmentCosts& c, int max_slices) {
 }
 
 Expected<Partitions> partitions(const BrdfTable& table, int max_slices, const SlicingSettings& st) {
-  auto profiles = build_profiles(table, st.cost);
-  if (!profiles.ok()) return profiles.status();
-  const Eigen::MatrixXd d = pair_distances(*profiles, st.cost);
+  CBRDF_ASSIGN_OR_RETURN(auto profiles, build_profiles(table, st.cost));
+  const Eigen::MatrixXd d = pair_distances(profiles, st.cost);
   std::vector<double> w(kThetaDBins, 1.0);
   if (st.measure_weight) {
     const double deg = std::acos(-1.0) / 180.0;
@@ -213,12 +212,11 @@ Expected<Partitions> partitions(const BrdfTable& table, int max_slices, const Sl
 Expected<std::vector<int>> adaptive_slice_bounds(const BrdfTable& table, int slices,
                                                  const SlicingSettings& settings) {
   CBRDF_RETURN_IF_ERROR(check_count(slices, "slice count"));
-  auto p = partitions(table, slices, settings);
-  if (!p.ok()) return p.status();
+  CBRDF_ASSIGN_OR_RETURN(auto p, partitions(table, slices, settings));
   std::vector<int> bounds(std::size_t(slices) + 1);
   bounds[std::size_t(slices)] = kThetaDBins;
   for (int s = slices; s >= 1; --s) {
-    bounds[std::size_t(s - 1)] = p->last[s][bounds[std::size_t(s)]];
+    bounds[std::size_t(s - 1)] = p.last[s][bounds[std::size_t(s)]];
   }
   return bounds;
 }
@@ -226,10 +224,9 @@ Expected<std::vector<int>> adaptive_slice_bounds(const BrdfTable& table, int sli
 Expected<std::vector<double>> slicing_cost_curve(const BrdfTable& table, int max_slices,
                                                  const SlicingSettings& settings) {
   CBRDF_RETURN_IF_ERROR(check_count(max_slices, "largest slice count"));
-  auto p = partitions(table, max_slices, settings);
-  if (!p.ok()) return p.status();
+  CBRDF_ASSIGN_OR_RETURN(auto p, partitions(table, max_slices, settings));
   std::vector<double> curve;
-  for (int s = 1; s <= max_slices; ++s) curve.push_back(p->cost[s][kThetaDBins]);
+  for (int s = 1; s <= max_slices; ++s) curve.push_back(p.cost[s][kThetaDBins]);
   return curve;
 }
 
@@ -239,11 +236,10 @@ Expected<int> choose_slice_count(const BrdfTable& table, double tolerance, int m
     return error(ErrorCode::kInvalidArgument,
                  "slice tolerance " + std::to_string(tolerance) + " is outside [0, 1]");
   }
-  auto curve = slicing_cost_curve(table, max_slices, settings);
-  if (!curve.ok()) return curve.status();
-  const double one = curve->front();
+  CBRDF_ASSIGN_OR_RETURN(auto curve, slicing_cost_curve(table, max_slices, settings));
+  const double one = curve.front();
   for (int s = 1; s <= max_slices; ++s) {
-    if ((*curve)[std::size_t(s - 1)] <= tolerance * one) return s;
+    if (curve[std::size_t(s - 1)] <= tolerance * one) return s;
   }
   return max_slices;
 }
