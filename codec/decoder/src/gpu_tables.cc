@@ -36,6 +36,38 @@ void put_axis(const ProductForm& f, const std::vector<double>& pdf, int bins, st
   }
 }
 
+// The bin values of the components without the product form, as the evaluator's table forms
+// them (ModelEvaluator::table, in stored units, times the channel's scale), from a copy of the
+// model that holds only them; every bin is marked measured.
+std::vector<float> generic_values(Model generic_only) {
+  generic_only.not_measured = NotMeasured{};
+  const BrdfTable gt = ModelEvaluator(std::move(generic_only)).table();
+  std::vector<float> g(kChannels * kBinsPerChannel);
+  for (int c = 0; c < kChannels; ++c) {
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      g[i * kChannels + std::size_t(c)] = float(gt.physical(c, i));
+    }
+  }
+  return g;
+}
+
+// The residual layer's value of every bin, channels interleaved.
+std::vector<float> residual_values(const Residual& res) {
+  std::vector<float> r(kChannels * kBinsPerChannel);
+  for (int c = 0; c < kChannels; ++c) {
+    for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
+      double x;
+      if (res.exact) {
+        x = res.exact->measured(c, i) ? res.exact->physical(c, i) : 0.0;
+      } else {
+        x = res.value_at(std::size_t(c) * kBinsPerChannel + i);
+      }
+      r[i * kChannels + std::size_t(c)] = float(x);
+    }
+  }
+  return r;
+}
+
 }  // namespace
 
 GpuTables gpu_tables(const Model& model) {
@@ -104,35 +136,8 @@ GpuTables gpu_tables(const Model& model) {
   t[3] = float(res.knee);
   t[4] = any_generic ? 1.0f : 0.0f;
 
-  if (any_generic) {
-    // Their bin values, as the evaluator's table forms them (ModelEvaluator::table, in stored
-    // units, times the channel's scale), from a copy of the model that holds only them and marks
-    // every bin measured.
-    generic_only.not_measured = NotMeasured{};
-    const BrdfTable gt = ModelEvaluator(std::move(generic_only)).table();
-    std::vector<float>& g = out.generic;
-    g.resize(kChannels * kBinsPerChannel);
-    for (int c = 0; c < kChannels; ++c) {
-      for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
-        g[i * kChannels + std::size_t(c)] = float(gt.physical(c, i));
-      }
-    }
-  }
-  if (res.present()) {
-    std::vector<float>& r = out.residual;
-    r.resize(kChannels * kBinsPerChannel);
-    for (int c = 0; c < kChannels; ++c) {
-      for (std::size_t i = 0; i < kBinsPerChannel; ++i) {
-        double x;
-        if (res.exact) {
-          x = res.exact->measured(c, i) ? res.exact->physical(c, i) : 0.0;
-        } else {
-          x = res.value_at(std::size_t(c) * kBinsPerChannel + i);
-        }
-        r[i * kChannels + std::size_t(c)] = float(x);
-      }
-    }
-  }
+  if (any_generic) out.generic = generic_values(std::move(generic_only));
+  if (res.present()) out.residual = residual_values(res);
   return out;
 }
 
