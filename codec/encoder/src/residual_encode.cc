@@ -127,16 +127,8 @@ Status add_exact(const BrdfTable& source, const ContainerSettings& container,
   return ok_status();
 }
 
-}  // namespace
-
-Status add_residual(const BrdfTable& source, const EncoderSettings& settings, EncodeResult* result,
-                    const BrdfTable* base_table, BrdfTable* decoded_out) {
-  CBRDF_RETURN_IF_ERROR(check_cancel());
-  ContainerSettings container = settings.container;
-  container.bits = result->bits > 0 ? result->bits : container.bits;
-  if (settings.residual.lossless) return add_exact(source, container, result);
-  const double bound = settings.residual.max_error;
-  const ResidualSettings& rs = settings.residual;
+// The levels and multipliers within the format's limits.
+Status check_levels(const ResidualSettings& rs) {
   const auto out_of_range = [](int m) { return m < 1 || m > kMaxFineMultiplier; };
   if (rs.levels < 0 || rs.levels > kMaxResidualLevels ||
       (rs.levels > 0 &&
@@ -153,6 +145,67 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings, En
                      std::to_string(kMaxResidualLevels) + " and each multiplier 1.." +
                      std::to_string(kMaxFineMultiplier) + " (0 also for mode 3's: the finest)");
   }
+  return ok_status();
+}
+
+// Everything of the layer but its codes and escapes: bound, step, knee, levels, multipliers
+// and row steps, for the version that `base_bytes` (the base's file) is written in.
+Status set_residual_layout(const ResidualSettings& rs, const std::vector<std::uint8_t>& base_bytes,
+                           double knee, Residual* residual) {
+  const double bound = rs.max_error;
+  residual->max_error = bound;
+  residual->step = 2.0 * bound * kStepFraction;
+  residual->knee = knee;
+  residual->row_shift.clear();
+  residual->levels = std::uint8_t(rs.levels);
+  // Middle levels' multipliers are RESD mode 4, version 1.3 only: a file its base writes as 1.2
+  // takes them as 1, and the finest level mode 3's multiplier.
+  Expected<ContainerLayout> version = read_container_version(base_bytes);
+  if (!version.ok()) return version.status();
+  const bool v13 = version->minor >= 3;
+  const int fine =
+      !v13 && rs.mode3_fine_multiplier > 0 ? rs.mode3_fine_multiplier : rs.fine_multiplier;
+  residual->fine_multiplier = std::uint8_t(rs.levels > 0 ? fine : 1);
+  residual->middle_multipliers = {1, 1, 1};
+  for (int l = 1; v13 && l < rs.levels; ++l) {
+    residual->middle_multipliers[std::size_t(l - 1)] =
+        std::uint8_t(rs.middle_multipliers[std::size_t(l - 1)]);
+  }
+  residual->values.clear();
+  const int multiplier = residual->max_multiplier();
+  if (rs.row_steps) {
+    residual->row_shift = residual_row_shifts(bound, multiplier);
+  } else if (residual->interpolated()) {
+    residual->row_shift.assign(kResidualRows, 0);  // mode 3 always has them
+  }
+  return ok_status();
+}
+
+// The layer's codes for `target`, with no escapes yet.
+void quantize_residual(const std::vector<double>& target, Residual* residual) {
+  if (residual->interpolated()) {
+    quantize_interpolated(target.data(), residual);
+  } else {
+    // One code per bin; a code clamped to the format's range fails add_residual's check and
+    // becomes an escape.
+    residual->codes.assign(kMaskBits, 0);
+    for (std::size_t b = 0; b < kMaskBits; ++b) {
+      residual->codes[b] = residual_code(target[b], residual->step_at(b % kBinsPerChannel));
+    }
+  }
+  residual->escapes.clear();
+}
+
+}  // namespace
+
+Status add_residual(const BrdfTable& source, const EncoderSettings& settings, EncodeResult* result,
+                    const BrdfTable* base_table, BrdfTable* decoded_out) {
+  CBRDF_RETURN_IF_ERROR(check_cancel());
+  ContainerSettings container = settings.container;
+  container.bits = result->bits > 0 ? result->bits : container.bits;
+  if (settings.residual.lossless) return add_exact(source, container, result);
+  const double bound = settings.residual.max_error;
+  CBRDF_RETURN_IF_ERROR(check_levels(settings.residual));
   // The base exactly as every decoder of the file rebuilds it.
   BrdfTable own_base;
   if (base_table == nullptr) {
@@ -163,46 +216,13 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings, En
   }
 
   Model& model = result->model;
-  model.residual.max_error = bound;
-  model.residual.step = 2.0 * bound * kStepFraction;
-  model.residual.knee = residual_knee(source);
-  model.residual.row_shift.clear();
-  model.residual.levels = std::uint8_t(settings.residual.levels);
-  // Middle levels' multipliers are RESD mode 4, version 1.3 only: a file its base writes as 1.2
-  // takes them as 1, and the finest level mode 3's multiplier.
-  Expected<ContainerLayout> version = read_container_version(result->bytes);
-  if (!version.ok()) return version.status();
-  const bool v13 = version->minor >= 3;
-  const int fine =
-      !v13 && rs.mode3_fine_multiplier > 0 ? rs.mode3_fine_multiplier : rs.fine_multiplier;
-  model.residual.fine_multiplier = std::uint8_t(rs.levels > 0 ? fine : 1);
-  model.residual.middle_multipliers = {1, 1, 1};
-  for (int l = 1; v13 && l < settings.residual.levels; ++l) {
-    model.residual.middle_multipliers[std::size_t(l - 1)] =
-        std::uint8_t(settings.residual.middle_multipliers[std::size_t(l - 1)]);
-  }
-  model.residual.values.clear();
-  const int multiplier = model.residual.max_multiplier();
-  if (settings.residual.row_steps) {
-    model.residual.row_shift = residual_row_shifts(bound, multiplier);
-  } else if (model.residual.interpolated()) {
-    model.residual.row_shift.assign(kResidualRows, 0);  // mode 3 always has them
-  }
+  CBRDF_RETURN_IF_ERROR(set_residual_layout(settings.residual, result->bytes, residual_knee(source),
+                                            &model.residual));
   CBRDF_RETURN_IF_ERROR(check_cancel());
   const std::vector<double> target =
       residual_target(source, *base_table, model.not_measured, model.residual.knee);
   CBRDF_RETURN_IF_ERROR(check_cancel());
-  if (model.residual.interpolated()) {
-    quantize_interpolated(target.data(), &model.residual);
-  } else {
-    // One code per bin; a code clamped to the format's range becomes an escape below.
-    model.residual.codes.assign(kMaskBits, 0);
-    for (std::size_t b = 0; b < kMaskBits; ++b) {
-      model.residual.codes[b] =
-          residual_code(target[b], model.residual.step_at(b % kBinsPerChannel));
-    }
-  }
-  model.residual.escapes.clear();
+  quantize_residual(target, &model.residual);
   // Write, decode, check every bin; bins that miss the bound (rounding at the margin, or a code
   // beyond the format's range) are stored exactly as escapes and the file written again.
   for (int attempt = 0; attempt < 2; ++attempt) {
