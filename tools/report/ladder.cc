@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "report/ladder.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "cbrdf/parallel.h"
 #include "report/float16_baseline.h"
 #include "report/lossless.h"
+#include "report/progress.h"
 #include "report/zfp_baseline.h"
 
 namespace cbrdf::report {
@@ -49,10 +51,13 @@ class LadderRun {
   }
 
   Expected<LadderMaterial> run() {
+    CBRDF_RETURN_IF_ERROR(reach(0));
     CBRDF_RETURN_IF_ERROR(base_points());
+    CBRDF_RETURN_IF_ERROR(reach(kResidualsFrom));
     CBRDF_RETURN_IF_ERROR(residual_points());
     CBRDF_RETURN_IF_ERROR(noise_floor_point());
     if (st_.lossless) CBRDF_RETURN_IF_ERROR(cbrdf_lossless_point());
+    CBRDF_RETURN_IF_ERROR(reach(kResidualsTo));
     CBRDF_RETURN_IF_ERROR(zfp_points());
     if (st_.float16) CBRDF_RETURN_IF_ERROR(float16_point());
     if (st_.compressors) CBRDF_RETURN_IF_ERROR(compressor_points());
@@ -60,6 +65,16 @@ class LadderRun {
   }
 
  private:
+  // The ladder's share before its residual points (the base fits) and up to their end.
+  static constexpr double kResidualsFrom = 0.2, kResidualsTo = 0.8;
+  // Progress at `fraction` of the ladder, between points: a cancel stops it here.
+  Status reach(double fraction) const {
+    if (st_.progress && !st_.progress(EncodeProgress{fraction, "ladder"})) {
+      return error(ErrorCode::kCancelled, "cancelled");
+    }
+    return ok_status();
+  }
+
   Status context(const Status& s, const LadderPoint& p) const {
     return s.with_context(out_.name + " (ladder: " + p.method + " " + p.setting + ")");
   }
@@ -103,7 +118,10 @@ class LadderRun {
 
   // One fit per component count, every bits from it (as `cbrdf encode` would write each).
   Status base_points() {
-    for (int k : st_.base_components) {
+    for (std::size_t ki = 0; ki < st_.base_components.size(); ++ki) {
+      CBRDF_RETURN_IF_ERROR(
+          reach(kResidualsFrom * double(ki) / double(st_.base_components.size())));
+      const int k = st_.base_components[ki];
       Model model;
       double fit_s = 0;
       for (std::size_t b = 0; b < st_.base_bits.size(); ++b) {
@@ -170,6 +188,11 @@ class LadderRun {
     auto es = encoder_settings(options(st_.residual_base_components, st_.residual_base_bits));
     if (!es.ok()) return context(es.status(), p);
     es->residual = rs;
+    // Each residual encode gets an equal part of the ladder's residual share, in call order.
+    const int calls = int(st_.max_errors.size()) + 2;
+    const double part = (kResidualsTo - kResidualsFrom) / calls;
+    const double from = kResidualsFrom + part * std::min(residual_calls_++, calls - 1);
+    es->progress = part_of(st_.progress, from, from + part);
     EncodeResult r = base_file_;
     auto t0 = Clock::now();
     if (Status s = add_residual_layer(source ? *source : table_, *es, &r); !s.ok()) {
@@ -268,6 +291,7 @@ class LadderRun {
   double residual_fit_s_ = 0;           // its fit and write time
   EncodeResult base_file_;
   bool have_residual_base_ = false;
+  int residual_calls_ = 0;
   SphereSetup sphere_;
   LadderMaterial out_;
 };

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cbrdf/brdf_table.h"
+#include "cbrdf/progress.h"
 #include "cbrdf/status.h"
 
 namespace cbrdf::report {
@@ -54,6 +55,9 @@ struct LadderSettings {
   std::uint32_t xz_preset = 9;
   int threads = 0;  // fitting threads (0: the thread limit)
   int sphere_size = 256;
+  // The ladder's progress, 0 to 1 over the whole ladder, from its residual encodes and between
+  // its points; returning false cancels (kCancelled). Empty: none.
+  ProgressCallback progress;
 };
 
 struct LadderPoint {

@@ -163,8 +163,9 @@ Expected<std::vector<std::uint8_t>> encode_at(const BrdfTable& table, const Mode
 
 class MaterialRun {
  public:
-  MaterialRun(const Material& m, const Settings& st, int threads, Progress* progress)
-      : m_(m), st_(st), threads_(threads), progress_(progress) {
+  MaterialRun(const Material& m, const Settings& st, int threads, Progress* progress,
+              std::size_t slot)
+      : m_(m), st_(st), threads_(threads), progress_(progress), slot_(slot) {
     sphere_.size = st.sphere_size;
     sphere_.threads = threads;
   }
@@ -263,13 +264,20 @@ class MaterialRun {
       const CodecSetting key{s.family, s.slices, 0, s.components};
       auto fit = std::find_if(fits.begin(), fits.end(), [&](const Fit& f) { return f.key == key; });
       if (fit == fits.end()) {
+        // Through encode_table (at fixed bits, no residual: the model is fit_model's) so that the
+        // fit reports progress and stops on a cancel.
+        EncoderSettings fit_es = *es;
+        fit_es.auto_bits.enabled = false;
+        fit_es.residual = {};
+        fit_es.progress = callback(0, 0.5);
         const auto t0 = Clock::now();
-        auto m = fit_model(table_, es->fit);
+        auto m = encode_table(table_, fit_es);
         const double seconds = since(t0);
         if (!m.ok()) return m.status().with_context(m_.name + " (" + s.label() + ")");
-        fits.push_back(Fit{key, std::move(m).value(), seconds});
+        fits.push_back(Fit{key, std::move(m->model), seconds});
         fit = fits.end() - 1;
       }
+      es->progress = callback(0.5, 0.9);
       const Model& model = fit->model;
       const double fit_s = fit->fit_s;
       Row r = base_row(s.model_name(), kKindCopula);
@@ -315,7 +323,7 @@ class MaterialRun {
         result_.polar.insert(result_.polar.end(), curves.begin(), curves.end());
       }
       result_.rows.push_back(std::move(r));
-      progress_->step(m_.name + ": " + s.label());
+      CBRDF_RETURN_IF_ERROR(step(m_.name + ": " + s.label()));
     }
     return ok_status();
   }
@@ -390,7 +398,7 @@ class MaterialRun {
         result_.polar.insert(result_.polar.end(), curves.begin(), curves.end());
       }
       result_.rows.push_back(std::move(r));
-      progress_->step(m_.name + ": " + def.name);
+      CBRDF_RETURN_IF_ERROR(step(m_.name + ": " + def.name));
     }
     return ok_status();
   }
@@ -408,8 +416,7 @@ class MaterialRun {
         [&](const Vec3& wi, const Vec3& wo, double* rgb) { lookup_nearest(t, wi, wo, rgb); });
     r.detail = "zstd level " + std::to_string(st_.float16_zstd_level);
     result_.rows.push_back(std::move(r));
-    progress_->step(m_.name + ": float16");
-    return ok_status();
+    return step(m_.name + ": float16");
   }
 
   // The truth of this material in --truth DIR: NAME.binary for NAME.binary or NAME-noisy.binary.
@@ -426,6 +433,7 @@ class MaterialRun {
     LadderSettings ls = st_.ladder;
     ls.threads = threads_;
     ls.sphere_size = st_.sphere_size;
+    ls.progress = callback(0, 1);
     std::optional<BrdfTable> truth;
     if (!st_.truth_dir.empty()) {
       auto t = read_merl(truth_path());
@@ -435,8 +443,7 @@ class MaterialRun {
     auto l = measure_ladder(m_.name, table_, ls, truth ? &*truth : nullptr);
     if (!l.ok()) return l.status();
     result_.ladder = std::move(l).value();
-    progress_->step(m_.name + ": ladder");
-    return ok_status();
+    return step(m_.name + ": ladder");
   }
 
   Status lossless_rows() {
@@ -454,18 +461,31 @@ class MaterialRun {
       r.render_s = result_.render_nearest_s;
       r.detail = "of the .binary bytes; eval = nearest-bin table lookup";
       result_.rows.push_back(std::move(r));
-      progress_->step(m_.name + ": " + model);
-      return ok_status();
+      return step(m_.name + ": " + model);
     };
     CBRDF_RETURN_IF_ERROR(add("zstd-" + std::to_string(st_.lossless_zstd_level),
                               zstd_round_trip(raw_, st_.lossless_zstd_level)));
     return add("xz-" + std::to_string(st_.xz_preset), xz_round_trip(raw_, st_.xz_preset));
   }
 
+  // The encoder's callback for the part [from, to] of this material's running step; it cancels
+  // once st_.cancel is set.
+  ProgressCallback callback(double from, double to) const {
+    return progress_->callback(slot_, from, to, st_.cancel);
+  }
+  // Marks a step done; between steps, a cancel stops the material.
+  Status step(const std::string& what) {
+    progress_->step(slot_, what);
+    if (st_.cancel != nullptr && st_.cancel->load())
+      return error(ErrorCode::kCancelled, "cancelled");
+    return ok_status();
+  }
+
   const Material& m_;
   const Settings& st_;
   int threads_;
   Progress* progress_;
+  std::size_t slot_;  // the material's slot in the bar
   SphereSetup sphere_;
   BrdfTable table_;
   std::vector<std::uint8_t> raw_;
@@ -498,11 +518,11 @@ Expected<std::vector<MaterialResult>> measure_all(const std::vector<Material>& m
   const int jobs = std::max(1, std::min<int>(st.jobs, int(materials.size())));
   // With one job the fits and renders use every core; with several, each material gets one.
   const int threads = jobs == 1 ? thread_limit() : 1;
-  Progress progress(materials.size() * steps_per_material(st), st.progress);
+  Progress progress(materials.size() * steps_per_material(st), st.progress, materials.size());
   std::atomic<bool> failed{false};
   parallel_for(int(materials.size()), jobs, [&](int i) {
     if (failed) return;
-    MaterialRun run(materials[std::size_t(i)], st, threads, &progress);
+    MaterialRun run(materials[std::size_t(i)], st, threads, &progress, std::size_t(i));
     auto r = run.run();
     if (r.ok()) {
       results[std::size_t(i)] = std::move(r).value();

@@ -3,6 +3,7 @@
 // baselines, each as one Row; plus what the plots and images need.
 #pragma once
 
+#include <atomic>
 #include <limits>
 #include <string>
 #include <vector>
@@ -31,7 +32,10 @@ struct Settings {
   AnalyticLoss analytic_loss = AnalyticLoss::kCosineWeighted;
   int sphere_size = 256;
   int jobs = 1;
-  bool progress = true;   // a progress bar on stderr
+  bool progress = true;  // a progress bar on stderr
+  // Set (not null) and then true: the running encodes stop through their progress callbacks and
+  // measure_all fails with kCancelled. For Ctrl-C.
+  const std::atomic<bool>* cancel = nullptr;
   LadderSettings ladder;  // `--ladder`: measured when ladder.enabled
   // `--truth DIR`: the noise-free tables of noisy inputs, DIR/NAME.binary for an input
   // NAME.binary or NAME-noisy.binary; the ladder is also measured against them.
