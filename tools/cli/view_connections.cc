@@ -228,6 +228,133 @@ struct ConnectionLoop::State {
       wake();  // a connection came back or was closed: the poller updates its set and cap
     }
   }
+
+  // Starts the workers; they leave SIGINT and SIGTERM to the calling thread. Fails only when
+  // not even one could start.
+  Status start_workers(std::vector<std::thread>& workers) {
+    sigset_t stop_signals, previous;
+    sigemptyset(&stop_signals);
+    sigaddset(&stop_signals, SIGINT);
+    sigaddset(&stop_signals, SIGTERM);
+    ::pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
+    try {
+      for (std::size_t i = 0; i < limits.threads; ++i) workers.emplace_back([this] { worker(); });
+    } catch (const std::system_error& e) {
+      if (workers.empty()) {
+        ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+        return error(ErrorCode::kIo, std::string("view: cannot start a thread: ") + e.what());
+      }
+    }
+    ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+    return Status::ok_status();
+  }
+
+  // Takes back the connections the workers kept open, and closes those idle too long.
+  void take_returned(std::deque<ConnectionPtr>& idle, Clock::time_point now) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      for (ConnectionPtr& c : returned) {
+        c->idle_since = now;
+        idle.push_back(std::move(c));
+      }
+      returned.clear();
+    }
+    while (!idle.empty() && now - idle.front()->idle_since >= limits.idle_timeout) {
+      idle.pop_front();
+    }
+  }
+
+  // Connections whose request is arriving (or that the client closed) go to the workers.
+  // fds[i + 2] is idle[i]'s poll entry.
+  void hand_over_ready(std::deque<ConnectionPtr>& idle, const std::vector<pollfd>& fds) {
+    std::deque<ConnectionPtr> still_idle;
+    std::lock_guard<std::mutex> lock(mutex);
+    for (std::size_t i = 0; i < idle.size(); ++i) {
+      if (fds[i + 2].revents) {
+        ready.push_back(std::move(idle[i]));
+        ready_cv.notify_one();
+      } else {
+        still_idle.push_back(std::move(idle[i]));
+      }
+    }
+    idle.swap(still_idle);
+  }
+
+  // Accepts all that wait. At the cap, or out of descriptors, the oldest idle connection makes
+  // room; with none idle (every connection in a request), accepting pauses briefly: the
+  // workers' timeouts bound how long that lasts. An error means the server cannot go on.
+  Status accept_waiting(std::deque<ConnectionPtr>& idle, Clock::time_point& accept_paused_until) {
+    const auto evict_oldest = [&idle] {
+      if (idle.empty()) return false;
+      idle.pop_front();
+      return true;
+    };
+    for (;;) {
+      if (open.load() >= limits.max_connections) {
+        // Room is made only for a connection that is waiting (not, say, by closing the one
+        // just accepted while its request is on its way).
+        pollfd waiting{listen_fd, POLLIN, 0};
+        if (::poll(&waiting, 1, 0) <= 0) break;
+        while (open.load() >= limits.max_connections && evict_oldest()) {
+        }
+        if (open.load() >= limits.max_connections) {
+          accept_paused_until = Clock::now() + milliseconds(50);
+          break;
+        }
+      }
+      const int c = ::accept4(listen_fd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
+      if (c >= 0) {
+        open.fetch_add(1);
+        idle.push_back(std::make_unique<Connection>(c, &open));
+        continue;
+      }
+      const int e = errno;
+      if (e == EAGAIN || e == EWOULDBLOCK) break;
+      if (e == EMFILE || e == ENFILE || e == ENOBUFS || e == ENOMEM) {
+        // The descriptors ran out below the cap (something else holds some): the cap drops to
+        // leave a few spare for the files requests open, and the oldest idle connections make
+        // room (at the top of the loop).
+        const std::size_t opened = open.load();
+        const std::size_t cap = opened > kSpareDescriptors ? opened - kSpareDescriptors : 1;
+        if (cap < limits.max_connections) {
+          limits.max_connections = cap;
+          std::fprintf(stderr,
+                       "cbrdf view: out of file descriptors at %zu connections (%s): at most %zu "
+                       "from now on, the oldest idle ones closed to admit new ones\n",
+                       opened, std::strerror(e), cap);
+          continue;
+        }
+        accept_paused_until = Clock::now() + milliseconds(50);  // none of ours to close
+        break;
+      }
+      // A connection that failed before it was accepted is the client's problem (accept(2):
+      // Linux passes pending network errors on); the loop goes on.
+      if (e == EINTR || e == ECONNABORTED || e == EPROTO || e == EPERM || e == ENETDOWN ||
+          e == ENOPROTOOPT || e == EHOSTDOWN || e == ENONET || e == EHOSTUNREACH ||
+          e == EOPNOTSUPP || e == ENETUNREACH || e == ETIMEDOUT) {
+        continue;
+      }
+      stop.store(true);
+      return error(ErrorCode::kIo, std::string("view: accept: ") + std::strerror(e) +
+                                       " (the server cannot accept connections any more)");
+    }
+    return Status::ok_status();
+  }
+
+  // Stops the workers and closes every connection not idle in the poller.
+  void stop_workers(std::vector<std::thread>& workers) {
+    stop.store(true);
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      ready_cv.notify_all();
+    }
+    for (std::thread& t : workers) t.join();
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      ready.clear();
+      returned.clear();
+    }
+  }
 };
 
 Expected<std::unique_ptr<ConnectionLoop>> ConnectionLoop::create(int listen_fd,
@@ -268,45 +395,16 @@ bool ConnectionLoop::stopping() const noexcept {
 
 Status ConnectionLoop::run() {
   State& s = *s_;
-  // The workers leave SIGINT and SIGTERM to this thread.
-  sigset_t stop_signals, previous;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  ::pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
   std::vector<std::thread> workers;
-  try {
-    for (std::size_t i = 0; i < s.limits.threads; ++i) workers.emplace_back([&s] { s.worker(); });
-  } catch (const std::system_error& e) {
-    if (workers.empty()) {
-      ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
-      return error(ErrorCode::kIo, std::string("view: cannot start a thread: ") + e.what());
-    }
-  }
-  ::pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  CBRDF_RETURN_IF_ERROR(s.start_workers(workers));
 
   std::deque<ConnectionPtr> idle;  // oldest first
   Clock::time_point accept_paused_until{};
   Status result;
-  const auto evict_oldest = [&idle] {
-    if (idle.empty()) return false;
-    idle.pop_front();
-    return true;
-  };
   std::vector<pollfd> fds;
   while (!s.stop.load()) {
     const Clock::time_point now = Clock::now();
-    {
-      std::lock_guard<std::mutex> lock(s.mutex);
-      for (ConnectionPtr& c : s.returned) {
-        c->idle_since = now;
-        idle.push_back(std::move(c));
-      }
-      s.returned.clear();
-    }
-    while (!idle.empty() && now - idle.front()->idle_since >= s.limits.idle_timeout) {
-      idle.pop_front();
-    }
+    s.take_returned(idle, now);
     const bool accepting = now >= accept_paused_until;
     fds.clear();
     fds.push_back({s.wake_read, POLLIN, 0});
@@ -327,86 +425,14 @@ Status ConnectionLoop::run() {
       while (::read(s.wake_read, buf, sizeof buf) > 0) {
       }
     }
-    // Connections whose request is arriving (or that the client closed) go to the workers.
-    {
-      std::deque<ConnectionPtr> still_idle;
-      std::lock_guard<std::mutex> lock(s.mutex);
-      for (std::size_t i = 0; i < idle.size(); ++i) {
-        if (fds[i + 2].revents) {
-          s.ready.push_back(std::move(idle[i]));
-          s.ready_cv.notify_one();
-        } else {
-          still_idle.push_back(std::move(idle[i]));
-        }
-      }
-      idle.swap(still_idle);
-    }
+    s.hand_over_ready(idle, fds);
     if (!(fds[1].revents & POLLIN)) continue;
-    // Accept all that wait. At the cap, or out of descriptors, the oldest idle connection makes
-    // room; with none idle (every connection in a request), accepting pauses briefly: the
-    // workers' timeouts bound how long that lasts.
-    for (;;) {
-      if (s.open.load() >= s.limits.max_connections) {
-        // Room is made only for a connection that is waiting (not, say, by closing the one
-        // just accepted while its request is on its way).
-        pollfd waiting{s.listen_fd, POLLIN, 0};
-        if (::poll(&waiting, 1, 0) <= 0) break;
-        while (s.open.load() >= s.limits.max_connections && evict_oldest()) {
-        }
-        if (s.open.load() >= s.limits.max_connections) {
-          accept_paused_until = Clock::now() + milliseconds(50);
-          break;
-        }
-      }
-      const int c = ::accept4(s.listen_fd, nullptr, nullptr, SOCK_CLOEXEC | SOCK_NONBLOCK);
-      if (c >= 0) {
-        s.open.fetch_add(1);
-        idle.push_back(std::make_unique<Connection>(c, &s.open));
-        continue;
-      }
-      const int e = errno;
-      if (e == EAGAIN || e == EWOULDBLOCK) break;
-      if (e == EMFILE || e == ENFILE || e == ENOBUFS || e == ENOMEM) {
-        // The descriptors ran out below the cap (something else holds some): the cap drops to
-        // leave a few spare for the files requests open, and the oldest idle connections make
-        // room (at the top of the loop).
-        const std::size_t open = s.open.load();
-        const std::size_t cap = open > kSpareDescriptors ? open - kSpareDescriptors : 1;
-        if (cap < s.limits.max_connections) {
-          s.limits.max_connections = cap;
-          std::fprintf(stderr,
-                       "cbrdf view: out of file descriptors at %zu connections (%s): at most %zu "
-                       "from now on, the oldest idle ones closed to admit new ones\n",
-                       open, std::strerror(e), cap);
-          continue;
-        }
-        accept_paused_until = Clock::now() + milliseconds(50);  // none of ours to close
-        break;
-      }
-      // A connection that failed before it was accepted is the client's problem (accept(2):
-      // Linux passes pending network errors on); the loop goes on.
-      if (e == EINTR || e == ECONNABORTED || e == EPROTO || e == EPERM || e == ENETDOWN ||
-          e == ENOPROTOOPT || e == EHOSTDOWN || e == ENONET || e == EHOSTUNREACH ||
-          e == EOPNOTSUPP || e == ENETUNREACH || e == ETIMEDOUT) {
-        continue;
-      }
-      result = error(ErrorCode::kIo, std::string("view: accept: ") + std::strerror(e) +
-                                         " (the server cannot accept connections any more)");
-      s.stop.store(true);
+    if (Status accepted = s.accept_waiting(idle, accept_paused_until); !accepted.ok()) {
+      result = std::move(accepted);
       break;
     }
   }
-  s.stop.store(true);
-  {
-    std::lock_guard<std::mutex> lock(s.mutex);
-    s.ready_cv.notify_all();
-  }
-  for (std::thread& t : workers) t.join();
-  {
-    std::lock_guard<std::mutex> lock(s.mutex);
-    s.ready.clear();
-    s.returned.clear();
-  }
+  s.stop_workers(workers);
   return result;
 }
 
