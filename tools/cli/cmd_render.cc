@@ -37,6 +37,33 @@ struct RemoveDir {
   }
 };
 
+// The scene file and every file it reads, named for check_paths' messages.
+std::vector<PathArg> scene_inputs(const render::Scene& scene,
+                                  const std::filesystem::path& scene_path) {
+  std::vector<PathArg> inputs = {{"scene", scene_path.string()}};
+  for (const render::MaterialDesc& d : scene.materials) {
+    if (!d.file.empty()) inputs.push_back({"material '" + d.name + "'", d.file.string()});
+  }
+  if (!scene.environment.file.empty()) {
+    inputs.push_back({"environment", scene.environment.file.string()});
+  }
+  return inputs;
+}
+
+// Writes the OpenEXR and the tone-mapped PNG the options ask for.
+Status write_images(const RenderOptions& o, const Context& ctx, const Image& image) {
+  if (!o.output.empty()) {
+    CBRDF_RETURN_IF_ERROR(write_exr(o.output, image));
+    if (!ctx.quiet) std::printf("wrote %s\n", o.output.c_str());
+  }
+  if (!o.png.empty()) {
+    const double e = o.exposure > 0 ? o.exposure : tonemap_exposure(image);
+    CBRDF_RETURN_IF_ERROR(write_png(o.png, tonemap(image, e)));
+    if (!ctx.quiet) std::printf("wrote %s (exposure %.4g)\n", o.png.c_str(), e);
+  }
+  return Status::ok_status();
+}
+
 int run_render(const RenderOptions& o, const Context& ctx) {
   if (o.list_builtins) {
     for (const render::BuiltinScene& b : render::builtin_scenes()) {
@@ -75,14 +102,9 @@ int run_render(const RenderOptions& o, const Context& ctx) {
   auto scene = render::load_scene(scene_path);
   if (!scene.ok()) return fail(scene.status());
   // The files the scene reads must survive the render too.
-  std::vector<PathArg> assets = {{"scene", scene_path.string()}};
-  for (const render::MaterialDesc& d : scene->materials) {
-    if (!d.file.empty()) assets.push_back({"material '" + d.name + "'", d.file.string()});
+  if (auto bad = check_paths("render", scene_inputs(*scene, scene_path), outputs, false)) {
+    return usage_error(*bad);
   }
-  if (!scene->environment.file.empty()) {
-    assets.push_back({"environment", scene->environment.file.string()});
-  }
-  if (auto bad = check_paths("render", assets, outputs, false)) return usage_error(*bad);
   std::vector<std::unique_ptr<render::Material>> materials;
   for (const render::MaterialDesc& d : scene->materials) {
     auto m = render::Material::create(d);
@@ -109,15 +131,7 @@ int run_render(const RenderOptions& o, const Context& ctx) {
     std::printf("rendered in %.3f s on %d thread(s), %d sample(s) per pixel\n", seconds, threads,
                 plan.spp);
   }
-  if (!o.output.empty()) {
-    if (Status s = write_exr(o.output, image); !s.ok()) return fail(s);
-    if (!ctx.quiet) std::printf("wrote %s\n", o.output.c_str());
-  }
-  if (!o.png.empty()) {
-    const double e = o.exposure > 0 ? o.exposure : tonemap_exposure(image);
-    if (Status s = write_png(o.png, tonemap(image, e)); !s.ok()) return fail(s);
-    if (!ctx.quiet) std::printf("wrote %s (exposure %.4g)\n", o.png.c_str(), e);
-  }
+  if (Status s = write_images(o, ctx, image); !s.ok()) return fail(s);
   if (o.brdf_timing) {
     for (const auto& m : materials) {
       std::printf("brdf eval %-20s %8.1f ns  (%s)\n", m->name().c_str(),
