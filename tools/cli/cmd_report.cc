@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <set>
 
 #include "cbrdf/fit.h"
@@ -46,6 +47,97 @@ bool builtin_wanted(const SampleInfo& s, const std::string& kind) {
   return kind == "all" || (kind == "measured") == (s.kind == SampleKind::kMeasured);
 }
 
+// Why the inputs and the output directory cannot be used together, if they cannot.
+std::optional<std::string> path_problem(const ReportOptions& o) {
+  std::vector<PathArg> inputs;
+  for (const std::string& f : o.inputs) inputs.push_back({"input", f});
+  if (auto bad = check_paths("report", inputs, {{"-o", o.output_dir}}, false)) return bad;
+  // The report writes only these kinds of file into its directory: an input there with such a
+  // name would be overwritten.
+  std::error_code ec;
+  for (const std::string& f : o.inputs) {
+    const std::filesystem::path p(f);
+    const std::string ext = p.extension().string();
+    const bool report_kind = ext == ".html" || ext == ".md" || ext == ".csv" || ext == ".json" ||
+                             ext == ".svg" || ext == ".png";
+    const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
+    if (report_kind && !o.output_dir.empty() &&
+        std::filesystem::equivalent(dir, o.output_dir, ec)) {
+      return "report: the input " + f + " is in the output directory " + o.output_dir +
+             ", where the report would overwrite it";
+    }
+  }
+  return std::nullopt;
+}
+
+// --format-version: a comma-separated list of distinct codings, the rows' own first, then those
+// measured beside.
+Expected<std::vector<std::string>> parse_codings(const std::string& list) {
+  std::vector<std::string> codings;
+  std::string item;
+  for (std::size_t i = 0; i <= list.size(); ++i) {
+    if (i < list.size() && list[i] != ',') {
+      item += list[i];
+      continue;
+    }
+    if (item != "auto" && item != "1.2" && item != "1.3") {
+      return error(ErrorCode::kInvalidArgument,
+                   "--format-version takes auto, 1.2 or 1.3, or a list of them such as "
+                   "auto,1.2; not '" +
+                       item + "' in '" + list + "'");
+    }
+    if (std::find(codings.begin(), codings.end(), item) != codings.end()) {
+      return error(ErrorCode::kInvalidArgument,
+                   "--format-version names " + item + " twice in '" + list + "'");
+    }
+    codings.push_back(item);
+    item.clear();
+  }
+  return codings;
+}
+
+// The built-in samples asked for, then the input files.
+std::vector<report::Material> report_materials(const ReportOptions& o) {
+  std::vector<report::Material> materials;
+  std::set<std::string> names;
+  auto add = [&](std::string name, const std::string& path, bool builtin) {
+    // Output files are named after materials: keep the names distinct.
+    const std::string stem = name;
+    for (int k = 2; names.count(name); ++k) name = stem + "-" + std::to_string(k);
+    names.insert(name);
+    materials.push_back({name, path, builtin});
+  };
+  if (!o.builtin.empty()) {
+    for (const SampleInfo& s : sample_materials()) {
+      if (builtin_wanted(s, o.builtin)) add(std::string(s.name), "", true);
+    }
+  }
+  for (const std::string& f : o.inputs) add(std::filesystem::path(f).stem().string(), f, false);
+  return materials;
+}
+
+// The terminal's share of the report: the main tables, the summary and the answer.
+void print_report(const std::vector<report::MaterialResult>& results, const ReportOptions& o,
+                  const report::Settings& st, double elapsed) {
+  for (const report::TextTable& t : report::report_tables(results, st)) {
+    if (t.id == "time" || t.id == "psnr" || t.id == "sweep" || t.id == "gain" ||
+        t.id == "paper-psnr" || t.id == "paper-storage" || t.id.starts_with("coding-")) {
+      std::printf("%s\n", report::to_text(t).c_str());
+    }
+  }
+  std::printf("%s\n", report::run_summary(results, st, elapsed).c_str());
+  if (o.ladder) std::printf("%s", report::ladder_check_text(report::ladders_of(results)).c_str());
+  if (!o.output_dir.empty()) {
+    std::printf(
+        "Wrote report.md, report.csv, report.json, frontier.csv, SVG figures and sphere PNGs "
+        "beside report.html.\n");
+  }
+  // Last, so that it is what a terminal shows: the answer and where the full report is.
+  const std::string html =
+      o.output_dir.empty() ? "" : (std::filesystem::path(o.output_dir) / "report.html").string();
+  std::printf("\n%s", report::closing_summary(results, st, html).c_str());
+}
+
 int run_report(ReportOptions o, const Context& global) {
   Context ctx = global;
   ctx.quiet = ctx.quiet || o.quiet;
@@ -63,28 +155,7 @@ int run_report(ReportOptions o, const Context& global) {
   if (o.inputs.empty() && o.builtin.empty()) {
     return usage_error("report: give MERL .binary files, --builtin, or both");
   }
-  {
-    std::vector<PathArg> inputs;
-    for (const std::string& f : o.inputs) inputs.push_back({"input", f});
-    if (auto bad = check_paths("report", inputs, {{"-o", o.output_dir}}, false)) {
-      return usage_error(*bad);
-    }
-    // The report writes only these kinds of file into its directory: an input there with such a
-    // name would be overwritten.
-    std::error_code ec;
-    for (const std::string& f : o.inputs) {
-      const std::filesystem::path p(f);
-      const std::string ext = p.extension().string();
-      const bool report_kind = ext == ".html" || ext == ".md" || ext == ".csv" || ext == ".json" ||
-                               ext == ".svg" || ext == ".png";
-      const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : ".";
-      if (report_kind && !o.output_dir.empty() &&
-          std::filesystem::equivalent(dir, o.output_dir, ec)) {
-        return usage_error("report: the input " + f + " is in the output directory " +
-                           o.output_dir + ", where the report would overwrite it");
-      }
-    }
-  }
+  if (auto bad = path_problem(o)) return usage_error(*bad);
   auto sweep = report::parse_sweep(o.sweep);
   if (!sweep.ok()) return usage_error("report: " + sweep.status().message());
   auto baselines = report::parse_baselines(o.baselines);
@@ -103,51 +174,16 @@ int run_report(ReportOptions o, const Context& global) {
     return usage_error("report: --truth measures the ladder against the truth: add --ladder");
   }
   st.truth_dir = o.truth_dir;
-  {
-    // A comma-separated list of distinct codings: the rows' own first, then those measured beside.
-    st.codings.clear();
-    std::string item;
-    for (std::size_t i = 0; i <= o.format_version.size(); ++i) {
-      if (i < o.format_version.size() && o.format_version[i] != ',') {
-        item += o.format_version[i];
-        continue;
-      }
-      if (item != "auto" && item != "1.2" && item != "1.3") {
-        return usage_error(
-            "report: --format-version takes auto, 1.2 or 1.3, or a list of them "
-            "such as auto,1.2; not '" +
-            item + "' in '" + o.format_version + "'");
-      }
-      if (std::find(st.codings.begin(), st.codings.end(), item) != st.codings.end()) {
-        return usage_error("report: --format-version names " + item + " twice in '" +
-                           o.format_version + "'");
-      }
-      st.codings.push_back(item);
-      item.clear();
-    }
-  }
+  auto codings = parse_codings(o.format_version);
+  if (!codings.ok()) return usage_error("report: " + codings.status().message());
+  st.codings = std::move(*codings);
   st.jobs = o.jobs > 0 ? o.jobs : thread_limit();
   // The bar redraws one line with carriage returns: by default only for a terminal, so that logs
   // stay readable.
   st.progress = !ctx.quiet &&
                 (o.progress == "always" || (o.progress == "auto" && isatty(fileno(stderr)) == 1));
 
-  std::vector<report::Material> materials;
-  std::set<std::string> names;
-  auto add = [&](std::string name, const std::string& path, bool builtin) {
-    // Output files are named after materials: keep the names distinct.
-    const std::string stem = name;
-    for (int k = 2; names.count(name); ++k) name = stem + "-" + std::to_string(k);
-    names.insert(name);
-    materials.push_back({name, path, builtin});
-  };
-  if (!o.builtin.empty()) {
-    for (const SampleInfo& s : sample_materials()) {
-      if (builtin_wanted(s, o.builtin)) add(std::string(s.name), "", true);
-    }
-  }
-  for (const std::string& f : o.inputs) add(std::filesystem::path(f).stem().string(), f, false);
-
+  const std::vector<report::Material> materials = report_materials(o);
   const auto t0 = std::chrono::steady_clock::now();
   auto results = report::measure_all(materials, st);
   if (!results.ok()) return fail(results.status());
@@ -158,26 +194,7 @@ int run_report(ReportOptions o, const Context& global) {
       return fail(s);
     }
   }
-  if (!ctx.quiet) {
-    for (const report::TextTable& t : report::report_tables(*results, st)) {
-      if (t.id == "time" || t.id == "psnr" || t.id == "sweep" || t.id == "gain" ||
-          t.id == "paper-psnr" || t.id == "paper-storage" || t.id.starts_with("coding-")) {
-        std::printf("%s\n", report::to_text(t).c_str());
-      }
-    }
-    std::printf("%s\n", report::run_summary(*results, st, elapsed).c_str());
-    if (o.ladder)
-      std::printf("%s", report::ladder_check_text(report::ladders_of(*results)).c_str());
-    if (!o.output_dir.empty()) {
-      std::printf(
-          "Wrote report.md, report.csv, report.json, frontier.csv, SVG figures and sphere PNGs "
-          "beside report.html.\n");
-    }
-    // Last, so that it is what a terminal shows: the answer and where the full report is.
-    const std::string html =
-        o.output_dir.empty() ? "" : (std::filesystem::path(o.output_dir) / "report.html").string();
-    std::printf("\n%s", report::closing_summary(*results, st, html).c_str());
-  }
+  if (!ctx.quiet) print_report(*results, o, st, elapsed);
   return kExitOk;
 }
 
