@@ -38,14 +38,12 @@ Expected<AutoBitsChoice> choose_bits(const BrdfTable& source, const Model& model
     part.report(double(probes.size()) / 4);
     ContainerSettings c = container;
     c.bits = bits;
-    auto bytes = encode_model(model, c);
-    if (!bytes.ok()) return bytes.status();
-    auto decoded = decode_model(*bytes);
-    if (!decoded.ok()) return decoded.status();
-    const ImageMetrics m = scorer.score(*decoded);
+    CBRDF_ASSIGN_OR_RETURN(auto bytes, encode_model(model, c));
+    CBRDF_ASSIGN_OR_RETURN(auto decoded, decode_model(bytes));
+    const ImageMetrics m = scorer.score(decoded);
     Probe p{within(m.psnr_tonemapped, reference.psnr_tonemapped, settings.max_tonemapped_loss_db) &&
                 within(m.psnr_linear, reference.psnr_linear, settings.max_linear_loss_db),
-            std::move(bytes).value()};
+            std::move(bytes)};
     return &(probes[bits] = std::move(p));
   };
   // The fewest passing bits in [lo, hi]; hi is taken without a probe when nothing below passes
@@ -53,18 +51,14 @@ Expected<AutoBitsChoice> choose_bits(const BrdfTable& source, const Model& model
   int lo = kFewestBits, hi = kMostBits;
   while (lo < hi) {
     const int mid = (lo + hi) / 2;
-    auto p = probe(mid);
-    if (!p.ok()) return p.status();
-    if ((*p)->passes) {
+    CBRDF_ASSIGN_OR_RETURN(auto p, probe(mid));
+    if (p->passes) {
       hi = mid;
     } else {
       lo = mid + 1;
     }
   }
-  if (!probes.count(hi)) {
-    auto p = probe(hi);
-    if (!p.ok()) return p.status();
-  }
+  if (!probes.count(hi)) CBRDF_RETURN_IF_ERROR(probe(hi).status());
   return AutoBitsChoice{hi, std::move(probes[hi].bytes)};
 }
 

@@ -23,15 +23,14 @@ Expected<EncodeResult> encode_watched(const BrdfTable& table, const EncoderSetti
   if (!model.ok()) return model.status();
   if (settings.auto_bits.enabled) {
     const internal::ProgressPart part("bits", fit_end, bits_end);
-    auto choice = choose_bits(table, *model, settings.container, settings.auto_bits);
-    if (!choice.ok()) return choice.status();
-    r.bits = choice->bits;
-    r.bytes = std::move(choice->bytes);
+    CBRDF_ASSIGN_OR_RETURN(auto choice,
+                           choose_bits(table, *model, settings.container, settings.auto_bits));
+    r.bits = choice.bits;
+    r.bytes = std::move(choice.bytes);
   } else {
-    auto bytes = encode_model(*model, settings.container);
-    if (!bytes.ok()) return bytes.status();
+    CBRDF_ASSIGN_OR_RETURN(auto bytes, encode_model(*model, settings.container));
     r.bits = settings.container.bits;
-    r.bytes = std::move(bytes).value();
+    r.bytes = std::move(bytes);
   }
   CBRDF_RETURN_IF_ERROR(internal::check_cancel());
   r.model = std::move(model).value();

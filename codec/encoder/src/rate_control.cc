@@ -42,19 +42,17 @@ class Search {
     CBRDF_RETURN_IF_ERROR(internal::check_cancel());
     ContainerSettings cs = base_.container;
     cs.bits = bits;
-    auto bytes = encode_model(model, cs);
-    if (!bytes.ok()) return bytes.status();
-    auto decoded = decode_model(*bytes);
-    if (!decoded.ok()) return decoded.status();
-    const ImageMetrics im = scorer_.score(*decoded);
-    RateCandidate c{slices,        bits, components, double(bytes->size()), im.psnr_tonemapped,
+    CBRDF_ASSIGN_OR_RETURN(auto bytes, encode_model(model, cs));
+    CBRDF_ASSIGN_OR_RETURN(auto decoded, decode_model(bytes));
+    const ImageMetrics im = scorer_.score(decoded);
+    RateCandidate c{slices,        bits, components, double(bytes.size()), im.psnr_tonemapped,
                     im.psnr_linear};
     result_.tried.push_back(c);
     const bool c_met = met(c);
     if (!have_ || better(c, c_met, result_.chosen, result_.met)) {
       result_.chosen = c;
       result_.met = c_met;
-      result_.encoded.bytes = std::move(bytes).value();
+      result_.encoded.bytes = std::move(bytes);
       result_.encoded.model = model;
       result_.encoded.report = report;
       result_.encoded.bits = bits;
@@ -69,9 +67,8 @@ class Search {
     CBRDF_RETURN_IF_ERROR(internal::check_cancel());
     ContainerSettings cs = base_.container;
     cs.bits = bits;
-    auto bytes = encode_model(model, cs);
-    if (!bytes.ok()) return bytes.status();
-    return double(bytes->size());
+    CBRDF_ASSIGN_OR_RETURN(auto bytes, encode_model(model, cs));
+    return double(bytes.size());
   }
 
   // Makes `model` at `bits` the chosen setting (measured), whatever was chosen before.
@@ -114,29 +111,24 @@ struct Row {
 Expected<Row> row_for_bytes(Search* search, const Model& model, const FitReport& report, int slices,
                             int components, double budget) {
   Row row;
-  auto fewest = search->bytes_at(model, kMinBits);
-  if (!fewest.ok()) return fewest.status();
-  row.bytes_at_fewest = *fewest;
-  if (*fewest > budget) {
-    if (!search->have() || (!search->have_met() && *fewest < search->chosen().bytes)) {
-      auto c = search->measure(model, report, slices, components, kMinBits);
-      if (!c.ok()) return c.status();
+  CBRDF_ASSIGN_OR_RETURN(auto fewest, search->bytes_at(model, kMinBits));
+  row.bytes_at_fewest = fewest;
+  if (fewest > budget) {
+    if (!search->have() || (!search->have_met() && fewest < search->chosen().bytes)) {
+      CBRDF_RETURN_IF_ERROR(search->measure(model, report, slices, components, kMinBits).status());
     }
     return row;
   }
   int lo = kMinBits, hi = kMaxBits + 1;  // lo within the budget, hi over it (or past the range)
-  auto most = search->bytes_at(model, kMaxBits);
-  if (!most.ok()) return most.status();
-  if (*most <= budget) lo = kMaxBits;
+  CBRDF_ASSIGN_OR_RETURN(auto most, search->bytes_at(model, kMaxBits));
+  if (most <= budget) lo = kMaxBits;
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
-    auto b = search->bytes_at(model, mid);
-    if (!b.ok()) return b.status();
-    (*b <= budget ? lo : hi) = mid;
+    CBRDF_ASSIGN_OR_RETURN(auto b, search->bytes_at(model, mid));
+    (b <= budget ? lo : hi) = mid;
   }
-  auto c = search->measure(model, report, slices, components, lo);
-  if (!c.ok()) return c.status();
-  row.psnr = c->psnr_tonemapped;
+  CBRDF_ASSIGN_OR_RETURN(auto c, search->measure(model, report, slices, components, lo));
+  row.psnr = c.psnr_tonemapped;
   return row;
 }
 
@@ -145,19 +137,16 @@ Expected<Row> row_for_bytes(Search* search, const Model& model, const FitReport&
 Expected<Row> row_for_psnr(Search* search, const Model& model, const FitReport& report, int slices,
                            int components) {
   Row row;
-  auto fewest = search->bytes_at(model, kMinBits);
-  if (!fewest.ok()) return fewest.status();
-  row.bytes_at_fewest = *fewest;
-  auto hi_c = search->measure(model, report, slices, components, kMaxBits);
-  if (!hi_c.ok()) return hi_c.status();
-  row.psnr = hi_c->psnr_tonemapped;
-  if (!search->met(*hi_c)) return row;
+  CBRDF_ASSIGN_OR_RETURN(auto fewest, search->bytes_at(model, kMinBits));
+  row.bytes_at_fewest = fewest;
+  CBRDF_ASSIGN_OR_RETURN(auto hi_c, search->measure(model, report, slices, components, kMaxBits));
+  row.psnr = hi_c.psnr_tonemapped;
+  if (!search->met(hi_c)) return row;
   int lo = kMinBits - 1, hi = kMaxBits;  // lo short of the target (or below the range), hi met
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
-    auto c = search->measure(model, report, slices, components, mid);
-    if (!c.ok()) return c.status();
-    (search->met(*c) ? hi : lo) = mid;
+    CBRDF_ASSIGN_OR_RETURN(auto c, search->measure(model, report, slices, components, mid));
+    (search->met(c) ? hi : lo) = mid;
   }
   return row;
 }
@@ -174,9 +163,9 @@ Status refine_closest(Search* search) {
   const Model model = search->result().encoded.model;
   const FitReport report = search->result().encoded.report;
   for (int bits = start.bits - 1; bits >= kMinBits; --bits) {
-    auto c = search->measure(model, report, start.slices, start.components, bits);
-    if (!c.ok()) return c.status();
-    if (c->psnr_tonemapped < search->chosen().psnr_tonemapped - kSaturatedDb) break;
+    CBRDF_ASSIGN_OR_RETURN(auto c,
+                           search->measure(model, report, start.slices, start.components, bits));
+    if (c.psnr_tonemapped < search->chosen().psnr_tonemapped - kSaturatedDb) break;
   }
   return ok_status();
 }
@@ -217,14 +206,13 @@ class Grid {
       // one's, and so does a forecast (with its margin) through the smaller counts' files.
       if (floor_bytes_ >= 0 && slices >= floor_count_ && cannot_win(floor_bytes_)) continue;
       if (forecast_cannot_win(slices, 1)) continue;
-      auto row = fit_row(slices, 1);
-      if (!row.ok()) return row.status();
-      if (components_pay(*row, kNone)) lanes_.at(slices).previous = row->psnr;
+      CBRDF_ASSIGN_OR_RETURN(auto row, fit_row(slices, 1));
+      if (components_pay(row, kNone)) lanes_.at(slices).previous = row.psnr;
       // PSNR against slices rises to a few slices and then is flat or falls (the metric sees
       // three theta_d): the first slice count that does not beat the smaller ones ends the
       // search over slices.
-      misses = row->psnr > best_one ? 0 : misses + 1;
-      best_one = std::max(best_one, row->psnr);
+      misses = row.psnr > best_one ? 0 : misses + 1;
+      best_one = std::max(best_one, row.psnr);
       if (misses >= kSlicePatience) break;
     }
     if (for_ladder_ && !by_bytes() && best_one + kMixtureGainDb < target_.min_psnr) {
@@ -237,9 +225,8 @@ class Grid {
           lane.previous = kNone;  // closed: more components cannot win
           continue;
         }
-        auto row = fit_row(slices, components);
-        if (!row.ok()) return row.status();
-        lane.previous = components_pay(*row, lane.previous) ? row->psnr : kNone;
+        CBRDF_ASSIGN_OR_RETURN(auto row, fit_row(slices, components));
+        lane.previous = components_pay(row, lane.previous) ? row.psnr : kNone;
       }
     }
     if (for_ladder_ && !by_bytes() && !search_.have_met()) return choose_residual_base();
@@ -281,12 +268,10 @@ class Grid {
       }
     }
     FitReport report;
-    auto model = lane->second.ladder.fit(1, &report);
-    if (!model.ok()) return model.status();
-    auto bits = choose_bits(table_, *model, base_.container, base_.auto_bits);
-    if (!bits.ok()) return bits.status();
+    CBRDF_ASSIGN_OR_RETURN(auto model, lane->second.ladder.fit(1, &report));
+    CBRDF_ASSIGN_OR_RETURN(auto bits, choose_bits(table_, model, base_.container, base_.auto_bits));
     add_work();
-    return search_.choose(*model, report, lane->first, 1, bits->bits);
+    return search_.choose(model, report, lane->first, 1, bits.bits);
   }
 
   static constexpr double kGainSlackDb = 1.0;
@@ -354,16 +339,15 @@ class Grid {
       lane = lanes_.emplace(slices, Lane{FitLadder(table_, fs), kNone}).first;
     }
     FitReport report;
-    auto model = lane->second.ladder.fit(components, &report);
-    if (!model.ok()) return model.status();
-    auto row = by_bytes()
-                   ? row_for_bytes(&search_, *model, report, slices, components, target_.max_bytes)
-                   : row_for_psnr(&search_, *model, report, slices, components);
-    if (!row.ok()) return row.status();
-    predictor_.add(slices, components, row->bytes_at_fewest);
-    psnr_[{slices, components}] = row->psnr;
+    CBRDF_ASSIGN_OR_RETURN(auto model, lane->second.ladder.fit(components, &report));
+    CBRDF_ASSIGN_OR_RETURN(
+        auto row,
+        by_bytes() ? row_for_bytes(&search_, model, report, slices, components, target_.max_bytes)
+                   : row_for_psnr(&search_, model, report, slices, components));
+    predictor_.add(slices, components, row.bytes_at_fewest);
+    psnr_[{slices, components}] = row.psnr;
     if (components == 1 && (floor_bytes_ < 0 || slices < floor_count_)) {
-      floor_bytes_ = row->bytes_at_fewest;
+      floor_bytes_ = row.bytes_at_fewest;
       floor_count_ = slices;
     }
     return row;

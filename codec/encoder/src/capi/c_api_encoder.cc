@@ -192,14 +192,12 @@ cbrdf_status cbrdf_encode_table(const double* stored_values, size_t count,
           "cbrdf_encode_table: count is " + std::to_string(count) +
           ", not cbrdf_merl_table_size() = " + std::to_string(cbrdf_merl_table_size()));
     }
-    auto st = cbrdf::internal::to_encoder_settings(settings);
-    if (!st.ok()) return st.status();
+    CBRDF_ASSIGN_OR_RETURN(auto st, cbrdf::internal::to_encoder_settings(settings));
     cbrdf::BrdfTable table;
     std::memcpy(table.stored_values().data(), stored_values, count * sizeof(double));
     CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_no_positive_infinity(table));
-    auto encoded = cbrdf::encode_table(table, *st);
-    if (!encoded.ok()) return encoded.status();
-    const std::vector<std::uint8_t>& bytes = encoded->bytes;
+    CBRDF_ASSIGN_OR_RETURN(auto encoded, cbrdf::encode_table(table, st));
+    const std::vector<std::uint8_t>& bytes = encoded.bytes;
     void* buffer = std::malloc(bytes.size());
     if (buffer == nullptr) throw std::bad_alloc();
     std::memcpy(buffer, bytes.data(), bytes.size());
@@ -216,12 +214,10 @@ cbrdf_status cbrdf_encode_merl_file(const char* in_path, const char* out_path,
       return cbrdf::internal::invalid_argument(
           "cbrdf_encode_merl_file: in_path or out_path is NULL");
     }
-    auto st = cbrdf::internal::to_encoder_settings(settings);
-    if (!st.ok()) return st.status();
-    st->container.source_name = std::filesystem::path(in_path).filename().string();
-    auto table = cbrdf::read_merl(in_path);
-    if (!table.ok()) return table.status();
-    auto encoded = cbrdf::encode_table(*table, *st);
+    CBRDF_ASSIGN_OR_RETURN(auto st, cbrdf::internal::to_encoder_settings(settings));
+    st.container.source_name = std::filesystem::path(in_path).filename().string();
+    CBRDF_ASSIGN_OR_RETURN(auto table, cbrdf::read_merl(in_path));
+    auto encoded = cbrdf::encode_table(table, st);
     if (!encoded.ok()) return encoded.status().with_context(in_path);
     return cbrdf::write_file_atomic(out_path, encoded->bytes);
   });
