@@ -14,6 +14,8 @@ namespace cbrdf::cli {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitData = 1;
 inline constexpr int kExitUsage = 2;
+// Stopped by Ctrl-C (SIGINT), as a shell reports a process the signal ended (128 + 2).
+inline constexpr int kExitInterrupted = 130;
 
 struct Context {
   bool quiet = false;    // -q: only errors

@@ -26,20 +26,6 @@
 namespace cbrdf::cli {
 namespace {
 
-// Stopped by SIGINT, as a shell reports a process the signal ended (128 + 2).
-constexpr int kExitInterrupted = 130;
-
-// SIGINT sets *flag while the scope lasts (interrupt_sets_flag, files/file_io.h).
-class InterruptScope {
- public:
-  explicit InterruptScope(std::atomic<bool>* flag) { interrupt_sets_flag(flag); }
-  ~InterruptScope() { end(); }
-  // From here SIGINT ends the process again (removing the temporaries of writes).
-  void end() { interrupt_sets_flag(nullptr); }
-  InterruptScope(const InterruptScope&) = delete;
-  InterruptScope& operator=(const InterruptScope&) = delete;
-};
-
 // The encode's progress on stderr, when it is a terminal: "encoding: 42% (fit)", redrawn at most
 // ten times a second on one line, cleared when the encode ends.
 class ProgressLine {

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "cbrdf/samples.h"
 #include "cli.h"
 #include "cli_io.h"
+#include "files/file_io.h"
 #include "report/ladder_check.h"
 #include "report/ladder_output.h"
 #include "report/measure.h"
@@ -185,7 +187,16 @@ int run_report(ReportOptions o, const Context& global) {
 
   const std::vector<report::Material> materials = report_materials(o);
   const auto t0 = std::chrono::steady_clock::now();
+  // Ctrl-C stops the measuring through the encodes' progress callbacks, and nothing is written.
+  std::atomic<bool> interrupted{false};
+  st.cancel = &interrupted;
+  InterruptScope interrupt_scope(&interrupted);
   auto results = report::measure_all(materials, st);
+  interrupt_scope.end();
+  if (interrupted) {
+    std::fprintf(stderr, "cbrdf: cancelled\n");
+    return kExitInterrupted;
+  }
   if (!results.ok()) return fail(results.status());
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

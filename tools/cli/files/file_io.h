@@ -111,4 +111,15 @@ void remove_temporaries_on_signals();
 // to ending the process. Needs remove_temporaries_on_signals() first.
 void interrupt_sets_flag(std::atomic<bool>* flag);
 
+// SIGINT sets *flag while the scope lasts (interrupt_sets_flag).
+class InterruptScope {
+ public:
+  explicit InterruptScope(std::atomic<bool>* flag) { interrupt_sets_flag(flag); }
+  ~InterruptScope() { end(); }
+  // From here SIGINT ends the process again (removing the temporaries of writes).
+  void end() { interrupt_sets_flag(nullptr); }
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+};
+
 }  // namespace cbrdf::cli
