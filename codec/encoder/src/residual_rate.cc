@@ -330,6 +330,54 @@ Expected<RateResult> residual_within_budget(const BrdfTable& table, const Encode
 
 namespace {
 
+// The note on the chosen file: why it stopped at the noise floor, or why the model alone.
+// `uncodable`: the residual layer could not be written at any bound tried.
+void add_note(RateResult& r, const NoiseFloor& floor, bool uncodable, bool by_bytes) {
+  // Why the model alone, when the layer could not be written at all.
+  constexpr const char* kUncodable =
+      "no residual layer can be written on this table, even at the largest bound 16 (more bins "
+      "lie beyond its range from the model than it stores exactly: values tens of e-folds from "
+      "any smooth BRDF); the model alone is the closest file";
+  const bool model_alone = r.chosen.max_error == 0;
+  // (Not when the model alone is already exact at the metric's cap: nothing was lost.)
+  const bool say_uncodable = uncodable && model_alone && r.chosen.psnr_tonemapped < kPsnrCapDb;
+  if (!floor.active) {
+    if (say_uncodable) r.note = kUncodable;
+    return;
+  }
+  r.residual_of_smoothed_input = r.encoded.model.residual.present();
+  char text[512];
+  // Per cent per bin: "3" for 3%, "4225" (not "4.2e+03") for noise of many decades.
+  char sigma[32];
+  if (100 * floor.sigma < 100) {
+    std::snprintf(sigma, sizeof sigma, "%.2g", 100 * floor.sigma);
+  } else {
+    std::snprintf(sigma, sizeof sigma, "%.0f", 100 * floor.sigma);
+  }
+  if (r.chosen.max_error > 0 && r.chosen.max_error <= floor.smallest_error) {
+    char beyond[96] = "";
+    if (std::isfinite(floor.ceiling)) {
+      std::snprintf(beyond, sizeof beyond, "beyond about %.1f dB ", floor.ceiling);
+    }
+    std::snprintf(text, sizeof text,
+                  "the input is noisy (about %s%% per bin, see cbrdf info): stopped at its "
+                  "noise floor (residual bound %.3g); PSNR against the input %swould be bought "
+                  "by coding noise",
+                  sigma, floor.smallest_error, beyond);
+    r.note = text;
+  } else if (say_uncodable) {
+    std::snprintf(text, sizeof text, "the input is noisy (about %s%% per bin, see cbrdf info); %s",
+                  sigma, kUncodable);
+    r.note = text;
+  } else if (model_alone && !by_bytes) {
+    std::snprintf(text, sizeof text,
+                  "the input is noisy (about %s%% per bin, see cbrdf info): the model alone is "
+                  "as close to its signal as a residual layer gets; more bytes would code noise",
+                  sigma);
+    r.note = text;
+  }
+}
+
 // encode_to_target_ladder's work, on the encode's watch (encode_watch.h).
 Expected<RateResult> ladder(const BrdfTable& table, const EncoderSettings& base,
                             const RateTarget& target) {
@@ -350,51 +398,7 @@ Expected<RateResult> ladder(const BrdfTable& table, const EncoderSettings& base,
   const internal::ProgressPart residual_part("residual", 0.5, 1);
   bool uncodable = false;  // the residual layer could not be written at any bound tried
   const auto with_note = [&](Expected<RateResult> r) -> Expected<RateResult> {
-    if (!r.ok()) return r;
-    // Why the model alone, when the layer could not be written at all.
-    constexpr const char* kUncodable =
-        "no residual layer can be written on this table, even at the largest bound 16 (more bins "
-        "lie beyond its range from the model than it stores exactly: values tens of e-folds from "
-        "any smooth BRDF); the model alone is the closest file";
-    const bool model_alone = r->chosen.max_error == 0;
-    // (Not when the model alone is already exact at the metric's cap: nothing was lost.)
-    const bool say_uncodable = uncodable && model_alone && r->chosen.psnr_tonemapped < kPsnrCapDb;
-    if (!floor.active) {
-      if (say_uncodable) r->note = kUncodable;
-      return r;
-    }
-    r->residual_of_smoothed_input = r->encoded.model.residual.present();
-    char text[512];
-    // Per cent per bin: "3" for 3%, "4225" (not "4.2e+03") for noise of many decades.
-    char sigma[32];
-    if (100 * floor.sigma < 100) {
-      std::snprintf(sigma, sizeof sigma, "%.2g", 100 * floor.sigma);
-    } else {
-      std::snprintf(sigma, sizeof sigma, "%.0f", 100 * floor.sigma);
-    }
-    if (r->chosen.max_error > 0 && r->chosen.max_error <= floor.smallest_error) {
-      char beyond[96] = "";
-      if (std::isfinite(floor.ceiling)) {
-        std::snprintf(beyond, sizeof beyond, "beyond about %.1f dB ", floor.ceiling);
-      }
-      std::snprintf(text, sizeof text,
-                    "the input is noisy (about %s%% per bin, see cbrdf info): stopped at its "
-                    "noise floor (residual bound %.3g); PSNR against the input %swould be bought "
-                    "by coding noise",
-                    sigma, floor.smallest_error, beyond);
-      r->note = text;
-    } else if (say_uncodable) {
-      std::snprintf(text, sizeof text,
-                    "the input is noisy (about %s%% per bin, see cbrdf info); %s", sigma,
-                    kUncodable);
-      r->note = text;
-    } else if (model_alone && !by_bytes) {
-      std::snprintf(text, sizeof text,
-                    "the input is noisy (about %s%% per bin, see cbrdf info): the model alone is "
-                    "as close to its signal as a residual layer gets; more bytes would code noise",
-                    sigma);
-      r->note = text;
-    }
+    if (r.ok()) add_note(*r, floor, uncodable, by_bytes);
     return r;
   };
   RateResult result = std::move(rc).value();
