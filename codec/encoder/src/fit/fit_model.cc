@@ -314,6 +314,76 @@ struct FitLadder::State {
     const int s = job / kChannels, c = job % kChannels;
     return slice_for_fit(*table, c, bounds[std::size_t(s)], bounds[std::size_t(s) + 1], st);
   }
+
+  // Resolves the settings once, for one component; an error is kept for every call.
+  void prepare() {
+    prepared = true;
+    FitSettings one = settings;
+    one.components = 1;
+    one.auto_components = false;
+    Expected<FitSettings> r = resolve(*table, one, &bounds);
+    if (!r.ok()) {
+      failure = r.status();
+    } else {
+      st = *r;
+      not_measured = NotMeasured::from_table(*table);
+    }
+  }
+
+  // The one-component fit of every job, which every larger count starts from.
+  Status fit_single_components(int jobs) {
+    single.assign(std::size_t(jobs), {});
+    unit.assign(std::size_t(jobs), 1.0);
+    zero.assign(std::size_t(jobs), 0);
+    mixture.assign(std::size_t(jobs), {});
+    internal::watched_parallel_for(jobs, st.threads, [&](int job) {
+      const internal::SliceData s = slice(job);
+      bool all_zero = false;
+      single[std::size_t(job)] = fit_single(s, st, &all_zero);
+      unit[std::size_t(job)] = s.unit;
+      zero[std::size_t(job)] = all_zero;
+    });
+    // A cancelled loop leaves fits undone: nothing of it may be kept for a later call.
+    if (internal::cancel_requested()) {
+      top = 0;
+      return internal::cancelled_status();
+    }
+    top = 1;
+    ++fits;
+    return ok_status();
+  }
+
+  // add_components at a fixed count, with each job's factorization continued from `top`.
+  Status continue_mixtures(int components, int jobs, std::vector<SliceFitResult>* results) {
+    const CopulaFamily family = st.auto_family ? internal::kAutoMixtureFamily : st.family;
+    std::vector<long long> job_sweeps(std::size_t(jobs), 0);
+    internal::watched_parallel_for(jobs, st.threads, [&](int job) {
+      SliceFitResult* r = &(*results)[std::size_t(job)];
+      if (zero[std::size_t(job)] || !(r->cs.scale > 0)) return;
+      const internal::SliceData s = slice(job);
+      internal::MixtureState& state = mixture[std::size_t(job)];
+      const int before = state.sweeps;
+      internal::MixtureFit m = internal::fit_mixture_continued(s, r->cs, components, family,
+                                                               st.loss, &state, st.mixture_copulas);
+      job_sweeps[std::size_t(job)] = state.started ? state.sweeps - before : 0;
+      if (m.objective < r->report.objective) {
+        r->cs = std::move(m.cs);
+        r->report.objective = m.objective;
+      }
+      r->report.hals_sweeps += m.sweeps;
+      r->report.hals_unconverged += m.unconverged;
+      r->report.solver_iterations += m.solver_iterations;
+    });
+    if (internal::cancel_requested()) {
+      top = 0;  // the factorizations are left part-way: start again on a later call
+      mixture.assign(std::size_t(jobs), {});
+      return internal::cancelled_status();
+    }
+    for (long long n : job_sweeps) sweeps += n;
+    top = components;
+    ++fits;
+    return ok_status();
+  }
 };
 
 FitLadder::FitLadder(const BrdfTable& table, const FitSettings& settings)
@@ -335,19 +405,7 @@ long long FitLadder::hals_sweeps() const {
 
 Expected<Model> FitLadder::fit(int components, FitReport* report) {
   State& L = *state_;
-  if (!L.prepared) {
-    L.prepared = true;
-    FitSettings one = L.settings;
-    one.components = 1;
-    one.auto_components = false;
-    Expected<FitSettings> r = resolve(*L.table, one, &L.bounds);
-    if (!r.ok()) {
-      L.failure = r.status();
-    } else {
-      L.st = *r;
-      L.not_measured = NotMeasured::from_table(*L.table);
-    }
-  }
+  if (!L.prepared) L.prepare();
   if (!L.failure.ok()) return L.failure;
   if (components < 1 || components > kMaxComponents) {
     return error(ErrorCode::kInvalidArgument, "component count " + std::to_string(components) +
@@ -366,58 +424,9 @@ Expected<Model> FitLadder::fit(int components, FitReport* report) {
     return fit_model(*L.table, st, report);
   }
   const int jobs = int(L.bounds.size() - 1) * kChannels;
-  const int threads = L.st.threads;
-  if (L.top == 0) {
-    L.single.assign(std::size_t(jobs), {});
-    L.unit.assign(std::size_t(jobs), 1.0);
-    L.zero.assign(std::size_t(jobs), 0);
-    L.mixture.assign(std::size_t(jobs), {});
-    internal::watched_parallel_for(jobs, threads, [&](int job) {
-      const internal::SliceData s = L.slice(job);
-      bool zero = false;
-      L.single[std::size_t(job)] = fit_single(s, L.st, &zero);
-      L.unit[std::size_t(job)] = s.unit;
-      L.zero[std::size_t(job)] = zero;
-    });
-    // A cancelled loop leaves fits undone: nothing of it may be kept for a later call.
-    if (internal::cancel_requested()) {
-      L.top = 0;
-      return internal::cancelled_status();
-    }
-    L.top = 1;
-    ++L.fits;
-  }
+  if (L.top == 0) CBRDF_RETURN_IF_ERROR(L.fit_single_components(jobs));
   std::vector<SliceFitResult> results(L.single);
-  if (components > 1) {
-    // add_components at a fixed count, with the factorization continued.
-    const CopulaFamily family = L.st.auto_family ? internal::kAutoMixtureFamily : L.st.family;
-    std::vector<long long> sweeps(std::size_t(jobs), 0);
-    internal::watched_parallel_for(jobs, threads, [&](int job) {
-      SliceFitResult* r = &results[std::size_t(job)];
-      if (L.zero[std::size_t(job)] || !(r->cs.scale > 0)) return;
-      const internal::SliceData s = L.slice(job);
-      internal::MixtureState& state = L.mixture[std::size_t(job)];
-      const int before = state.sweeps;
-      internal::MixtureFit m = internal::fit_mixture_continued(
-          s, r->cs, components, family, L.st.loss, &state, L.st.mixture_copulas);
-      sweeps[std::size_t(job)] = state.started ? state.sweeps - before : 0;
-      if (m.objective < r->report.objective) {
-        r->cs = std::move(m.cs);
-        r->report.objective = m.objective;
-      }
-      r->report.hals_sweeps += m.sweeps;
-      r->report.hals_unconverged += m.unconverged;
-      r->report.solver_iterations += m.solver_iterations;
-    });
-    if (internal::cancel_requested()) {
-      L.top = 0;  // the factorizations are left part-way: start again on a later call
-      L.mixture.assign(std::size_t(jobs), {});
-      return internal::cancelled_status();
-    }
-    for (long long n : sweeps) L.sweeps += n;
-    L.top = components;
-    ++L.fits;
-  }
+  if (components > 1) CBRDF_RETURN_IF_ERROR(L.continue_mixtures(components, jobs, &results));
   for (int job = 0; job < jobs; ++job) {
     if (!L.zero[std::size_t(job)])
       to_physical(L.unit[std::size_t(job)], &results[std::size_t(job)]);
