@@ -38,12 +38,11 @@ Expected<AutoBitsChoice> choose_bits(const BrdfTable& source, const Model& model
     part.report(double(probes.size()) / 4);
     ContainerSettings c = container;
     c.bits = bits;
-    CBRDF_ASSIGN_OR_RETURN(auto bytes, encode_model(model, c));
-    CBRDF_ASSIGN_OR_RETURN(auto decoded, decode_model(bytes));
-    const ImageMetrics m = scorer.score(decoded);
+    CBRDF_ASSIGN_OR_RETURN(auto file, encode_and_score(model, c, scorer));
+    const ImageMetrics& m = file.metrics;
     Probe p{within(m.psnr_tonemapped, reference.psnr_tonemapped, settings.max_tonemapped_loss_db) &&
                 within(m.psnr_linear, reference.psnr_linear, settings.max_linear_loss_db),
-            std::move(bytes)};
+            std::move(file.bytes)};
     return &(probes[bits] = std::move(p));
   };
   // The fewest passing bits in [lo, hi]; hi is taken without a probe when nothing below passes

@@ -42,17 +42,19 @@ class Search {
     CBRDF_RETURN_IF_ERROR(internal::check_cancel());
     ContainerSettings cs = base_.container;
     cs.bits = bits;
-    CBRDF_ASSIGN_OR_RETURN(auto bytes, encode_model(model, cs));
-    CBRDF_ASSIGN_OR_RETURN(auto decoded, decode_model(bytes));
-    const ImageMetrics im = scorer_.score(decoded);
-    RateCandidate c{slices,        bits, components, double(bytes.size()), im.psnr_tonemapped,
-                    im.psnr_linear};
+    CBRDF_ASSIGN_OR_RETURN(auto file, encode_and_score(model, cs, scorer_));
+    RateCandidate c{slices,
+                    bits,
+                    components,
+                    double(file.bytes.size()),
+                    file.metrics.psnr_tonemapped,
+                    file.metrics.psnr_linear};
     result_.tried.push_back(c);
     const bool c_met = met(c);
     if (!have_ || better(c, c_met, result_.chosen, result_.met)) {
       result_.chosen = c;
       result_.met = c_met;
-      result_.encoded.bytes = std::move(bytes);
+      result_.encoded.bytes = std::move(file.bytes);
       result_.encoded.model = model;
       result_.encoded.report = report;
       result_.encoded.bits = bits;

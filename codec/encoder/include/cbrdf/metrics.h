@@ -38,9 +38,11 @@
 
 #include "cbrdf/brdf_fn.h"
 #include "cbrdf/brdf_table.h"
+#include "cbrdf/container_writer.h"
 #include "cbrdf/coords.h"
 #include "cbrdf/image.h"
 #include "cbrdf/model.h"
+#include "cbrdf/status.h"
 
 namespace cbrdf {
 
@@ -154,6 +156,19 @@ class SphereScorer {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// A model written as a file and decoded again, scored against the scorer's reference: what
+/// rate control, `--bits auto` and the report measure for every setting they try.
+struct ScoredEncoding {
+  std::vector<std::uint8_t> bytes;  ///< the .cbrdf file encode_model() wrote
+  ImageMetrics metrics;             ///< the decoded file's sphere PSNR against the reference
+};
+
+/// encode_model(model, container), then decode_model() of its bytes scored by `scorer`: the PSNR
+/// is that of the file a reader gets, quantization included. Errors are encode_model()'s (a model
+/// it cannot write) or decode_model()'s (a bug: the file was just written).
+Expected<ScoredEncoding> encode_and_score(const Model& model, const ContainerSettings& container,
+                                          const SphereScorer& scorer);
 
 // ---- Image comparison helpers (mask: nullptr or one byte per pixel, nonzero = counted) ----
 
