@@ -23,6 +23,36 @@ std::string where(const ParsedContainer& pc, int index) {
   return "chunk '" + c.tag + "' at offset " + std::to_string(c.offset);
 }
 
+// The residual's summary in ContainerInfo; `predictor` is the RESD chunk's coding byte.
+void describe_residual(const Residual& res, std::uint8_t predictor, ContainerInfo* info) {
+  info->residual_mode = res.exact               ? kResidualModeExact
+                        : res.middle_steps()    ? kResidualModeLevelSteps
+                        : res.interpolated()    ? kResidualModeInterp
+                        : res.row_shift.empty() ? kResidualModeLog
+                                                : kResidualModeRows;
+  // Mode 2: the bound over every bin is the coarsest row's; the finest row's beside it. Modes 3
+  // and 4: the coarsest row's at the level with the largest multiplier.
+  info->residual_max_error = res.bound();
+  info->residual_min_error = std::ldexp(res.max_error, res.min_row_shift());
+  info->residual_knee = res.knee;
+  info->residual_coding = res.exact ? -1 : int(predictor);
+  info->residual_escapes = res.escapes.size();
+}
+
+// A slice as ContainerInfo describes it: its theta_d range and each channel's copula.
+SliceParams slice_params(const Slice& s) {
+  SliceParams p;
+  p.theta_d_begin = s.theta_d_begin;
+  p.theta_d_end = s.theta_d_end;
+  for (std::size_t c = 0; c < kChannels; ++c) {
+    p.family[c] = s.channel[c].family;
+    p.theta[c] = s.channel[c].theta;
+    p.scale[c] = s.channel[c].scale;
+    p.components[c] = s.channel[c].components();
+  }
+  return p;
+}
+
 Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
   CBRDF_ASSIGN_OR_RETURN(ParsedContainer pc, parse_container(bytes));
   const std::uint16_t minor = pc.layout.minor;
@@ -68,19 +98,7 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
     st = decode_residual_chunk(payload(resd), minor, d.model.not_measured, &d.model.residual,
                                &predictor);
     if (!st.ok()) return st.with_context(where(pc, resd));
-    const Residual& res = d.model.residual;
-    d.info.residual_mode = res.exact               ? kResidualModeExact
-                           : res.middle_steps()    ? kResidualModeLevelSteps
-                           : res.interpolated()    ? kResidualModeInterp
-                           : res.row_shift.empty() ? kResidualModeLog
-                                                   : kResidualModeRows;
-    // Mode 2: the bound over every bin is the coarsest row's; the finest row's beside it. Modes 3
-    // and 4: the coarsest row's at the level with the largest multiplier.
-    d.info.residual_max_error = res.bound();
-    d.info.residual_min_error = std::ldexp(res.max_error, res.min_row_shift());
-    d.info.residual_knee = d.model.residual.knee;
-    d.info.residual_coding = res.exact ? -1 : int(predictor);
-    d.info.residual_escapes = d.model.residual.escapes.size();
+    describe_residual(d.model.residual, predictor, &d.info);
   }
 
   if (meta >= 0) {
@@ -88,18 +106,7 @@ Expected<Decoded> decode_all(std::span<const std::uint8_t> bytes) {
     if (!st.ok()) return st.with_context(where(pc, meta));
   }
 
-  for (const Slice& s : d.model.slices) {
-    SliceParams p;
-    p.theta_d_begin = s.theta_d_begin;
-    p.theta_d_end = s.theta_d_end;
-    for (std::size_t c = 0; c < kChannels; ++c) {
-      p.family[c] = s.channel[c].family;
-      p.theta[c] = s.channel[c].theta;
-      p.scale[c] = s.channel[c].scale;
-      p.components[c] = s.channel[c].components();
-    }
-    d.info.slices.push_back(p);
-  }
+  for (const Slice& s : d.model.slices) d.info.slices.push_back(slice_params(s));
   d.info.not_measured_bins = count_set_bits(d.model.not_measured.bits);
   d.info.mask_relative_to_horizon = mask_fields.reference == MaskReference::kBelowHorizon;
   d.info.per_bin_values = mask_fields.values == MaskValues::kPerBin;
