@@ -128,15 +128,9 @@ std::string most_chosen(const BudgetGain& b) {
   return n ? best + " (" + std::to_string(n) + ")" : best;
 }
 
-std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& results,
-                                       const Settings& st) {
-  const std::vector<MaterialPoints> points = material_points(results);
-  std::vector<BudgetGain> gains;
-  for (double f : kBudgetFactors) gains.push_back(budget_gain(points, f));
-  const std::string paper = paper_setting().label();
-  // With only the paper's setting in the sweep there is nothing to compare: no frontier tables.
-  if (st.sweep.only_paper_setting()) return {};
-
+// Per budget factor, the mean, min and max gain over the paper's setting and whether the target
+// is met.
+TextTable gain_table(const std::vector<BudgetGain>& gains, const std::string& paper) {
   TextTable g;
   g.id = "gain";
   g.title = "Gain over the paper's setting (" + paper + ") at 1x, 2x and 4x its bytes";
@@ -166,7 +160,12 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
                       signed_db(target), met, times(b.mean_bytes_ratio), times(b.mean_encode_ratio),
                       most_chosen(b)});
   }
+  return g;
+}
 
+// Per material, the paper's setting and the gain and chosen setting at each budget factor.
+TextTable gain_material_table(const std::vector<MaterialResult>& results,
+                              const std::vector<BudgetGain>& gains) {
   TextTable pm;
   pm.id = "gain-material";
   pm.title = "Gain over the paper's setting per material";
@@ -190,7 +189,12 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
     }
     pm.rows.push_back(std::move(row));
   }
+  return pm;
+}
 
+// The sweep's Pareto frontier of mean bytes against mean PSNR, then the paper's setting.
+TextTable frontier_settings_table(const std::vector<MaterialResult>& results, const Settings& st,
+                                  const std::string& paper) {
   TextTable mf;
   mf.id = "frontier";
   mf.title = "Frontier settings: the sweep's settings no other beats, means over the materials";
@@ -210,14 +214,31 @@ std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& result
   }
   mf.rows.push_back(
       {paper + " (paper)", bytes(p.bytes), db(p.psnr), signed_db(0.0), times(1.0), times(1.0)});
-  // Gain tables whose every entry would print as +0.00 say nothing: leave them out.
+  return mf;
+}
+
+// Whether any material's gain at any budget prints as other than +0.00.
+bool any_printed_gain(const std::vector<BudgetGain>& gains) {
   bool any_gain = false;
   for (const BudgetGain& b : gains) {
     for (const MaterialGain& m : b.per_material)
       any_gain |= m.qualifying && signed_db(m.gain_db) != "+0.00";
   }
-  if (!any_gain) return {mf};
-  return {g, mf, pm};
+  return any_gain;
+}
+
+std::vector<TextTable> frontier_tables(const std::vector<MaterialResult>& results,
+                                       const Settings& st) {
+  const std::vector<MaterialPoints> points = material_points(results);
+  std::vector<BudgetGain> gains;
+  for (double f : kBudgetFactors) gains.push_back(budget_gain(points, f));
+  const std::string paper = paper_setting().label();
+  // With only the paper's setting in the sweep there is nothing to compare: no frontier tables.
+  if (st.sweep.only_paper_setting()) return {};
+  TextTable mf = frontier_settings_table(results, st, paper);
+  // Gain tables whose every entry would print as +0.00 say nothing: leave them out.
+  if (!any_printed_gain(gains)) return {mf};
+  return {gain_table(gains, paper), mf, gain_material_table(results, gains)};
 }
 
 }  // namespace
@@ -576,6 +597,109 @@ TextTable analytic_table(const std::vector<MaterialResult>& results) {
   return t6;
 }
 
+// The "met" cell of a coding budget row: "yes", or "no:" and the targets missed.
+std::string coding_met(const CodingBudget& b, double budget, const std::string& old) {
+  std::vector<std::string> misses;
+  if (b.fresh_qualifying == 0) misses.push_back("no setting");
+  if (b.paired > 0 && b.gain_db < kCodingTargetGainDb) misses.push_back("gain");
+  if (b.paired > 0 && b.linear_gain_db < -kCodingMaxLinearLossDb) misses.push_back("linear");
+  if (budget == kCodingBudgets[0] && !(b.fresh_psnr >= kCodingOneKbTargetDb)) {
+    misses.push_back(format_value("%.0f dB at 1 KB", kCodingOneKbTargetDb));
+  }
+  std::string met = b.paired == 0 ? "yes (" + old + ": no setting)" : "yes";
+  if (!misses.empty()) {
+    met = "no:";
+    for (const std::string& m : misses) met += " " + m;
+  }
+  return met;
+}
+
+// The further coding `c` (named `old`) against the first (`fresh`) at each byte budget.
+TextTable coding_frontier_table(const std::vector<std::vector<RdPoint>>& fresh_points,
+                                const std::vector<std::vector<RdPoint>>& old_points,
+                                const std::string& fresh, const std::string& old, std::size_t c) {
+  TextTable t;
+  t.id = "coding-frontier";
+  if (c > 1) t.id += "-" + std::to_string(c);
+  t.title = "Codings compared: " + fresh + " against " + old + " at byte budgets";
+  t.nav = "Codings by budget" + (c > 1 ? " (" + old + ")" : std::string());
+  char note[1024];
+  std::snprintf(
+      note, sizeof note,
+      "The same fits written in both codings. Per material, the sweep or paper setting with "
+      "the highest tone-mapped sphere PSNR within the budget in each coding, then means over "
+      "the materials that have one ('n'). Gains are %s minus %s over the materials where both "
+      "have one (mean, and the smallest). What the %s coding aims for: a gain of at least %+.1f "
+      "dB "
+      "tone-mapped at every budget, linear PSNR at most %.1f dB lower, and at least %.0f dB at "
+      "1 KB; a budget where %s has no setting counts as met when %s has one.",
+      fresh.c_str(), old.c_str(), fresh.c_str(), kCodingTargetGainDb, kCodingMaxLinearLossDb,
+      kCodingOneKbTargetDb, old.c_str(), fresh.c_str());
+  t.note = note;
+  t.header = {"budget",         fresh + " n",        fresh + " PSNR tm dB", fresh + " PSNR dB",
+              old + " n",       old + " PSNR tm dB", old + " PSNR dB",      "gain tm dB",
+              "min gain tm dB", "gain linear dB",    "min gain linear dB",  "met"};
+  for (double budget : kCodingBudgets) {
+    const CodingBudget b = compare_at_budget(fresh_points, old_points, budget);
+    t.rows.push_back(
+        {fmt("%.1f KB", budget / 1000),
+         std::to_string(b.fresh_qualifying) + "/" + std::to_string(b.materials), db(b.fresh_psnr),
+         db(b.fresh_linear), std::to_string(b.old_qualifying) + "/" + std::to_string(b.materials),
+         db(b.old_psnr), db(b.old_linear), signed_db(b.gain_db), signed_db(b.min_gain_db),
+         signed_db(b.linear_gain_db), signed_db(b.min_linear_gain_db), coding_met(b, budget, old)});
+  }
+  return t;
+}
+
+// Every setting written in coding `c`, in the order first met, its means in both codings.
+TextTable coding_settings_table(const std::vector<MaterialResult>& results,
+                                const std::string& fresh, const std::string& old, std::size_t c) {
+  TextTable s;
+  s.id = "coding-settings";
+  if (c > 1) s.id += "-" + std::to_string(c);
+  s.title = "Settings by coding: " + fresh + " and " + old + ", means over the materials";
+  s.nav = "Codings per setting" + (c > 1 ? " (" + old + ")" : std::string());
+  s.note =
+      "Each setting's mean bytes, sphere PSNRs and encode time (fit included) written in both "
+      "codings from the same fit; ratios are of the means. The bauto setting is `cbrdf "
+      "encode`'s default.";
+  s.header = {"setting",           fresh + " bytes",  old + " bytes",  "bytes ratio",
+              fresh + " PSNR tm",  old + " PSNR tm",  fresh + " PSNR", old + " PSNR",
+              fresh + " encode s", old + " encode s", "encode ratio"};
+  std::vector<std::string> labels;
+  for (const MaterialResult& m : results) {
+    for (const Row& r : m.rows) {
+      if (r.codings.size() > c &&
+          std::find(labels.begin(), labels.end(), r.label()) == labels.end()) {
+        labels.push_back(r.label());
+      }
+    }
+  }
+  for (const std::string& l : labels) {
+    double sum[4][2] = {};  // bytes, tm, linear, encode; [fresh, old]
+    int n = 0;
+    for (const MaterialResult& m : results) {
+      const Row* r = find_row(m, l);
+      if (!r || r->codings.size() <= c) continue;
+      const CodingResult* pair[2] = {&r->codings.front(), &r->codings[c]};
+      for (int k = 0; k < 2; ++k) {
+        sum[0][k] += pair[k]->bytes;
+        sum[1][k] += pair[k]->psnr_tonemapped;
+        sum[2][k] += pair[k]->psnr_linear;
+        sum[3][k] += pair[k]->encode_s;
+      }
+      ++n;
+    }
+    if (n == 0) continue;
+    s.rows.push_back({l, bytes(sum[0][0] / n), bytes(sum[0][1] / n),
+                      fmt("%.3f", sum[0][0] / sum[0][1]), fmt("%.3f", sum[1][0] / n),
+                      fmt("%.3f", sum[1][1] / n), fmt("%.3f", sum[2][0] / n),
+                      fmt("%.3f", sum[2][1] / n), secs(sum[3][0] / n), secs(sum[3][1] / n),
+                      fmt("%.2fx", sum[3][0] / sum[3][1])});
+  }
+  return s;
+}
+
 // The side-by-side codings (Settings::codings): per further coding, the frontier at byte budgets
 // against the rows' coding, and every sweep setting's means in both.
 std::vector<TextTable> coding_tables(const std::vector<MaterialResult>& results,
@@ -586,95 +710,8 @@ std::vector<TextTable> coding_tables(const std::vector<MaterialResult>& results,
   const std::vector<std::vector<RdPoint>> fresh_points = coding_points(results, 0);
   for (std::size_t c = 1; c < st.codings.size(); ++c) {
     const std::string old = st.codings[c];
-    const std::vector<std::vector<RdPoint>> old_points = coding_points(results, c);
-    TextTable t;
-    t.id = "coding-frontier";
-    if (c > 1) t.id += "-" + std::to_string(c);
-    t.title = "Codings compared: " + fresh + " against " + old + " at byte budgets";
-    t.nav = "Codings by budget" + (c > 1 ? " (" + old + ")" : std::string());
-    char note[1024];
-    std::snprintf(
-        note, sizeof note,
-        "The same fits written in both codings. Per material, the sweep or paper setting with "
-        "the highest tone-mapped sphere PSNR within the budget in each coding, then means over "
-        "the materials that have one ('n'). Gains are %s minus %s over the materials where both "
-        "have one (mean, and the smallest). What the %s coding aims for: a gain of at least %+.1f "
-        "dB "
-        "tone-mapped at every budget, linear PSNR at most %.1f dB lower, and at least %.0f dB at "
-        "1 KB; a budget where %s has no setting counts as met when %s has one.",
-        fresh.c_str(), old.c_str(), fresh.c_str(), kCodingTargetGainDb, kCodingMaxLinearLossDb,
-        kCodingOneKbTargetDb, old.c_str(), fresh.c_str());
-    t.note = note;
-    t.header = {"budget",         fresh + " n",        fresh + " PSNR tm dB", fresh + " PSNR dB",
-                old + " n",       old + " PSNR tm dB", old + " PSNR dB",      "gain tm dB",
-                "min gain tm dB", "gain linear dB",    "min gain linear dB",  "met"};
-    for (double budget : kCodingBudgets) {
-      const CodingBudget b = compare_at_budget(fresh_points, old_points, budget);
-      std::vector<std::string> misses;
-      if (b.fresh_qualifying == 0) misses.push_back("no setting");
-      if (b.paired > 0 && b.gain_db < kCodingTargetGainDb) misses.push_back("gain");
-      if (b.paired > 0 && b.linear_gain_db < -kCodingMaxLinearLossDb) misses.push_back("linear");
-      if (budget == kCodingBudgets[0] && !(b.fresh_psnr >= kCodingOneKbTargetDb)) {
-        misses.push_back(format_value("%.0f dB at 1 KB", kCodingOneKbTargetDb));
-      }
-      std::string met = b.paired == 0 ? "yes (" + old + ": no setting)" : "yes";
-      if (!misses.empty()) {
-        met = "no:";
-        for (const std::string& m : misses) met += " " + m;
-      }
-      t.rows.push_back(
-          {fmt("%.1f KB", budget / 1000),
-           std::to_string(b.fresh_qualifying) + "/" + std::to_string(b.materials), db(b.fresh_psnr),
-           db(b.fresh_linear), std::to_string(b.old_qualifying) + "/" + std::to_string(b.materials),
-           db(b.old_psnr), db(b.old_linear), signed_db(b.gain_db), signed_db(b.min_gain_db),
-           signed_db(b.linear_gain_db), signed_db(b.min_linear_gain_db), met});
-    }
-    out.push_back(std::move(t));
-
-    TextTable s;
-    s.id = "coding-settings";
-    if (c > 1) s.id += "-" + std::to_string(c);
-    s.title = "Settings by coding: " + fresh + " and " + old + ", means over the materials";
-    s.nav = "Codings per setting" + (c > 1 ? " (" + old + ")" : std::string());
-    s.note =
-        "Each setting's mean bytes, sphere PSNRs and encode time (fit included) written in both "
-        "codings from the same fit; ratios are of the means. The bauto setting is `cbrdf "
-        "encode`'s default.";
-    s.header = {"setting",           fresh + " bytes",  old + " bytes",  "bytes ratio",
-                fresh + " PSNR tm",  old + " PSNR tm",  fresh + " PSNR", old + " PSNR",
-                fresh + " encode s", old + " encode s", "encode ratio"};
-    std::vector<std::string> labels;
-    for (const MaterialResult& m : results) {
-      for (const Row& r : m.rows) {
-        if (r.codings.size() > c &&
-            std::find(labels.begin(), labels.end(), r.label()) == labels.end()) {
-          labels.push_back(r.label());
-        }
-      }
-    }
-    for (const std::string& l : labels) {
-      double sum[4][2] = {};  // bytes, tm, linear, encode; [fresh, old]
-      int n = 0;
-      for (const MaterialResult& m : results) {
-        const Row* r = find_row(m, l);
-        if (!r || r->codings.size() <= c) continue;
-        const CodingResult* pair[2] = {&r->codings.front(), &r->codings[c]};
-        for (int k = 0; k < 2; ++k) {
-          sum[0][k] += pair[k]->bytes;
-          sum[1][k] += pair[k]->psnr_tonemapped;
-          sum[2][k] += pair[k]->psnr_linear;
-          sum[3][k] += pair[k]->encode_s;
-        }
-        ++n;
-      }
-      if (n == 0) continue;
-      s.rows.push_back({l, bytes(sum[0][0] / n), bytes(sum[0][1] / n),
-                        fmt("%.3f", sum[0][0] / sum[0][1]), fmt("%.3f", sum[1][0] / n),
-                        fmt("%.3f", sum[1][1] / n), fmt("%.3f", sum[2][0] / n),
-                        fmt("%.3f", sum[2][1] / n), secs(sum[3][0] / n), secs(sum[3][1] / n),
-                        fmt("%.2fx", sum[3][0] / sum[3][1])});
-    }
-    out.push_back(std::move(s));
+    out.push_back(coding_frontier_table(fresh_points, coding_points(results, c), fresh, old, c));
+    out.push_back(coding_settings_table(results, fresh, old, c));
   }
   return out;
 }
