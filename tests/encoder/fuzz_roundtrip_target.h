@@ -506,7 +506,7 @@ inline Result run_roundtrip(Bytes bytes, const RoundtripOptions& options = {}) {
   settings.bits = 6 + in.u8() % 11;
   settings.zstd_level = 1 + in.u8() % 3;
   // One byte, so that older seeds build the models they did: metadata, its form and the coding
-  // (the struct's default is 1.2 only, which left BASE and RESD mode 4 unfuzzed here).
+  // (each chosen here, so that a change of the struct's defaults leaves the seeds as they were).
   const std::uint8_t form = in.u8();
   settings.write_metadata = form % 2 == 0;
   settings.format = std::array{ContainerSettings::Format::kAuto, ContainerSettings::Format::kV12,

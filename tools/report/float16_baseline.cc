@@ -27,9 +27,8 @@ Expected<Float16Result> float16_round_trip(const BrdfTable& table, int zstd_leve
     }
   }
   const double convert_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  auto z = zstd_round_trip(halves, zstd_level);
-  if (!z.ok()) return z.status();
-  Float16Result r{std::move(z).value(), BrdfTable()};
+  CBRDF_ASSIGN_OR_RETURN(auto z, zstd_round_trip(halves, zstd_level));
+  Float16Result r{std::move(z), BrdfTable()};
   r.compressed.encode_s += convert_s;
   t0 = Clock::now();
   k = 0;

@@ -75,12 +75,11 @@ Expected<ZfpResult> zfp_log_round_trip(const BrdfTable& table, double tolerance)
     streams[std::size_t(c)].resize(n);
     total += n;
   }
-  auto packed_mask = zstd_round_trip(mask, 19);
-  if (!packed_mask.ok()) return packed_mask.status();
-  r.compressed.encode_s = since(t0) - packed_mask->decode_s;
+  CBRDF_ASSIGN_OR_RETURN(auto packed_mask, zstd_round_trip(mask, 19));
+  r.compressed.encode_s = since(t0) - packed_mask.decode_s;
   // The file: three ZFP stream sizes (u32), the streams, the zstd mask, the not-measured value.
   std::vector<std::uint8_t>& file = r.compressed.bytes;
-  file.reserve(total + packed_mask->bytes.size() + 3 * 4 + 8);
+  file.reserve(total + packed_mask.bytes.size() + 3 * 4 + 8);
   auto put = [&](const void* p, std::size_t n) {
     const auto* b = static_cast<const std::uint8_t*>(p);
     file.insert(file.end(), b, b + n);
@@ -90,7 +89,7 @@ Expected<ZfpResult> zfp_log_round_trip(const BrdfTable& table, double tolerance)
     put(&n, 4);
   }
   for (const auto& s : streams) put(s.data(), s.size());
-  put(packed_mask->bytes.data(), packed_mask->bytes.size());
+  put(packed_mask.bytes.data(), packed_mask.bytes.size());
   put(&not_measured_value, 8);
   t0 = Clock::now();
   for (int c = 0; c < kChannels; ++c) {
@@ -106,7 +105,7 @@ Expected<ZfpResult> zfp_log_round_trip(const BrdfTable& table, double tolerance)
       }
     }
   }
-  r.compressed.decode_s = since(t0) + packed_mask->decode_s;
+  r.compressed.decode_s = since(t0) + packed_mask.decode_s;
   return r;
 }
 

@@ -115,15 +115,13 @@ Status add_exact(const BrdfTable& source, const ContainerSettings& container,
                  EncodeResult* result) {
   result->model.residual = Residual{};
   result->model.residual.exact = std::make_shared<const BrdfTable>(source);
-  Expected<std::vector<std::uint8_t>> bytes = encode_model(result->model, container);
-  if (!bytes.ok()) return bytes.status();
-  Expected<BrdfTable> decoded = decode_table(*bytes);
-  if (!decoded.ok()) return decoded.status();
-  const std::vector<double>&a = source.stored_values(), &b = decoded->stored_values();
+  CBRDF_ASSIGN_OR_RETURN(std::vector<std::uint8_t> bytes, encode_model(result->model, container));
+  CBRDF_ASSIGN_OR_RETURN(BrdfTable decoded, decode_table(bytes));
+  const std::vector<double>&a = source.stored_values(), &b = decoded.stored_values();
   if (a.size() != b.size() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) != 0) {
     return error(ErrorCode::kInternal, "the lossless file does not decode to the source");
   }
-  result->bytes = std::move(bytes).value();
+  result->bytes = std::move(bytes);
   return ok_status();
 }
 
@@ -160,9 +158,8 @@ Status set_residual_layout(const ResidualSettings& rs, const std::vector<std::ui
   residual->levels = std::uint8_t(rs.levels);
   // Middle levels' multipliers are RESD mode 4, version 1.3 only: a file its base writes as 1.2
   // takes them as 1, and the finest level mode 3's multiplier.
-  Expected<ContainerLayout> version = read_container_version(base_bytes);
-  if (!version.ok()) return version.status();
-  const bool v13 = version->minor >= 3;
+  CBRDF_ASSIGN_OR_RETURN(ContainerLayout version, read_container_version(base_bytes));
+  const bool v13 = version.minor >= 3;
   const int fine =
       !v13 && rs.mode3_fine_multiplier > 0 ? rs.mode3_fine_multiplier : rs.fine_multiplier;
   residual->fine_multiplier = std::uint8_t(rs.levels > 0 ? fine : 1);
@@ -209,9 +206,8 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings, En
   // The base exactly as every decoder of the file rebuilds it.
   BrdfTable own_base;
   if (base_table == nullptr) {
-    Expected<Model> base = decode_model(result->bytes);
-    if (!base.ok()) return base.status();
-    own_base = base->table();
+    CBRDF_ASSIGN_OR_RETURN(Model base, decode_model(result->bytes));
+    own_base = base.table();
     base_table = &own_base;
   }
 
@@ -227,17 +223,15 @@ Status add_residual(const BrdfTable& source, const EncoderSettings& settings, En
   // beyond the format's range) are stored exactly as escapes and the file written again.
   for (int attempt = 0; attempt < 2; ++attempt) {
     CBRDF_RETURN_IF_ERROR(check_cancel());
-    Expected<std::vector<std::uint8_t>> bytes = encode_model(model, container);
-    if (!bytes.ok()) return bytes.status();
+    CBRDF_ASSIGN_OR_RETURN(std::vector<std::uint8_t> bytes, encode_model(model, container));
     CBRDF_RETURN_IF_ERROR(check_cancel());
-    Expected<BrdfTable> decoded = decode_table(*bytes);
-    if (!decoded.ok()) return decoded.status();
+    CBRDF_ASSIGN_OR_RETURN(BrdfTable decoded, decode_table(bytes));
     CBRDF_RETURN_IF_ERROR(check_cancel());
     std::vector<std::uint32_t> bad;
-    max_log_error(source, *decoded, model.residual, &bad);
+    max_log_error(source, decoded, model.residual, &bad);
     if (bad.empty()) {
-      result->bytes = std::move(bytes).value();
-      if (decoded_out != nullptr) *decoded_out = std::move(decoded).value();
+      result->bytes = std::move(bytes);
+      if (decoded_out != nullptr) *decoded_out = std::move(decoded);
       return ok_status();
     }
     if (attempt == 1 || model.residual.escapes.size() + bad.size() > kMaxResidualEscapes) break;

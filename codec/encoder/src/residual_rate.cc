@@ -134,9 +134,8 @@ class ResidualSearch {
     EncodeResult encoded;
     if (!base_table_) {
       // The base is the same for every try: decoded once.
-      Expected<Model> base = decode_model(model_.encoded.bytes);
-      if (!base.ok()) return base.status();
-      base_table_ = base->table();
+      CBRDF_ASSIGN_OR_RETURN(Model base, decode_model(model_.encoded.bytes));
+      base_table_ = base.table();
       CBRDF_RETURN_IF_ERROR(internal::check_cancel());
       // A noisy table: the residual codes the model times the smoothed ratio of the table to it,
       // the signal the model misses without the noise (the scorer still measures the input).
@@ -220,11 +219,10 @@ Status search_psnr(ResidualSearch* search, const RateTarget& target, double smal
   const double aim = target.min_psnr + 0.5 * kPsnrTolerance;
   double x = std::log(std::max(kFirstError, smallest_error));
   for (int k = 0; k < kMaxTries; ++k) {
-    auto tried = search->attempt(std::exp(x));
-    if (!tried.ok()) return tried.status();
+    CBRDF_ASSIGN_OR_RETURN(auto tried, search->attempt(std::exp(x)));
     // No residual at or below this bound (and the coarsest tried instead): nothing finer either.
-    if (!*tried || search->some_uncodable()) break;
-    const RateCandidate& c = **tried;
+    if (!tried || search->some_uncodable()) break;
+    const RateCandidate& c = *tried;
     const bool met = search->meets(c);
     if (met && c.psnr_tonemapped - target.min_psnr <= kPsnrTolerance) break;
     secant.add(x, c.psnr_tonemapped, met);
@@ -248,10 +246,9 @@ Status search_bytes(ResidualSearch* search, const RateTarget& target, const Rate
   for (int k = 0; k < kMaxTries; ++k) {
     const std::optional<double> next = secant.next(aim);
     if (!next) break;
-    auto tried = search->attempt(std::exp(*next));
-    if (!tried.ok()) return tried.status();
-    if (!*tried || search->some_uncodable()) break;  // as in search_psnr
-    const RateCandidate& c = **tried;
+    CBRDF_ASSIGN_OR_RETURN(auto tried, search->attempt(std::exp(*next)));
+    if (!tried || search->some_uncodable()) break;  // as in search_psnr
+    const RateCandidate& c = *tried;
     const bool met = search->meets(c);
     if (met && c.bytes >= target.max_bytes * (1 - kBudgetTolerance)) break;
     secant.add(*next, value(c.bytes), met);
@@ -268,14 +265,13 @@ Expected<RateResult> cheap_base(const BrdfTable& table, const EncoderSettings& b
   st.fit.components = 1;
   st.fit.auto_components = false;
   st.residual = ResidualSettings{};
-  Expected<EncodeResult> e = encode_table(table, st);
-  if (!e.ok()) return e.status();
+  CBRDF_ASSIGN_OR_RETURN(EncodeResult e, encode_table(table, st));
   RateResult r;
-  r.chosen.slices = int(e->model.slices.size());
+  r.chosen.slices = int(e.model.slices.size());
   r.chosen.components = 1;
-  r.chosen.bits = e->bits;
-  r.chosen.bytes = double(e->bytes.size());
-  r.encoded = std::move(e).value();
+  r.chosen.bits = e.bits;
+  r.chosen.bytes = double(e.bytes.size());
+  r.encoded = std::move(e);
   r.fits = 1;
   return r;
 }
@@ -286,33 +282,30 @@ Expected<RateResult> cheap_base(const BrdfTable& table, const EncoderSettings& b
 Expected<RateResult> residual_within_budget(const BrdfTable& table, const EncoderSettings& base,
                                             const RateTarget& target, RateResult model_only,
                                             const NoiseFloor& floor, bool* uncodable) {
-  Expected<RateResult> cheap = cheap_base(table, base);
-  if (!cheap.ok()) return cheap.status();
-  model_only.fits += cheap->fits;
-  if (cheap->chosen.bytes >= target.max_bytes) return model_only;
-  ResidualSearch search(table, base, target, &*cheap, floor);
+  CBRDF_ASSIGN_OR_RETURN(RateResult cheap, cheap_base(table, base));
+  model_only.fits += cheap.fits;
+  if (cheap.chosen.bytes >= target.max_bytes) return model_only;
+  ResidualSearch search(table, base, target, &cheap, floor);
   // The cheapest residual must fit, or no residual will; the smallest bound within the budget
   // (the best PSNR) is then found and weighed against the model alone.
-  auto c = search.attempt(kLargestError);
-  if (!c.ok()) return c.status();
+  CBRDF_ASSIGN_OR_RETURN(auto c, search.attempt(kLargestError));
   *uncodable = search.uncodable();
-  if (!*c || !search.best()) return model_only;
+  if (!c || !search.best()) return model_only;
   model_only.tried.push_back(search.best()->chosen);
   // A budget that holds the noise floor's file ends the search there (the first try, when the
   // floor is the largest bound).
   bool at_floor = floor.active && floor.smallest_error >= kLargestError;
   if (floor.active && !at_floor) {
-    auto f = search.attempt(floor.smallest_error);
-    if (!f.ok()) return f.status();
-    at_floor = *f && search.meets(**f);
+    CBRDF_ASSIGN_OR_RETURN(auto f, search.attempt(floor.smallest_error));
+    at_floor = f && search.meets(*f);
   }
   if (!at_floor) {
     CBRDF_RETURN_IF_ERROR(
-        search_bytes(&search, target, **c, floor.active ? floor.smallest_error : kSmallestError));
+        search_bytes(&search, target, *c, floor.active ? floor.smallest_error : kSmallestError));
   }
   *uncodable = search.uncodable();
   RateResult best = *search.best();
-  if (best.chosen.max_error != (**c).max_error) model_only.tried.push_back(best.chosen);
+  if (best.chosen.max_error != (*c).max_error) model_only.tried.push_back(best.chosen);
   // On a noisy table the PSNR against the input does not tell signal from noise: the smoothed
   // residual is kept (closer to the truth than the model alone,
   // tests/encoder/noise_ladder_test.cc).
@@ -409,8 +402,7 @@ Expected<RateResult> ladder(const BrdfTable& table, const EncoderSettings& base,
   ResidualSearch search(table, base, target, &result, floor);
   if (floor.active && target.min_psnr >= floor.ceiling) {
     // Beyond the ceiling only noise is left to code: the noise floor's file, without a search.
-    auto c = search.attempt(floor.smallest_error);
-    if (!c.ok()) return c.status();
+    CBRDF_RETURN_IF_ERROR(search.attempt(floor.smallest_error).status());
   } else {
     CBRDF_RETURN_IF_ERROR(
         search_psnr(&search, target, floor.active ? floor.smallest_error : kSmallestError));

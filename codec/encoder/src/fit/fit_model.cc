@@ -215,17 +215,13 @@ Expected<FitSettings> resolve(const BrdfTable& table, const FitSettings& setting
   FitSettings st = settings;
   if (st.slice_bounds.empty() && (st.adaptive_slices || st.auto_slices)) {
     if (st.auto_slices) {
-      Expected<int> n =
-          choose_slice_count(table, kDefaultSliceTolerance, kDefaultMaxAutoSlices, st.slicing);
-      if (!n.ok()) return n.status();
-      st.slices = *n;
+      CBRDF_ASSIGN_OR_RETURN(int n, choose_slice_count(table, kDefaultSliceTolerance,
+                                                       kDefaultMaxAutoSlices, st.slicing));
+      st.slices = n;
     }
-    Expected<std::vector<int>> b = adaptive_slice_bounds(table, st.slices, st.slicing);
-    if (!b.ok()) return b.status();
-    st.slice_bounds = std::move(b).value();
+    CBRDF_ASSIGN_OR_RETURN(st.slice_bounds, adaptive_slice_bounds(table, st.slices, st.slicing));
   }
-  auto bounds = slice_bounds(st);
-  if (!bounds.ok()) return bounds.status();
+  CBRDF_ASSIGN_OR_RETURN(auto bounds, slice_bounds(st));
   if (!internal::make_grid_copula(st.family)) {
     return error(ErrorCode::kInvalidArgument,
                  "copula family '" + std::string(family_name(st.family)) + "' cannot be fitted");
@@ -239,7 +235,7 @@ Expected<FitSettings> resolve(const BrdfTable& table, const FitSettings& setting
   if (!(st.auto_component_gain > 0 && st.auto_component_gain <= 1)) {
     return error(ErrorCode::kInvalidArgument, "auto_component_gain must lie in (0, 1]");
   }
-  *bounds_out = std::move(bounds).value();
+  *bounds_out = std::move(bounds);
   return st;
 }
 
@@ -247,9 +243,8 @@ Expected<FitSettings> resolve(const BrdfTable& table, const FitSettings& setting
 
 Expected<Model> fit_model(const BrdfTable& table, const FitSettings& settings, FitReport* report) {
   std::vector<int> b;
-  Expected<FitSettings> resolved = resolve(table, settings, &b);
-  if (!resolved.ok()) return resolved.status();
-  const FitSettings& st = *resolved;
+  CBRDF_ASSIGN_OR_RETURN(FitSettings resolved, resolve(table, settings, &b));
+  const FitSettings& st = resolved;
   const std::vector<int>* bounds = &b;
   const int slices = int(bounds->size()) - 1;
   Model model;
