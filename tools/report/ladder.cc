@@ -160,19 +160,15 @@ class LadderRun {
   Status residual_base() {
     if (have_residual_base_) return ok_status();
     const int k = st_.residual_base_components;
-    auto es = encoder_settings(options(k, st_.residual_base_bits));
-    if (!es.ok()) return es.status();
+    CBRDF_ASSIGN_OR_RETURN(auto es, encoder_settings(options(k, st_.residual_base_bits)));
     if (!residual_base_) {
       const auto t0 = Clock::now();
-      auto m = fit_model(table_, es->fit);
-      if (!m.ok()) return m.status();
-      residual_base_ = std::move(m).value();
+      CBRDF_ASSIGN_OR_RETURN(residual_base_, fit_model(table_, es.fit));
       residual_fit_s_ = since(t0);
     }
     const auto t0 = Clock::now();
-    auto bytes = encode_model(*residual_base_, es->container);
-    if (!bytes.ok()) return bytes.status();
-    base_file_.bytes = std::move(bytes).value();
+    CBRDF_ASSIGN_OR_RETURN(auto bytes, encode_model(*residual_base_, es.container));
+    base_file_.bytes = std::move(bytes);
     base_file_.bits = st_.residual_base_bits;
     base_file_.model = *residual_base_;
     residual_fit_s_ += since(t0);

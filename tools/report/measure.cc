@@ -147,15 +147,13 @@ Expected<std::vector<std::uint8_t>> encode_at(const BrdfTable& table, const Mode
   file.model = model;
   file.bits = es.container.bits;
   if (!es.auto_bits.enabled) {
-    auto bytes = encode_model(model, es.container);
-    if (!bytes.ok()) return bytes.status();
-    file.bytes = std::move(bytes).value();
+    CBRDF_ASSIGN_OR_RETURN(auto bytes, encode_model(model, es.container));
+    file.bytes = std::move(bytes);
   } else {
-    auto choice = choose_bits(table, model, es.container, es.auto_bits);
-    if (!choice.ok()) return choice.status();
-    r->detail = "chose " + std::to_string(choice->bits) + " bits";
-    file.bits = choice->bits;
-    file.bytes = std::move(choice->bytes);
+    CBRDF_ASSIGN_OR_RETURN(auto choice, choose_bits(table, model, es.container, es.auto_bits));
+    r->detail = "chose " + std::to_string(choice.bits) + " bits";
+    file.bits = choice.bits;
+    file.bytes = std::move(choice.bytes);
   }
   if (es.residual.max_error > 0) CBRDF_RETURN_IF_ERROR(add_residual_layer(table, es, &file));
   return std::move(file.bytes);
@@ -186,23 +184,17 @@ class MaterialRun {
  private:
   Status load() {
     if (m_.builtin) {
-      auto t = make_sample(m_.name);
-      if (!t.ok()) return t.status();
-      table_ = std::move(t).value();
+      CBRDF_ASSIGN_OR_RETURN(table_, make_sample(m_.name));
       if (st_.baselines.lossless) raw_ = serialize_merl(table_);
       input_bytes_ = double(kMerlFileBytes);
       return ok_status();
     }
-    auto t = read_merl(m_.path);
-    if (!t.ok()) return t.status();
-    table_ = std::move(t).value();
+    CBRDF_ASSIGN_OR_RETURN(table_, read_merl(m_.path));
     std::error_code ec;
     input_bytes_ = double(std::filesystem::file_size(m_.path, ec));
     if (ec) return error(ErrorCode::kIo, m_.path + ": cannot read its size: " + ec.message());
     if (st_.baselines.lossless) {
-      auto raw = read_file(m_.path, kMerlFileBytes * 2);
-      if (!raw.ok()) return raw.status();
-      raw_ = std::move(raw).value();
+      CBRDF_ASSIGN_OR_RETURN(raw_, read_file(m_.path, kMerlFileBytes * 2));
     }
     return ok_status();
   }
@@ -331,19 +323,17 @@ class MaterialRun {
   // The same fitted model written in another coding: its bytes, sphere PSNRs and encode time.
   Expected<CodingResult> other_coding(const CodecSetting& s, const Model& model, double fit_s,
                                       const std::string& source_name, const std::string& coding) {
-    auto es = encoder_settings_at(s, threads_, source_name, coding);
-    if (!es.ok()) return es.status();
+    CBRDF_ASSIGN_OR_RETURN(auto es, encoder_settings_at(s, threads_, source_name, coding));
     Row scratch;
     const auto t0 = Clock::now();
-    auto bytes = encode_at(table_, model, *es, &scratch);
+    auto bytes = encode_at(table_, model, es, &scratch);
     CodingResult c;
     c.coding = coding;
     c.encode_s = fit_s + since(t0);
     if (!bytes.ok()) return bytes.status();
     c.bytes = double(bytes->size());
-    auto decoded = decode_model(*bytes);
-    if (!decoded.ok()) return decoded.status();
-    const ImageMetrics im = sphere_psnr(table_, decoded->table(), sphere_);
+    CBRDF_ASSIGN_OR_RETURN(auto decoded, decode_model(*bytes));
+    const ImageMetrics im = sphere_psnr(table_, decoded.table(), sphere_);
     c.psnr_linear = im.psnr_linear;
     c.psnr_tonemapped = im.psnr_tonemapped;
     return c;
@@ -440,9 +430,8 @@ class MaterialRun {
       if (!t.ok()) return t.status().with_context("--truth");
       truth = std::move(t).value();
     }
-    auto l = measure_ladder(m_.name, table_, ls, truth ? &*truth : nullptr);
-    if (!l.ok()) return l.status();
-    result_.ladder = std::move(l).value();
+    CBRDF_ASSIGN_OR_RETURN(result_.ladder,
+                           measure_ladder(m_.name, table_, ls, truth ? &*truth : nullptr));
     return step(m_.name + ": ladder");
   }
 
