@@ -28,6 +28,8 @@ groups[python]="${groups[main]} pybind11-dev python3-pybind11 python3-dev python
 groups[docs]="${groups[main]} doxygen"
 # cbrdf.wasm compiles zstd's decompressor from Debian's source package (dpkg-dev, a deb-src entry).
 groups[wasm]="${groups[build]} emscripten nodejs node-acorn dpkg-dev"
+# npm: Debian's only where no npm is on the PATH (a machine's own Node.js comes with its own npm,
+# which Debian's package conflicts with).
 groups[browser]="${groups[main]} chromium nodejs npm"
 # The test suites' own tools: GoogleTest, Google Benchmark, clang (the decoder-only, sanitizer and
 # fuzz builds, clang-format), abigail-tools (tools/scripts/check-abi.sh), ccache (shared by the
@@ -62,6 +64,7 @@ if wants wasm; then "$here/../wasm/fetch-zstd-source.sh" --deb-src-only; fi
 
 missing=()
 for p in "${packages[@]}"; do
+  if [[ $p == npm ]] && command -v npm > /dev/null; then continue; fi
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 
