@@ -453,67 +453,187 @@ BENCHMARK(BM_SampleSmallBatch)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// The same through the C API: cbrdf_model_sample per draw, and cbrdf_model_sample_batch in
-// calls of n (threads = 1).
-const cbrdf_model* bench_c_model() {
+// ---- The C API as a renderer calls it (cbrdf/cbrdf_c.h), on the bench material encoded as
+// `cbrdf encode` writes it by default (EncoderSettings{}): opening a file, one call per pair or
+// draw, and batch calls on the calling thread alone (threads = 1, as from a renderer's own
+// workers). ns_per_pair is per pair for evaluation and per draw for sampling.
+const std::filesystem::path& default_file() {
+  static const std::filesystem::path path = [] {
+    const std::filesystem::path p = std::filesystem::path(CBRDF_BUILD_DIR) / "bench-default.cbrdf";
+    auto enc = cbrdf::encode_table(table(), cbrdf::EncoderSettings{});
+    if (!enc.ok() || !cbrdf::write_file_atomic(p, enc->bytes).ok()) std::abort();
+    return p;
+  }();
+  return path;
+}
+
+const cbrdf_model* capi_model() {
   static cbrdf_model* m = [] {
-    cbrdf_model* h = cbrdf_model_open_memory(encoded().data(), encoded().size());
+    cbrdf_model* h = cbrdf_model_open_file(default_file().c_str());
     if (h == nullptr) std::abort();
     return h;
   }();
   return m;
 }
 
-void BM_CSampleSingle(benchmark::State& state) {
-  const cbrdf_model* m = bench_c_model();
-  const SampleInputs in;
-  double wi[3], pdf, weight[3];
-  for (int k = 0; k < kDraws; ++k) {  // the sampler's tables, before timing
-    const double wo[3] = {in.x[k], in.y[k], in.z[k]};
-    if (cbrdf_model_sample(m, wo, in.u1[k], in.u2[k], wi, &pdf, weight) != CBRDF_OK) std::abort();
+// Interleaved (x, y, z) triples: kPairs pairs of wi and wo, and kDraws wo with their (u1, u2).
+struct CApiInputs {
+  std::vector<double> wi, wo, draw_wo, u;
+  std::vector<float> wi_f, wo_f;
+  CApiInputs() {
+    const auto d = random_directions(2 * kPairs);
+    for (int k = 0; k < kPairs; ++k) {
+      for (const double v : {d[2 * k].x, d[2 * k].y, d[2 * k].z}) wi.push_back(v);
+      for (const double v : {d[2 * k + 1].x, d[2 * k + 1].y, d[2 * k + 1].z}) wo.push_back(v);
+    }
+    wi_f.assign(wi.begin(), wi.end());
+    wo_f.assign(wo.begin(), wo.end());
+    const SampleInputs in;
+    for (int k = 0; k < kDraws; ++k) {
+      for (const double v : {in.x[k], in.y[k], in.z[k]}) draw_wo.push_back(v);
+      for (const double v : {in.u1[k], in.u2[k]}) u.push_back(v);
+    }
   }
+};
+
+// cbrdf_model_open_file and cbrdf_model_free of the default file, a new model each iteration
+// (read, full validation, the evaluator's tables); with first:1 also the first draw, which builds
+// the sampler and its tables for one elevation, as a renderer's first bounce does.
+void BM_CApi_Open(benchmark::State& state) {
+  const std::string path = default_file().string();
+  const bool draw = state.range(0) != 0;
+  const double wo[3] = {0.0, 0.6, 0.8};
+  double wi[3], pdf, weight[3];
+  for (auto _ : state) {
+    cbrdf_model* m = cbrdf_model_open_file(path.c_str());
+    if (m == nullptr) {
+      state.SkipWithError(cbrdf_last_error_message());
+      break;
+    }
+    if (draw && cbrdf_model_sample(m, wo, 0.3, 0.7, wi, &pdf, weight) != CBRDF_OK) {
+      state.SkipWithError(cbrdf_last_error_message());
+    }
+    cbrdf_model_free(m);
+  }
+}
+BENCHMARK(BM_CApi_Open)->ArgName("first_draw")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+void BM_CApi_Eval(benchmark::State& state) {
+  const cbrdf_model* m = capi_model();
+  const CApiInputs in;
+  double rgb[3];
+  for (auto _ : state) {
+    for (int k = 0; k < kPairs; ++k) {
+      cbrdf_model_eval(m, &in.wi[3 * k], &in.wo[3 * k], rgb);
+      benchmark::DoNotOptimize(rgb);
+    }
+  }
+  set_pair_counters(state, kPairs);
+}
+BENCHMARK(BM_CApi_Eval)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_CApi_EvalBatch(benchmark::State& state) {
+  const cbrdf_model* m = capi_model();
+  const CApiInputs in;
+  std::vector<double> rgb(3 * std::size_t(kPairs));
+  for (auto _ : state) {
+    if (cbrdf_model_eval_batch(m, kPairs, in.wi.data(), in.wo.data(), rgb.data(), 1) != CBRDF_OK) {
+      state.SkipWithError(cbrdf_last_error_message());
+    }
+    benchmark::DoNotOptimize(rgb.data());
+  }
+  set_pair_counters(state, kPairs);
+}
+BENCHMARK(BM_CApi_EvalBatch)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_CApi_EvalBatchF32(benchmark::State& state) {
+  const cbrdf_model* m = capi_model();
+  const CApiInputs in;
+  std::vector<float> rgb(3 * std::size_t(kPairs));
+  for (auto _ : state) {
+    if (cbrdf_model_eval_batch_f32(m, kPairs, in.wi_f.data(), in.wo_f.data(), rgb.data(), 1) !=
+        CBRDF_OK) {
+      state.SkipWithError(cbrdf_last_error_message());
+    }
+    benchmark::DoNotOptimize(rgb.data());
+  }
+  set_pair_counters(state, kPairs);
+}
+BENCHMARK(BM_CApi_EvalBatchF32)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The sampler's tables for every elevation drawn below, built before timing.
+void warm_capi_sampler(const CApiInputs& in) {
+  std::vector<double> wi(in.draw_wo.size()), pdf(kDraws), weight(in.draw_wo.size());
+  if (cbrdf_model_sample_batch(capi_model(), kDraws, in.draw_wo.data(), in.u.data(), wi.data(),
+                               pdf.data(), weight.data(), 1) != CBRDF_OK) {
+    std::abort();
+  }
+}
+
+void BM_CApi_Sample(benchmark::State& state) {
+  const cbrdf_model* m = capi_model();
+  const CApiInputs in;
+  warm_capi_sampler(in);
+  double wi[3], pdf, weight[3];
   for (auto _ : state) {
     for (int k = 0; k < kDraws; ++k) {
-      const double wo[3] = {in.x[k], in.y[k], in.z[k]};
-      cbrdf_model_sample(m, wo, in.u1[k], in.u2[k], wi, &pdf, weight);
+      cbrdf_model_sample(m, &in.draw_wo[3 * k], in.u[2 * k], in.u[2 * k + 1], wi, &pdf, weight);
       benchmark::DoNotOptimize(weight);
     }
   }
   set_pair_counters(state, kDraws);
 }
-BENCHMARK(BM_CSampleSingle)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CApi_Sample)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_CSampleBatch(benchmark::State& state) {
-  const cbrdf_model* m = bench_c_model();
-  const SampleInputs in;
+// kDraws draws in calls of n: a path tracer's small batches up to one call for all.
+void BM_CApi_SampleBatch(benchmark::State& state) {
+  const cbrdf_model* m = capi_model();
+  const CApiInputs in;
+  warm_capi_sampler(in);
   const std::size_t n = std::size_t(state.range(0));
-  std::vector<double> wo(3 * std::size_t(kDraws)), u(2 * std::size_t(kDraws));
-  for (int k = 0; k < kDraws; ++k) {
-    wo[3 * k] = in.x[k], wo[3 * k + 1] = in.y[k], wo[3 * k + 2] = in.z[k];
-    u[2 * k] = in.u1[k], u[2 * k + 1] = in.u2[k];
-  }
-  std::vector<double> wi(3 * std::size_t(kDraws)), pdf(kDraws), weight(3 * std::size_t(kDraws));
-  if (cbrdf_model_sample_batch(m, kDraws, wo.data(), u.data(), wi.data(), pdf.data(), weight.data(),
-                               1) != CBRDF_OK) {
-    std::abort();
-  }
+  std::vector<double> wi(3 * n), pdf(n), weight(3 * n);
   for (auto _ : state) {
     for (std::size_t b = 0; b + n <= std::size_t(kDraws); b += n) {
-      cbrdf_model_sample_batch(m, n, &wo[3 * b], &u[2 * b], wi.data(), pdf.data(), weight.data(),
-                               1);
+      cbrdf_model_sample_batch(m, n, &in.draw_wo[3 * b], &in.u[2 * b], wi.data(), pdf.data(),
+                               weight.data(), 1);
       benchmark::DoNotOptimize(weight.data());
     }
   }
   set_pair_counters(state, kDraws / int(n) * int(n));
 }
-BENCHMARK(BM_CSampleBatch)
+BENCHMARK(BM_CApi_SampleBatch)
+    ->ArgName("n")
     ->Arg(1)
-    ->Arg(4)
     ->Arg(16)
-    ->Arg(64)
-    ->Arg(1 << 15)
+    ->Arg(1024)
+    ->Arg(kDraws)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// The density of drawn pairs (a renderer's multiple importance sampling asks it of a light
+// sample's direction): the accepted draws of the inputs, one call each.
+void BM_CApi_SamplePdf(benchmark::State& state) {
+  const cbrdf_model* m = capi_model();
+  const CApiInputs in;
+  std::vector<double> wi(in.draw_wo.size()), pdf(kDraws), weight(in.draw_wo.size());
+  if (cbrdf_model_sample_batch(m, kDraws, in.draw_wo.data(), in.u.data(), wi.data(), pdf.data(),
+                               weight.data(), 1) != CBRDF_OK) {
+    std::abort();
+  }
+  std::vector<int> accepted;
+  for (int k = 0; k < kDraws; ++k) {
+    if (pdf[std::size_t(k)] > 0) accepted.push_back(k);
+  }
+  double p;
+  for (auto _ : state) {
+    for (const int k : accepted) {
+      cbrdf_model_sample_pdf(m, &wi[3 * std::size_t(k)], &in.draw_wo[3 * std::size_t(k)], &p);
+      benchmark::DoNotOptimize(p);
+    }
+  }
+  set_pair_counters(state, int(accepted.size()));
+}
+BENCHMARK(BM_CApi_SamplePdf)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // ---- Parameter grid: every copula family from small parameters to the largest a file may hold
 // ---- A synthetic file of 90 one-bin slices x 3 channels x 8 components (the most a file holds),
@@ -731,7 +851,11 @@ class RatioReporter : public benchmark::ConsoleReporter {
         {"BM_EvalBatchThreads/f32:1/threads:2", "BM_EvalBatchThreads/f32:1/threads:1"},
         {"BM_SampleBatch/1/", "BM_SampleScalar"},
         {"BM_SampleBatch/2/", "BM_SampleScalar"},
-        {"BM_SampleBatch/2/", "BM_SampleBatch/1/"}};
+        {"BM_SampleBatch/2/", "BM_SampleBatch/1/"},
+        {"BM_CApi_EvalBatch/", "BM_CApi_Eval/"},
+        {"BM_CApi_EvalBatchF32/", "BM_CApi_Eval/"},
+        {"BM_CApi_SampleBatch/n:32768/", "BM_CApi_Sample/"},
+        {"BM_CApi_SampleBatch/n:16/", "BM_CApi_Sample/"}};
     auto find = [&](const char* key) {
       for (const auto& [name, ns] : ns_)
         if (name.find(key) != std::string::npos) return ns;
