@@ -108,7 +108,7 @@ std::vector<double> expected_probabilities(const BrdfSampler& s, const Vec3& wo,
       if (d <= 0) continue;
       const Vec3 wi{2 * d * h.x - wo.x, 2 * d * h.y - wo.y, 2 * d * h.z - wo.z};
       if (wi.z <= 0) continue;
-      const double mass = s.pdf(wo, wi) * 4 * d * (c0 - c1) * dphi;
+      const double mass = s.sample_pdf(wi, wo) * 4 * d * (c0 - c1) * dphi;
       p[std::size_t(wi_bin(wi))] += mass;
       sum += mass;
     }
@@ -333,7 +333,7 @@ TEST(Sampling, BatchEqualsSampleForOtherSettings) {
       double f[3];
       brdf.eval(smp.wi, o, f);
       differ += x[k] != smp.wi.x || y[k] != smp.wi.y || z[k] != smp.wi.z || pdf[k] != smp.pdf;
-      differ += !(smp.wi.z > 0) || s.pdf(o, smp.wi) != smp.pdf;
+      differ += !(smp.wi.z > 0) || s.sample_pdf(smp.wi, o) != smp.pdf;
       for (int c = 0; c < 3; ++c) differ += w[c][k] != f[c] * smp.wi.z / smp.pdf;
     }
     EXPECT_EQ(differ, 0) << "phi_h_cells " << st.phi_h_cells;
@@ -431,8 +431,8 @@ TEST(Sampling, PdfIntegratesToAcceptedShare) {
       const double ct = (c0 + c1) / 2, st = std::sqrt(1 - ct * ct);
       for (int b = 0; b < np; ++b) {
         const double phi = (b + 0.5) * 2 * kPi / np;
-        wi_total +=
-            s.pdf(wo, {st * std::cos(phi), st * std::sin(phi), ct}) * (c0 - c1) * 2 * kPi / np;
+        wi_total += s.sample_pdf({st * std::cos(phi), st * std::sin(phi), ct}, wo) * (c0 - c1) * 2 *
+                    kPi / np;
       }
     }
     EXPECT_NEAR(wi_total, h_total, 2e-3) << theta_o;
@@ -445,7 +445,7 @@ TEST(Sampling, PdfIntegratesToAcceptedShare) {
       if (smp.valid) {
         ++accepted;
         EXPECT_GT(smp.wi.z, 0);
-        EXPECT_DOUBLE_EQ(smp.pdf, s.pdf(wo, smp.wi));
+        EXPECT_DOUBLE_EQ(smp.pdf, s.sample_pdf(smp.wi, wo));
       } else {
         EXPECT_EQ(smp.pdf, 0.0);
       }
@@ -461,14 +461,14 @@ TEST(Sampling, PdfIntegratesToAcceptedShare) {
 
 TEST(Sampling, BelowHorizonAndBlackMaterials) {
   const BrdfSampler s(analytic_fn(*sample_brdf("plastic")));
-  EXPECT_EQ(s.pdf(direction(30, 0), direction(95, 1)), 0.0);
-  EXPECT_EQ(s.pdf(direction(95, 0), direction(30, 1)), 0.0);
+  EXPECT_EQ(s.sample_pdf(direction(95, 1), direction(30, 0)), 0.0);
+  EXPECT_EQ(s.sample_pdf(direction(30, 1), direction(95, 0)), 0.0);
   EXPECT_FALSE(s.sample(direction(95, 0), 0.5, 0.5).valid);
   // A black BRDF falls back to cosine sampling entirely.
   const BrdfSampler black(
       [](const Vec3&, const Vec3&, double rgb[3]) { rgb[0] = rgb[1] = rgb[2] = 0; });
   const Vec3 wo = direction(40, 0), wi = direction(20, 2);
-  EXPECT_NEAR(black.pdf(wo, wi), wi.z / kPi, 1e-15);
+  EXPECT_NEAR(black.sample_pdf(wi, wo), wi.z / kPi, 1e-15);
   const BrdfSample smp = black.sample(wo, 0.3, 0.6);
   ASSERT_TRUE(smp.valid);
   const Vec3 cos_wi = sample_cosine_hemisphere(0.3, 0.6);
@@ -575,7 +575,7 @@ TEST(Ownership, EvaluatorAndSamplerOutliveTheirSources) {
     if (!s.valid) continue;
     ++valid;
     EXPECT_GT(s.pdf, 0.0);
-    EXPECT_NEAR(sampler.pdf(wo, s.wi), s.pdf, 1e-12 * s.pdf);
+    EXPECT_NEAR(sampler.sample_pdf(s.wi, wo), s.pdf, 1e-12 * s.pdf);
   }
   EXPECT_GT(valid, 32);
   const ModelEvaluator after_move = std::move(moved);

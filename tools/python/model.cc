@@ -39,6 +39,18 @@ std::unique_ptr<PyModel> model_from_path(const std::string& path, py::object fil
   return model_from_bytes(bytes, path, std::move(file));
 }
 
+// The rows of a batch argument as one C-contiguous (n, width) block: the caller's array itself
+// (no copy) unless it is a single row broadcast to n rows, which is repeated into *expanded.
+template <typename T>
+const T* full_rows(const Dirs<T>& d, std::size_t n, std::vector<T>* expanded) {
+  if (!d.single || n <= 1) return d.data;
+  expanded->resize(d.width * n);
+  for (std::size_t k = 0; k < n; ++k) std::copy_n(d.data, d.width, expanded->data() + d.width * k);
+  return expanded->data();
+}
+
+// Pairs through the evaluator's batch kernels (eval_batch, eval_batch_f32: equal to eval and
+// eval_f32 per pair bit for bit, vectorized, on the library's threads), with the GIL released.
 template <typename T>
 py::array eval_batch(const ModelEvaluator& ev, const py::handle& wi_obj, const py::handle& wo_obj,
                      int threads) {
@@ -51,25 +63,16 @@ py::array eval_batch(const ModelEvaluator& ev, const py::handle& wi_obj, const p
                            ? py::array_t<T>(std::vector<py::ssize_t>{3})
                            : py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n), 3});
   T* rgb = out.mutable_data();
+  std::vector<T> wi_rows, wo_rows;
+  const T* wi_p = full_rows(wi, n, &wi_rows);
+  const T* wo_p = full_rows(wo, n, &wo_rows);
   interruptible(n, [&](std::size_t first, std::size_t last) {
-    // Two (N, 3) float64 batches: the evaluator's batch path (vectorized stages, its own
-    // threads), equal to eval per pair bit for bit. (No Python object is touched here.)
-    if constexpr (std::is_same_v<T, double>) {
-      if (!wi.single && !wo.single) {
-        ev.eval_batch(last - first, wi.data + 3 * first, wo.data + 3 * first, rgb + 3 * first,
-                      threads);
-        return;
-      }
+    const std::size_t at = 3 * first;
+    if constexpr (std::is_same_v<T, float>) {
+      ev.eval_batch_f32(last - first, wi_p + at, wo_p + at, rgb + at, threads);
+    } else {
+      ev.eval_batch(last - first, wi_p + at, wo_p + at, rgb + at, threads);
     }
-    for_blocks(last - first, threads, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t k = first + begin; k < first + end; ++k) {
-        if constexpr (std::is_same_v<T, float>) {
-          ev.eval_f32(wi.at(k), wo.at(k), rgb + 3 * k);
-        } else {
-          ev.eval(vec3(wi.at(k)), vec3(wo.at(k)), rgb + 3 * k);
-        }
-      }
-    });
   });
   return out;
 }
@@ -89,7 +92,7 @@ py::array model_eval(PyModel& m, const py::handle& wi, const py::handle& wo,
 
 py::tuple model_sample(PyModel& m, const py::handle& wo_obj, const py::handle& u_obj,
                        const py::object& threads_obj) {
-  auto ev = m.ev();
+  m.ev();  // a closed model is refused before the arguments
   const int threads = threads_arg(threads_obj);
   const Dirs<double> wo = dirs_of<double>(wo_obj, "wo");
   const Dirs<double> u = dirs_of<double>(u_obj, "u", 2);
@@ -115,32 +118,14 @@ py::tuple model_sample(PyModel& m, const py::handle& wo_obj, const py::handle& u
   double* wi_p = wi_out.mutable_data();
   double* pdf_p = pdf_out.mutable_data();
   double* w_p = w_out.mutable_data();
-  // As cbrdf_model_sample_batch: u clamped into [0, 1); a rejected sample is all zeros.
-  const double below_one = std::nextafter(1.0, 0.0);
+  std::vector<double> wo_rows, u_rows;
+  const double* wo_p = full_rows(wo, n, &wo_rows);
+  const double* u_p = full_rows(u, n, &u_rows);
+  // BrdfSampler::sample_batch, as cbrdf_model_sample_batch: u clamped into [0, 1), a rejected
+  // draw all zeros, equal to sample() with weights per draw bit for bit.
   interruptible(n, [&](std::size_t first, std::size_t last) {
-    for_blocks(last - first, threads, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t k = first + begin; k < first + end; ++k) {
-        const Vec3 o = vec3(wo.at(k));
-        const double u1 = std::clamp(u.at(k)[0], 0.0, below_one);
-        const double u2 = std::clamp(u.at(k)[1], 0.0, below_one);
-        const BrdfSample s = sampler->sample(o, u1, u2);
-        double* i = wi_p + 3 * k;
-        double* w = w_p + 3 * k;
-        double f[3] = {0, 0, 0};
-        if (s.valid) ev->eval(s.wi, o, f);
-        if (!s.valid || !(s.pdf > 0)) {
-          i[0] = i[1] = i[2] = 0.0;
-          pdf_p[k] = 0.0;
-          w[0] = w[1] = w[2] = 0.0;
-          continue;
-        }
-        i[0] = s.wi.x;
-        i[1] = s.wi.y;
-        i[2] = s.wi.z;
-        pdf_p[k] = s.pdf;
-        for (int c = 0; c < 3; ++c) w[c] = f[c] * s.wi.z / s.pdf;
-      }
-    });
+    sampler->sample_batch(last - first, wo_p + 3 * first, u_p + 2 * first, wi_p + 3 * first,
+                          pdf_p + first, w_p + 3 * first, threads);
   });
   return py::make_tuple(wi_out, pdf_out, w_out);
 }
@@ -162,7 +147,7 @@ py::array model_pdf(PyModel& m, const py::handle& wo_obj, const py::handle& wi_o
   interruptible(n, [&](std::size_t first, std::size_t last) {
     for_blocks(last - first, threads, [&](std::size_t begin, std::size_t end) {
       for (std::size_t k = first + begin; k < first + end; ++k) {
-        p[k] = sampler->pdf(vec3(wo.at(k)), vec3(wi.at(k)));
+        p[k] = sampler->sample_pdf(vec3(wi.at(k)), vec3(wo.at(k)));
       }
     });
   });

@@ -247,7 +247,7 @@ class Integrator {
       mat.eval(wl, wo, f);
       if (f[0] == 0 && f[1] == 0 && f[2] == 0) return;
       if (world_.occluded({p + ng * world_.eps(), wi}, shadow_reach(dist))) return;
-      const double w = power_heuristic(pdf_light, mat.sampler().pdf(wo, wl));
+      const double w = power_heuristic(pdf_light, mat.sampler().sample_pdf(wl, wo));
       for (int c = 0; c < 3; ++c) out[c] += f[c] * wl.z * le[c] * w / pdf_light;
     };
     for (const RectLight& r : s_.rects) {

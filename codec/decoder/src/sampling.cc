@@ -428,7 +428,8 @@ void BrdfSampler::draw_cell(const Table& t, int row, Draw* d) const {
   d->ce1 = cos_edges_[std::size_t(row) + 1];
 }
 
-double BrdfSampler::pdf(const Vec3& wo_in, const Vec3& wi_in) const {
+double BrdfSampler::sample_pdf(const Vec3& wi_in, const Vec3& wo_in) const {
+  if (internal::zero_direction(wi_in) || internal::zero_direction(wo_in)) return 0.0;
   Vec3 wo = wo_in, wi = wi_in;
   if (!unit_direction(wo) || !unit_direction(wi)) return std::numeric_limits<double>::quiet_NaN();
   if (!(wo.z > 0) || !(wi.z > 0)) return 0.0;

@@ -239,6 +239,18 @@ inline bool unit_direction(Vec3& w) {
   return unit_direction(w.x, w.y, w.z);
 }
 
+namespace internal {
+/// Whether a direction is exactly (0, 0, 0) (either sign of zero): the wi of a rejected draw
+/// (sampling.h), which evaluation and densities take as below the horizon (0), not as invalid.
+template <class T>
+constexpr bool zero_direction(T x, T y, T z) {
+  return (x == T(0)) & (y == T(0)) & (z == T(0));
+}
+inline bool zero_direction(const Vec3& w) {
+  return zero_direction(w.x, w.y, w.z);
+}
+}  // namespace internal
+
 /// A model prepared for evaluation: per slice and channel, CDFs and the copula's per-axis terms.
 /// Building one costs about a millisecond (the interpolation tables); keep it for as long as the
 /// model is evaluated. The evaluator owns (or shares) the model it reads, so it stays valid

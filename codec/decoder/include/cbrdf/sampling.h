@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @file
 /// Importance sampling of an isotropic BRDF (the copula model, a measured table or an analytic
-/// BRDF) for renderers: sample(wo, u) -> wi and the exact density pdf(wo, wi) of what it draws.
+/// BRDF) for renderers: sample(wo, u) -> wi and the exact density sample_pdf(wi, wo) of what it
+/// draws (arguments in the (wi, wo) order of eval; pdf(wo, wi), the other order, is deprecated).
 ///
 /// Design. Conditioning the copula on wo has no closed form (the paper leaves it open), so the
 /// sampler tabulates, per wo, the BRDF's own distribution over half vectors and reflects wo about
@@ -9,8 +10,8 @@
 ///  - The BRDF is isotropic, so the distribution depends on wo only through theta_o. theta_o is cut
 ///    into `theta_o_bins` uniform bins; each bin gets one table, built on first use (thread-safe)
 ///    from the BRDF at the bin's central theta_o with phi_o = 0, and used for every wo in the bin
-///    after rotating by phi_o. Which wo shares a table changes efficiency, never correctness: pdf()
-///    reads the same table sample() draws from.
+///    after rotating by phi_o. Which wo shares a table changes efficiency, never correctness:
+///    sample_pdf() reads the same table sample() draws from.
 ///  - A table is a piecewise-constant density over half-vector cells (theta_h, phi_h relative to
 ///    wo's azimuth). theta_h edges follow the MERL grid, (a / n)^2 * 90 deg, fine near the normal
 ///    where specular peaks live; phi_h edges are uniform over [0, 2 pi). A cell's mass is the mean
@@ -19,14 +20,14 @@
 ///  - Within a cell h is uniform in solid angle (uniform in cos(theta_h) and phi_h), so
 ///    pdf_h = P / (delta cos * delta phi) exactly, P the cell's probability as the draws see it
 ///    (its row's step of the row CDF times its step of the row's cell CDF), and
-///    wi = 2 (wo.h) h - wo has pdf(wo, wi) = pdf_h(h) / (4 (wo.h)) with h = normalize(wi + wo).
+///    wi = 2 (wo.h) h - wo has sample_pdf(wi, wo) = pdf_h(h) / (4 (wo.h)), h = normalize(wi + wo).
 ///  - A defensive fraction `cosine_fraction` of draws is cosine-weighted in wi, so the density is
 ///    positive wherever wi is above the horizon (the table may miss a thin feature or differ from
 ///    the BRDF at other theta_o in its bin). The full density is
-///      pdf = c cos(theta_i) / pi + (1 - c) pdf_table(wo, wi).
+///      pdf = c cos(theta_i) / pi + (1 - c) pdf_table(wi, wo).
 ///  - A drawn h whose reflection falls at or below the horizon is a rejected sample (valid =
-///    false). pdf() is 0 there, so it integrates over the upper hemisphere to 1 minus the rejected
-///    probability, the mass of cells that reflect below the horizon.
+///    false). sample_pdf() is 0 there, so it integrates over the upper hemisphere to 1 minus the
+///    rejected probability, the mass of cells that reflect below the horizon.
 /// Cost: building a table evaluates the BRDF theta_h_cells * phi_h_cells * supersample^2 times
 /// (23,040 by default); a draw is two binary searches, a pdf none, and both a few square roots and
 /// polynomial acos, sincos and atan2 (no libm calls). sample_batch takes the same steps for blocks
@@ -59,7 +60,7 @@ struct SamplerSettings {
 /// One draw of BrdfSampler::sample().
 struct BrdfSample {
   Vec3 wi;             ///< the drawn direction (unit, local frame)
-  double pdf = 0.0;    ///< pdf(wo, wi) per unit solid angle; 0 when !valid
+  double pdf = 0.0;    ///< sample_pdf(wi, wo) per unit solid angle; 0 when !valid
   bool valid = false;  ///< false: rejected (wo below the horizon or wi reflected below it)
 };
 
@@ -83,10 +84,17 @@ class BrdfSampler {
   /// The same with the draw's weight f(wi, wo) cos(theta_i) / pdf in RGB, equal bit for bit to
   /// sample_batch's; a rejected draw has wi = (0, 0, 0), pdf 0 and weight 0 (as in sample_batch).
   BrdfSample sample(const Vec3& wo, double u1, double u2, double weight[3]) const;
-  /// The density of sample() per unit solid angle of wi; 0 when wo or wi is at or below the
-  /// horizon; NaN when either is not a finite unit vector (within kDirectionTolerance; rescaled as
-  /// sample() rescales wo).
-  double pdf(const Vec3& wo, const Vec3& wi) const;
+  /// The density of sample() per unit solid angle of wi, given wo: the arguments in the (wi, wo)
+  /// order of ModelEvaluator::eval and of the C API's cbrdf_model_sample_pdf. 0 when wo or wi is
+  /// at or below the horizon, and 0 when either is exactly (0, 0, 0), a rejected draw's wi, so that
+  /// drawn directions may be passed on unchecked; NaN when either is any other vector that is not
+  /// a finite unit vector (within kDirectionTolerance; rescaled as sample() rescales wo).
+  double sample_pdf(const Vec3& wi, const Vec3& wo) const;
+  /// sample_pdf(wi, wo) with its arguments in the opposite order, kept for one release.
+  [[deprecated("use sample_pdf(wi, wo): the arguments are in the other order")]] double pdf(
+      const Vec3& wo, const Vec3& wi) const {
+    return sample_pdf(wi, wo);
+  }
 
   /// n draws at once, in structure-of-arrays form: for wo = (wo_x[k], wo_y[k], wo_z[k]) and
   /// (u1[k], u2[k]), the direction wi and pdf of sample() (equal to it bit for bit) and the weight

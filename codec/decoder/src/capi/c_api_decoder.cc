@@ -590,8 +590,8 @@ cbrdf_status cbrdf_model_sample_pdf(const cbrdf_model* model, const double wi[3]
     }
     CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wi, "wi"));
     CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wo, "wo"));
-    *pdf = cbrdf::internal::sampler_of(model).pdf(cbrdf::internal::to_vec3(wo),
-                                                  cbrdf::internal::to_vec3(wi));
+    *pdf = cbrdf::internal::sampler_of(model).sample_pdf(cbrdf::internal::to_vec3(wi),
+                                                         cbrdf::internal::to_vec3(wo));
     return cbrdf::ok_status();
   });
 }
@@ -605,7 +605,8 @@ cbrdf_status cbrdf_model_eval_pdf(const cbrdf_model* model, const double wi[3], 
     CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wi, "wi"));
     CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wo, "wo"));
     const cbrdf::Vec3 i = cbrdf::internal::to_vec3(wi), o = cbrdf::internal::to_vec3(wo);
-    const double p = cbrdf::internal::sampler_of(model).pdf(o, i);  // may throw: before any output
+    const double p =
+        cbrdf::internal::sampler_of(model).sample_pdf(i, o);  // may throw: before any output
     model->evaluator->eval(i, o, rgb);
     *pdf = p;
     return cbrdf::ok_status();
@@ -620,8 +621,8 @@ cbrdf_status cbrdf_model_pdf(const cbrdf_model* model, const double wo[3], const
     }
     CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wo, "wo"));
     CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wi, "wi"));
-    *pdf = cbrdf::internal::sampler_of(model).pdf(cbrdf::internal::to_vec3(wo),
-                                                  cbrdf::internal::to_vec3(wi));
+    *pdf = cbrdf::internal::sampler_of(model).sample_pdf(cbrdf::internal::to_vec3(wi),
+                                                         cbrdf::internal::to_vec3(wo));
     return cbrdf::ok_status();
   });
 }
