@@ -59,7 +59,7 @@ def main(argv=None):
     if a.model:
         model = cbrdf.decode(a.model)
     else:
-        source = cbrdf.sample(a.sample or "plastic")
+        source = cbrdf.sample_table(a.sample or "plastic")
         model = cbrdf.decode(cbrdf.encode(source, bits=12))
     if a.table:
         source = cbrdf.read_merl(a.table)

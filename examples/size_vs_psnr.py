@@ -29,7 +29,7 @@ def main(argv=None):
         a.slices, a.bits, a.components = [3, 6], [6, 10], [1]
 
     name = a.material or a.sample or "plastic"
-    reference = cbrdf.read_merl(a.material) if a.material else cbrdf.sample(name)
+    reference = cbrdf.read_merl(a.material) if a.material else cbrdf.sample_table(name)
 
     curves = {}
     print("slices,components,bits,bytes,psnr_tonemapped,psnr_linear")

@@ -83,7 +83,7 @@ def positive(bad):
 @pytest.fixture(scope="module")
 def env(work, tmp_path_factory):
     tmp = tmp_path_factory.mktemp("errors")
-    table = cbrdf.sample("lambertian")
+    table = cbrdf.sample_table("lambertian")
     model = cbrdf.decode(work / "plastic.cbrdf")
     data = (work / "plastic.cbrdf").read_bytes()
     return dict(tmp=tmp, table=table, model=model, data=data, work=work)
@@ -135,7 +135,10 @@ CASES = {
               {"source": SOURCE_BAD}),
     "info": (lambda e, source=DEF: cbrdf.info(e["data"] if source is DEF else source),
              {"source": SOURCE_BAD}),
-    "sample": (lambda e, name="lambertian", units="physical": cbrdf.sample(name, units=units),
+    "sample_table": (lambda e, name="lambertian", units="physical":
+                     cbrdf.sample_table(name, units=units),
+                     {"name": TEXT_BAD + [(None, T)], "units": TEXT_BAD + [(None, T)]}),
+    "sample": (lambda e, name="lambertian", units="physical": _deprecated_sample(name, units),
                {"name": TEXT_BAD + [(None, T)], "units": TEXT_BAD + [(None, T)]}),
     "samples": (lambda e, kind=None: cbrdf.samples(kind), {"kind": TEXT_BAD}),
     "sphere_psnr": (lambda e, reference=DEF, test=DEF, tonemapped=True, size=16,
@@ -202,6 +205,11 @@ CASES = {
 
 def _component_dict(e):
     return dict(_model(e)._slices[0]["channels"][0][0])
+def _deprecated_sample(name, units):
+    with pytest.warns(DeprecationWarning, match="use cbrdf.sample_table"):
+        return cbrdf.sample(name, units=units)
+
+
 
 
 def _slice_dict(e):

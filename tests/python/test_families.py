@@ -18,7 +18,7 @@ def test_stub_lists_the_tables_families():
 
 
 def test_unknown_family_error_names_every_family():
-    table = cbrdf.sample("lambertian")
+    table = cbrdf.sample_table("lambertian")
     with pytest.raises(cbrdf.Error) as err:
         cbrdf.encode(table, family="nope")
     assert f"{', '.join(cbrdf.COPULA_FAMILIES)} or auto" in str(err.value)

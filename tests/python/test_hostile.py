@@ -41,7 +41,7 @@ def expect_error(fn, *needles, exit_code=None):
 
 @pytest.fixture(scope="module")
 def small_table():
-    return cbrdf.sample("lambertian")
+    return cbrdf.sample_table("lambertian")
 
 
 # ---- item 1: a residual option beside a target is refused, never dropped ------------------------
@@ -234,7 +234,7 @@ def latency(setup: str, call: str, delay: float = 1.0) -> float:
 
 
 def test_item8_ctrl_c_stops_an_encode_within_half_a_second():
-    lat = latency("t = cbrdf.sample('nickel')", "cbrdf.encode(t, components=8, slices=6)")
+    lat = latency("t = cbrdf.sample_table('nickel')", "cbrdf.encode(t, components=8, slices=6)")
     assert lat < 0.5, lat
 
 
@@ -328,7 +328,7 @@ def test_item12_container_info_stub_has_the_residual():
 
 def test_item12_stored_arrays_are_read_only(work):
     for a in (cbrdf.read_merl(work / "plastic.binary", units="stored"),
-              cbrdf.sample("plastic", units="stored"),
+              cbrdf.sample_table("plastic", units="stored"),
               cbrdf.decode(work / "plastic.cbrdf").table(units="stored")):
         assert not a.flags.writeable
         with pytest.raises(ValueError):

@@ -23,7 +23,7 @@ def test_read_shape_units_and_mask(work):
 def test_read_bytes_and_sample_match_file(work):
     data = (work / "plastic.binary").read_bytes()
     a = cbrdf.read_merl(data, units="stored")
-    b = cbrdf.sample("plastic", units="stored")
+    b = cbrdf.sample_table("plastic", units="stored")
     c = cbrdf.read_merl(work / "plastic.binary", units="stored")
     assert a.tobytes() == b.tobytes() == c.tobytes()
     assert ("plastic" in dict(cbrdf.samples()))

@@ -27,7 +27,7 @@ def python_message(case):
 
 @pytest.fixture(scope="module")
 def table():
-    return cbrdf.sample("lambertian")
+    return cbrdf.sample_table("lambertian")
 
 
 def test_the_list_covers_at_least_12_settings_python_takes():

@@ -29,6 +29,7 @@ import math as _math
 import numbers as _numbers
 import operator as _operator
 import os as _os
+import warnings as _warnings
 from typing import Any as _Any
 
 import numpy as _np
@@ -51,6 +52,7 @@ __all__ = [
     "decode",
     "info",
     "sample",
+    "sample_table",
     "samples",
     "sphere_psnr",
     "sphere_metrics",
@@ -497,22 +499,37 @@ def samples(kind: str | None = None) -> list:
     return [(n, d) for n, k, d in _cbrdf.samples() if kind is None or k == kind]
 
 
+def _sample_table(fn: str, name: str, units: str) -> _np.ndarray:
+    _text(fn, "name", name)
+    _check_units(fn, units)
+    try:
+        t = _cbrdf._Table.sample(name)
+    except Error as e:
+        raise _named(fn, "name", e) from None
+    physical, stored = t.arrays()
+    return _stored_array(stored) if units == "stored" else _physical_array((physical, stored))
+
+
 @_entry
-def sample(name: str, *, units: str = "physical") -> _np.ndarray:
+def sample_table(name: str, *, units: str = "physical") -> _np.ndarray:
     """A built-in sample material as a table (what ``cbrdf sample NAME -o FILE`` writes).
 
     Args:
         name: one of :func:`samples` (e.g. ``"plastic"``).
         units: as in :func:`read_merl`.
     """
-    _text("sample", "name", name)
-    _check_units("sample", units)
-    try:
-        t = _cbrdf._Table.sample(name)
-    except Error as e:
-        raise _named("sample", "name", e) from None
-    physical, stored = t.arrays()
-    return _stored_array(stored) if units == "stored" else _physical_array((physical, stored))
+    return _sample_table("sample_table", name, units)
+
+
+@_entry
+def sample(name: str, *, units: str = "physical") -> _np.ndarray:
+    """Deprecated name of :func:`sample_table` (the same table); warns DeprecationWarning.
+
+    Renamed because :meth:`Model.sample` draws directions, not tables.
+    """
+    _warnings.warn("cbrdf.sample(name) is deprecated: use cbrdf.sample_table(name); "
+                   "Model.sample draws directions", DeprecationWarning, stacklevel=3)
+    return _sample_table("sample", name, units)
 
 
 @_entry
@@ -780,15 +797,26 @@ class Model(_cbrdf._Model):
 
         Args:
             wo: (N, 3) outgoing unit vectors (or one (3,) vector).
-            u: (N, 2) uniform numbers in [0, 1) (clamped into it).
+            u: (N, 2) uniform numbers in [0, 1) (clamped into it): one array of
+                pairs (u1, u2), e.g. ``np.stack([u1, u2], axis=-1)``.
+            threads: at most this many threads (0: the library's limit).
 
         Returns:
             ``(wi, pdf, weight)``: wi (N, 3) unit vectors, pdf (N,) per unit solid
             angle, weight (N, 3) = f(wi, wo) * cos(theta_i) / pdf.  A rejected
             sample (wo at or below the horizon, or wi reflected below it) has
-            wi = 0, pdf = 0 and weight = 0.  As ``cbrdf_model_sample_batch``.
+            wi = 0, pdf = 0 and weight = 0.  As ``cbrdf_model_sample_batch``
+            (``BrdfSampler::sample_batch``, with the GIL released), equal to
+            ``cbrdf_model_sample`` per draw bit for bit.
         """
         return super().sample(wo, u, threads)
+        if not isinstance(threads, int) and _np.ndim(threads) > 0:
+            # sample(wo, u1, u2): the third argument is threads, and numpy's own refusal of an
+            # array there ("only integer scalar arrays ...") would not say why.
+            raise ArgumentTypeError(
+                f"Model.sample takes (wo, u, threads=0): u is one (N, 2) array of pairs "
+                f"(u1, u2), e.g. np.stack([u1, u2], axis=-1), and threads an int, not "
+                f"{_describe(threads)} (a built-in table is cbrdf.sample_table(name))")
 
     @_entry
     def pdf(self, wo: _Any, wi: _Any, threads: int = 0) -> _np.ndarray:
