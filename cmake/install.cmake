@@ -47,7 +47,6 @@ if(CBRDF_SHARED)
           LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 endif()
 install(EXPORT cbrdfTargets NAMESPACE cbrdf:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/cbrdf)
-set(CBRDF_PC_FILES cbrdf-decoder)
 if(NOT CBRDF_DECODER_ONLY)
   # The measured samples' weights are compiled into libcbrdf_encoder: their licence goes with it.
   install(FILES ${PROJECT_SOURCE_DIR}/data/measured/LICENSE-nbrdf.txt
@@ -65,7 +64,6 @@ if(NOT CBRDF_DECODER_ONLY)
   endif()
   install(EXPORT cbrdfEncoderTargets NAMESPACE cbrdf::
           DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/cbrdf)
-  list(APPEND CBRDF_PC_FILES cbrdf)
 endif()
 if(CBRDF_WITH_EXTRAS)
   # Images and analytic fits (find_package(cbrdf COMPONENTS extras)): OpenEXR and libpng besides
@@ -84,11 +82,23 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/cbrdfConfigVersion.cmake
   COMPATIBILITY SameMajorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/cbrdfConfig.cmake ${PROJECT_BINARY_DIR}/cbrdfConfigVersion.cmake
         DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/cbrdf)
-# Relocatable: the prefix is found from the .pc file's own folder, wherever --prefix put it.
-file(RELATIVE_PATH CBRDF_PC_TO_PREFIX ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig ${CMAKE_INSTALL_PREFIX})
-string(REGEX REPLACE "/$" "" CBRDF_PC_TO_PREFIX "${CBRDF_PC_TO_PREFIX}")
-set(CBRDF_PC_PREFIX "\${pcfiledir}/${CBRDF_PC_TO_PREFIX}")
-foreach(pc ${CBRDF_PC_FILES})
-  configure_file(${PROJECT_SOURCE_DIR}/cmake/${pc}.pc.in ${PROJECT_BINARY_DIR}/${pc}.pc @ONLY)
-  install(FILES ${PROJECT_BINARY_DIR}/${pc}.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
-endforeach()
+# The pkg-config files: cbrdf-decoder and cbrdf link the shared libraries (with an rpath to a
+# non-system libdir; the archives where no shared library is built), cbrdf-decoder-static and
+# cbrdf-static the archives (their dependencies in Requires and Libs, as an archive always needs
+# them). Written at install time (cmake/install_pkgconfig.cmake), when the prefix is known.
+set(CBRDF_PC_FILES cbrdf-decoder cbrdf-decoder-static)
+if(NOT CBRDF_DECODER_ONLY)
+  list(APPEND CBRDF_PC_FILES cbrdf cbrdf-static)
+endif()
+set(CBRDF_PC_SYSTEM_LIBDIRS ${CMAKE_C_IMPLICIT_LINK_DIRECTORIES}
+    ${CMAKE_CXX_IMPLICIT_LINK_DIRECTORIES} ${CMAKE_PLATFORM_IMPLICIT_LINK_DIRECTORIES})
+install(CODE "
+set(CBRDF_PC_FILES \"${CBRDF_PC_FILES}\")
+set(CBRDF_PC_SOURCE_DIR \"${PROJECT_SOURCE_DIR}/cmake\")
+set(CBRDF_PC_BINARY_DIR \"${PROJECT_BINARY_DIR}/pkgconfig\")
+set(CBRDF_PC_LIBDIR \"${CMAKE_INSTALL_LIBDIR}\")
+set(CBRDF_PC_INCLUDEDIR \"${CMAKE_INSTALL_INCLUDEDIR}\")
+set(CBRDF_PC_VERSION \"${PROJECT_VERSION}\")
+set(CBRDF_PC_SHARED \"${CBRDF_SHARED}\")
+set(CBRDF_PC_SYSTEM_LIBDIRS \"${CBRDF_PC_SYSTEM_LIBDIRS}\")")
+install(SCRIPT ${PROJECT_SOURCE_DIR}/cmake/install_pkgconfig.cmake)
