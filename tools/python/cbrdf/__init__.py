@@ -770,13 +770,16 @@ class Model(_cbrdf._Model):
 
         Args:
             wi, wo: (N, 3) arrays of unit vectors (or one (3,) vector, broadcast).
-            threads: at most this many threads (0: the library's limit).  Batches
-                above 8192 pairs are split over the library's thread pool.
+            threads: at most this many threads (0: the library's limit).  One call of
+                the batch kernels (``ModelEvaluator::eval_batch``), with the GIL released,
+                in chunks of 2048 pairs over the library's thread pool.
 
         Returns:
             (N, 3) (or (3,) for two single vectors).  When both inputs are float32
-            the float32 evaluator (``eval_f32``) is used and the result is float32;
-            otherwise float64 from ``ModelEvaluator::eval``, equal to it bit for bit.
+            the float32 evaluator (``eval_batch_f32``, equal to ``eval_f32`` per pair bit
+            for bit) is used and the result is float32; otherwise float64, equal to
+            ``ModelEvaluator::eval`` per pair bit for bit.  C-contiguous float32 or
+            float64 arrays are read in place; others are copied once.
             0 at or below the horizon.
 
         Raises:
