@@ -32,7 +32,7 @@ elseif(system_libdir)
 else()
   set(CBRDF_PC_RPATH " -Wl,-rpath,\${libdir}")
   set(CBRDF_PC_RPATH_NOTE
-      "# Libs carries an rpath: ${libdir_full} is not a directory the loader searches by itself.")
+      "# Libs carries an rpath: ${libdir_full} is not one of the toolchain's own library directories.")
 endif()
 # Relocatable: the prefix is found from the .pc file's own folder, wherever it was installed.
 file(RELATIVE_PATH to_prefix "${libdir_full}/pkgconfig" "${CMAKE_INSTALL_PREFIX}")
