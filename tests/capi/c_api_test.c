@@ -589,9 +589,14 @@ static void test_eval(const cbrdf_model* m) {
   CHECK_STATUS(cbrdf_model_eval(m, bad, up, one), CBRDF_ERROR_INVALID_ARGUMENT);
   bad[2] = INFINITY;
   CHECK_STATUS(cbrdf_model_eval(m, up, bad, one), CBRDF_ERROR_INVALID_ARGUMENT);
-  bad[2] = 0; /* the zero vector */
+  bad[2] = 1e-3; /* short of unit length, and not the zero vector */
   CHECK_STATUS(cbrdf_model_eval(m, bad, up, one), CBRDF_ERROR_INVALID_ARGUMENT);
+  CHECK_MESSAGE_HAS("or (0, 0, 0)");
   CHECK(one[0] == 42.0 && one[1] == 42.0 && one[2] == 42.0);
+  bad[2] = 0; /* the zero vector, a rejected draw's wi: 0, not an error */
+  CHECK_STATUS(cbrdf_model_eval(m, bad, up, one), CBRDF_OK);
+  CHECK(one[0] == 0.0 && one[1] == 0.0 && one[2] == 0.0);
+  one[0] = one[1] = one[2] = 42.0;
   CHECK_STATUS(cbrdf_model_eval(NULL, up, up, one), CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_STATUS(cbrdf_model_eval(m, NULL, up, one), CBRDF_ERROR_INVALID_ARGUMENT);
   CHECK_STATUS(cbrdf_model_eval(m, up, NULL, one), CBRDF_ERROR_INVALID_ARGUMENT);
@@ -674,6 +679,37 @@ static void test_sampling(const cbrdf_model* m) {
   CHECK(p == 0.0);
   CHECK_STATUS(cbrdf_model_sample_pdf(m, up, up, &p), CBRDF_OK);
   CHECK(p > 0.0 && isfinite(p));
+
+  /* The draws passed straight back, rejected ones (wi = (0, 0, 0)) included: 0, not an error. */
+  {
+    static double rgb[N_SAMPLES * 3];
+    static float fwi[N_SAMPLES * 3], fwo[N_SAMPLES * 3], frgb[N_SAMPLES * 3];
+    const double zero[3] = {0.0, 0.0, 0.0};
+    int rejected = 0;
+    CHECK_STATUS(cbrdf_model_eval_batch(m, N_SAMPLES, wi, wo, rgb, 0), CBRDF_OK);
+    for (k = 0; k < 3 * N_SAMPLES; ++k) {
+      fwi[k] = (float)wi[k];
+      fwo[k] = (float)wo[k];
+    }
+    CHECK_STATUS(cbrdf_model_eval_batch_f32(m, N_SAMPLES, fwi, fwo, frgb, 0), CBRDF_OK);
+    for (k = 0; k < N_SAMPLES; ++k) {
+      if (pdf[k] != 0.0) continue;
+      ++rejected;
+      CHECK_STATUS(cbrdf_model_sample_pdf(m, wi + 3 * k, wo + 3 * k, &p), CBRDF_OK);
+      CHECK(p == 0.0);
+      for (c = 0; c < 3; ++c) CHECK(rgb[3 * k + c] == 0.0 && frgb[3 * k + c] == 0.0f);
+    }
+    CHECK(rejected >= N_SAMPLES / 8);
+    p = 1.0;
+    f[0] = f[1] = f[2] = 1.0;
+    CHECK_STATUS(cbrdf_model_eval_pdf(m, zero, up, f, &p), CBRDF_OK);
+    CHECK(p == 0.0 && f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0);
+    CHECK_STATUS(cbrdf_model_sample_pdf(m, up, zero, &p), CBRDF_OK);
+    CHECK(p == 0.0);
+    /* Only exactly (0, 0, 0): a short vector is refused, naming what is accepted. */
+    CHECK_STATUS(cbrdf_model_sample_pdf(m, up, bad, &p), CBRDF_ERROR_INVALID_ARGUMENT);
+    CHECK_MESSAGE_HAS("or (0, 0, 0) (a rejected draw)");
+  }
 
   /* Errors, checked before anything is written. */
   pdf[0] = 42.0;
@@ -1253,6 +1289,7 @@ static void test_single_sample(const cbrdf_model* m) {
  * and cbrdf_model_eval_pdf(wi, wo) is eval and sample_pdf at once. */
 static void test_eval_pdf(const cbrdf_model* m) {
   double wi[3], wo[3], rgb[3], f[3], p = -1, q = -1, r = -1, bad[3] = {0, 0, 1.01};
+  const double zero[3] = {0.0, 0.0, 0.0};
   direction(50, 30, wi);
   direction(20, 250, wo);
   CHECK_STATUS(cbrdf_model_sample_pdf(m, wi, wo, &p), CBRDF_OK);
@@ -1263,6 +1300,9 @@ static void test_eval_pdf(const cbrdf_model* m) {
 #pragma GCC diagnostic ignored "-Wdeprecated-declarations"
 #endif
   CHECK_STATUS(cbrdf_model_pdf(m, wo, wi, &q), CBRDF_OK);
+  r = 1.0; /* a rejected draw's wi, (0, 0, 0): 0 as in cbrdf_model_sample_pdf */
+  CHECK_STATUS(cbrdf_model_pdf(m, wo, zero, &r), CBRDF_OK);
+  CHECK(r == 0.0);
 #if defined(__GNUC__)
 #pragma GCC diagnostic pop
 #endif

@@ -45,8 +45,9 @@ TEST(ApiValidation, EvalOfAnInvalidDirectionIsNaN) {
   const Vec3 wo = dir(0, 0);
   double rgb[3];
   // Before: {NaN, 0, 1} at the normal returned the peak value.
-  for (const Vec3& bad : {Vec3{kNaN, 0, 1}, Vec3{0, 0, kNaN}, Vec3{1e300, 0, 1e300}, Vec3{0, 0, 0},
-                          Vec3{0, 0, 2}, Vec3{0, std::numeric_limits<double>::infinity(), 1}}) {
+  for (const Vec3& bad :
+       {Vec3{kNaN, 0, 1}, Vec3{0, 0, kNaN}, Vec3{1e300, 0, 1e300}, Vec3{0, 0, 1e-3}, Vec3{0, 0, 2},
+        Vec3{0, std::numeric_limits<double>::infinity(), 1}}) {
     e.eval(bad, wo, rgb);
     EXPECT_TRUE(all_nan(rgb)) << bad.x << " " << bad.y << " " << bad.z << ": " << rgb[0];
     e.eval(wo, bad, rgb);

@@ -172,12 +172,20 @@ bool deviation_ok(T x, T y, T z) {
   return std::fabs(x * x + y * y + z * z - T(1)) <= kDirectionAsGiven<T>;
 }
 
+// unit_direction, but exactly (0, 0, 0), a rejected draw's wi, is kept as it is: every path
+// evaluates it as below the horizon (0), the batch kernels as they do their zero padding. Checked
+// only where deviation_ok fails, so that the usual unit input pays nothing for it.
+template <class T>
+bool usable_direction(T& x, T& y, T& z) {
+  return internal::zero_direction(x, y, z) || unit_direction(x, y, z);
+}
+
 // eval of a pair with a direction to rescale or to refuse, out of eval's usual path.
 [[gnu::noinline]] void eval_rescaled(const internal::InterpTables& interp,
                                      const internal::ResidualEval* residual, const Vec3& wi_in,
                                      const Vec3& wo_in, double rgb[3]) {
   Vec3 wi = wi_in, wo = wo_in;
-  if (!unit_direction(wi) || !unit_direction(wo)) {
+  if (!usable_direction(wi.x, wi.y, wi.z) || !usable_direction(wo.x, wo.y, wo.z)) {
     rgb[0] = rgb[1] = rgb[2] = std::numeric_limits<double>::quiet_NaN();
     return;
   }
@@ -206,7 +214,7 @@ void ModelEvaluator::eval_f32(const float wi_in[3], const float wo_in[3], float 
     return;
   }
   float wi[3] = {wi_in[0], wi_in[1], wi_in[2]}, wo[3] = {wo_in[0], wo_in[1], wo_in[2]};
-  if (!unit_direction(wi[0], wi[1], wi[2]) || !unit_direction(wo[0], wo[1], wo[2])) {
+  if (!usable_direction(wi[0], wi[1], wi[2]) || !usable_direction(wo[0], wo[1], wo[2])) {
     rgb[0] = rgb[1] = rgb[2] = std::numeric_limits<float>::quiet_NaN();
     return;
   }
@@ -295,7 +303,17 @@ bool batch_as_given(std::size_t n, const internal::BatchArgs<T>& a) {
     bad |= a.in_stride == 1 ? soa_not_as_given(a.in[d], a.in[d + 1], a.in[d + 2], n)
                             : count_not_as_given(a.in[d], a.in[d + 1], a.in[d + 2], n, a.in_stride);
   }
-  return bad == 0;
+  if (bad == 0) return true;
+  // A second pass only for a chunk that failed: rejected draws' (0, 0, 0) among directions used
+  // as given go to the kernel too (see usable_direction), not through the copy of the checked path.
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = k * a.in_stride;
+    for (int d = 0; d < 6; d += 3) {
+      const T x = a.in[d][i], y = a.in[d + 1][i], z = a.in[d + 2][i];
+      if (!deviation_ok(x, y, z) && !internal::zero_direction(x, y, z)) return false;
+    }
+  }
+  return true;
 }
 
 // The kernel and the residual stage over a batch whose directions are used as given.
@@ -318,7 +336,7 @@ void eval_batch_checked(const internal::InterpTables& interp,
     const std::size_t i = k * a.in_stride;
     for (int d = 0; d < 6; d += 3) {
       T x = a.in[d][i], y = a.in[d + 1][i], z = a.in[d + 2][i];
-      if (!unit_direction(x, y, z)) {
+      if (!usable_direction(x, y, z)) {
         refused[k] = 1;
         x = 0, y = 0, z = 1;
       }

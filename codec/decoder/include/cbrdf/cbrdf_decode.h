@@ -27,7 +27,9 @@
  *   (x, y, z) (three floats in the _f32 calls). A direction with a non-finite component or whose
  *   squared length differs from 1 by more than 1e-3 fails with CBRDF_ERROR_INVALID_ARGUMENT; one
  *   within that tolerance is scaled to unit length before use (unless its squared length is 1 to
- *   within 4 ulp, when it is used as given), so |w| = 1.0004 gives the value at w / |w|.
+ *   within 4 ulp, when it is used as given), so |w| = 1.0004 gives the value at w / |w|. The
+ *   calls that evaluate (cbrdf_model_eval*, cbrdf_model_sample_pdf, cbrdf_model_eval_pdf and
+ *   cbrdf_model_pdf) also accept exactly (0, 0, 0), a rejected draw's wi, and give 0 for it.
  * - Argument order. A direction pair is passed as (wi, wo), incident direction first, the order
  *   of f(wi, wo) (as in cbrdf_model_eval and cbrdf_model_sample_pdf); inputs come before outputs.
  *   Sampling takes the given direction wo and returns wi. (cbrdf_model_pdf, deprecated, is the one
@@ -237,9 +239,9 @@ CBRDF_C_API cbrdf_status cbrdf_model_metadata_at(const cbrdf_model* model, size_
  */
 
 /** The model's value f(wi, wo) in RGB (1/sr): continuous in angle (trilinear between MERL bins),
- * 0 when wi or wo is at or below the horizon (z <= 0), reciprocal up to rounding. Returns CBRDF_OK,
- * or CBRDF_ERROR_INVALID_ARGUMENT (a NULL pointer, a direction that is not a finite unit vector;
- * rgb is then unchanged). */
+ * 0 when wi or wo is at or below the horizon (z <= 0) or exactly (0, 0, 0) (a rejected draw's
+ * wi), reciprocal up to rounding. Returns CBRDF_OK, or CBRDF_ERROR_INVALID_ARGUMENT (a NULL
+ * pointer, any other direction that is not a finite unit vector; rgb is then unchanged). */
 CBRDF_C_API cbrdf_status cbrdf_model_eval(const cbrdf_model* model, const double wi[3],
                                           const double wo[3], double rgb[3]);
 /** n evaluations: wi, wo and rgb hold n interleaved (x, y, z) / (r, g, b) triples; rgb[3k..3k+2]
@@ -277,7 +279,11 @@ CBRDF_C_API cbrdf_status cbrdf_model_eval_batch_f32(const cbrdf_model* model, si
  * first sampling call (thread-safe); its per-theta_o tables fill in on first use, so the first
  * draws at a new elevation cost about a millisecond more. A rejected draw (wo at or below the
  * horizon, or wi reflected below it) has wi = (0, 0, 0), pdf = 0 and weight = 0; it still
- * returns CBRDF_OK. */
+ * returns CBRDF_OK. Drawn directions may be passed straight back, rejected ones included: the
+ * evaluating calls give 0 for wi = (0, 0, 0), not an error.
+ *     cbrdf_model_sample_batch(m, n, wo, u, wi, pdf, weight, 1);  // rejected: wi = 0, pdf = 0
+ *     cbrdf_model_eval_batch(m, n, wi, wo, rgb, 1);               // CBRDF_OK; rgb = 0 there
+ *     cbrdf_model_sample_pdf(m, wi + 3 * k, wo + 3 * k, &p);      // p == pdf[k] */
 
 /** One draw: the incident direction wi (a unit vector) for the outgoing direction wo from the
  * uniform numbers u1, u2 (values outside [0, 1) are clamped into it), its density *pdf per unit
@@ -297,8 +303,9 @@ CBRDF_C_API cbrdf_status cbrdf_model_sample_batch(const cbrdf_model* model, size
                                                   const double* wo, const double* u, double* wi,
                                                   double* pdf, double* weight, int threads);
 /** The sampler's density of drawing wi given wo (per unit solid angle), 0 when either is at or
- * below the horizon. Returns CBRDF_OK, or CBRDF_ERROR_INVALID_ARGUMENT (a NULL pointer, a
- * direction that is not a finite unit vector), or CBRDF_ERROR_INTERNAL (out of memory). */
+ * below the horizon or exactly (0, 0, 0) (a rejected draw's wi). Returns CBRDF_OK, or
+ * CBRDF_ERROR_INVALID_ARGUMENT (a NULL pointer, any other direction that is not a finite unit
+ * vector), or CBRDF_ERROR_INTERNAL (out of memory). */
 CBRDF_C_API cbrdf_status cbrdf_model_sample_pdf(const cbrdf_model* model, const double wi[3],
                                                 const double wo[3], double* pdf);
 /** cbrdf_model_eval and cbrdf_model_sample_pdf in one call (one check of the arguments): for a

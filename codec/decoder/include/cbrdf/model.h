@@ -262,7 +262,9 @@ inline bool zero_direction(const Vec3& w) {
 /// destroying the evaluator afterwards is safe.
 /// Invalid input: eval and eval_f32 of a direction that is not a finite unit vector (within
 /// kDirectionTolerance; see unit_direction) give NaN in every channel, never a BRDF value; so do
-/// the batch forms for that pair. (The C API refuses such a call with an error instead.)
+/// the batch forms for that pair. (The C API refuses such a call with an error instead.) The one
+/// exception is exactly (0, 0, 0), the wi of a rejected draw (sampling.h): it gives 0, as below
+/// the horizon, so that drawn directions may be evaluated unchecked.
 class ModelEvaluator {
  public:
   /// Takes the model (move it in to avoid a copy).

@@ -59,7 +59,7 @@ struct SamplerSettings {
 
 /// One draw of BrdfSampler::sample().
 struct BrdfSample {
-  Vec3 wi;             ///< the drawn direction (unit, local frame)
+  Vec3 wi;             ///< the drawn direction (unit, local frame); see BrdfSampler::sample
   double pdf = 0.0;    ///< sample_pdf(wi, wo) per unit solid angle; 0 when !valid
   bool valid = false;  ///< false: rejected (wo below the horizon or wi reflected below it)
 };
@@ -83,6 +83,11 @@ class BrdfSampler {
   BrdfSample sample(const Vec3& wo, double u1, double u2) const;
   /// The same with the draw's weight f(wi, wo) cos(theta_i) / pdf in RGB, equal bit for bit to
   /// sample_batch's; a rejected draw has wi = (0, 0, 0), pdf 0 and weight 0 (as in sample_batch).
+  /// That wi may be passed on unchecked: ModelEvaluator::eval (every form) and sample_pdf give 0
+  /// for it, never NaN, e.g.
+  ///     BrdfSample s = sampler.sample(wo, u1, u2, weight);  // s.wi = (0, 0, 0) if rejected
+  ///     evaluator.eval(s.wi, wo, f);                         // f = 0 for a rejected draw
+  ///     double p = sampler.sample_pdf(s.wi, wo);             // p = s.pdf (0 if rejected)
   BrdfSample sample(const Vec3& wo, double u1, double u2, double weight[3]) const;
   /// The density of sample() per unit solid angle of wi, given wo: the arguments in the (wi, wo)
   /// order of ModelEvaluator::eval and of the C API's cbrdf_model_sample_pdf. 0 when wo or wi is

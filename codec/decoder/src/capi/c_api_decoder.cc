@@ -126,6 +126,18 @@ Status check_direction(const T* w, const char* name, std::size_t index = SIZE_MA
   return is_direction(w) ? ok_status() : direction_error(w, name, index);
 }
 
+// A direction to evaluate (eval, sample_pdf): a finite unit vector as above, or exactly (0, 0, 0),
+// a rejected draw's wi, which evaluates to 0 (model.h), so that drawn directions pass unchecked.
+template <class T>
+Status check_eval_direction(const T* w, const char* name, std::size_t index = SIZE_MAX) {
+  if (internal::zero_direction(w[0], w[1], w[2]) || is_direction(w)) return ok_status();
+  return invalid_argument(std::string(name) +
+                          (index != SIZE_MAX ? "[" + std::to_string(index) + "]" : "") +
+                          " must be a finite unit vector (squared length within 1e-3 of 1) or "
+                          "(0, 0, 0) (a rejected draw), not " +
+                          format_vector(w));
+}
+
 Status check_unit_numbers(double u1, double u2, const std::string& what) {
   if (std::isfinite(u1) && std::isfinite(u2)) return ok_status();
   char buf[96];
@@ -446,8 +458,8 @@ cbrdf_status cbrdf_model_eval(const cbrdf_model* model, const double wi[3], cons
     if (model == nullptr || wi == nullptr || wo == nullptr || rgb == nullptr) {
       return invalid_argument("cbrdf_model_eval: model, wi, wo or rgb is NULL");
     }
-    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wi, "wi"));
-    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wo, "wo"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wi, "wi"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wo, "wo"));
     model->evaluator->eval(cbrdf::internal::to_vec3(wi), cbrdf::internal::to_vec3(wo), rgb);
     return cbrdf::ok_status();
   });
@@ -465,8 +477,8 @@ cbrdf_status cbrdf_model_eval_batch(const cbrdf_model* model, size_t n, const do
       return invalid_argument("cbrdf_model_eval_batch: n = " + std::to_string(n) + " is too large");
     }
     for (std::size_t k = 0; k < n; ++k) {
-      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wi + 3 * k, "wi", k));
-      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wo + 3 * k, "wo", k));
+      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wi + 3 * k, "wi", k));
+      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wo + 3 * k, "wo", k));
     }
     // Bit for bit eval's, vectorized and threaded.
     model->evaluator->eval_batch(n, wi, wo, rgb, threads);
@@ -492,8 +504,8 @@ cbrdf_status cbrdf_model_eval_batch_soa(const cbrdf_model* model, size_t n, cons
     }
     for (std::size_t k = 0; k < n; ++k) {
       const double i[3] = {wi_x[k], wi_y[k], wi_z[k]}, o[3] = {wo_x[k], wo_y[k], wo_z[k]};
-      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(i, "wi", k));
-      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(o, "wo", k));
+      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(i, "wi", k));
+      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(o, "wo", k));
     }
     model->evaluator->eval_batch(n, wi_x, wi_y, wi_z, wo_x, wo_y, wo_z, r, g, b, threads);
     return cbrdf::ok_status();
@@ -506,8 +518,8 @@ cbrdf_status cbrdf_model_eval_f32(const cbrdf_model* model, const float wi[3], c
     if (model == nullptr || wi == nullptr || wo == nullptr || rgb == nullptr) {
       return invalid_argument("cbrdf_model_eval_f32: model, wi, wo or rgb is NULL");
     }
-    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wi, "wi"));
-    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wo, "wo"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wi, "wi"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wo, "wo"));
     model->evaluator->eval_f32(wi, wo, rgb);
     return cbrdf::ok_status();
   });
@@ -526,8 +538,8 @@ cbrdf_status cbrdf_model_eval_batch_f32(const cbrdf_model* model, size_t n, cons
                               " is too large");
     }
     for (std::size_t k = 0; k < n; ++k) {
-      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wi + 3 * k, "wi", k));
-      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wo + 3 * k, "wo", k));
+      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wi + 3 * k, "wi", k));
+      CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wo + 3 * k, "wo", k));
     }
     model->evaluator->eval_batch_f32(n, wi, wo, rgb, threads);
     return cbrdf::ok_status();
@@ -588,8 +600,8 @@ cbrdf_status cbrdf_model_sample_pdf(const cbrdf_model* model, const double wi[3]
     if (model == nullptr || wi == nullptr || wo == nullptr || pdf == nullptr) {
       return invalid_argument("cbrdf_model_sample_pdf: model, wi, wo or pdf is NULL");
     }
-    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wi, "wi"));
-    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wo, "wo"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wi, "wi"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wo, "wo"));
     *pdf = cbrdf::internal::sampler_of(model).sample_pdf(cbrdf::internal::to_vec3(wi),
                                                          cbrdf::internal::to_vec3(wo));
     return cbrdf::ok_status();
@@ -602,8 +614,8 @@ cbrdf_status cbrdf_model_eval_pdf(const cbrdf_model* model, const double wi[3], 
     if (model == nullptr || wi == nullptr || wo == nullptr || rgb == nullptr || pdf == nullptr) {
       return invalid_argument("cbrdf_model_eval_pdf: model, wi, wo, rgb or pdf is NULL");
     }
-    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wi, "wi"));
-    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wo, "wo"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wi, "wi"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wo, "wo"));
     const cbrdf::Vec3 i = cbrdf::internal::to_vec3(wi), o = cbrdf::internal::to_vec3(wo);
     const double p =
         cbrdf::internal::sampler_of(model).sample_pdf(i, o);  // may throw: before any output
@@ -619,8 +631,8 @@ cbrdf_status cbrdf_model_pdf(const cbrdf_model* model, const double wo[3], const
     if (model == nullptr || wo == nullptr || wi == nullptr || pdf == nullptr) {
       return invalid_argument("cbrdf_model_pdf: model, wo, wi or pdf is NULL");
     }
-    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wo, "wo"));
-    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_direction(wi, "wi"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wo, "wo"));
+    CBRDF_RETURN_IF_ERROR(cbrdf::internal::check_eval_direction(wi, "wi"));
     *pdf = cbrdf::internal::sampler_of(model).sample_pdf(cbrdf::internal::to_vec3(wi),
                                                          cbrdf::internal::to_vec3(wo));
     return cbrdf::ok_status();
