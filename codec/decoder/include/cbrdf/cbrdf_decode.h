@@ -44,11 +44,12 @@
  * - Memory. Strings returned by cbrdf_version_string, cbrdf_status_name and cbrdf_family_name are
  *   static. Strings returned through a model handle live as long as the handle. Buffers returned
  *   by the encoder are freed with cbrdf_free.
- * - Cost (CPU time measured on the golden files, tests/data/golden). Opening a file without a
- *   residual layer takes 1.5 to 2.5 ms; the first open in a process about 4 ms more (the
- *   decoder's below-horizon reference mask, built once). A file
+ * - Cost (CPU time of opening the golden files, tests/data/golden, on a loaded 2-core machine;
+ *   docs/renderer.md, Cost, has the benchmarks). Opening a file without a residual layer takes
+ *   4 to 7 ms; the first open in a process 3 to 8 ms more (the decoder's below-horizon reference
+ *   mask, built once). A file
  *   with a residual layer (info.residual_mode != CBRDF_RESIDUAL_NONE) holds one code per MERL bin,
- *   4,374,000 codes decoded at every open: 15 to 30 ms (_BOUNDED, _ROW_BOUNDED) and about 55 ms
+ *   4,374,000 codes decoded at every open: 80 to 90 ms (_BOUNDED, _ROW_BOUNDED) and 190 to 250 ms
  *   (_INTERPOLATED, which also rebuilds each bin's residual); the handle keeps the codes (17 MB;
  *   _INTERPOLATED also the residuals, 35 MB more). Open such a file once and keep the handle.
  */
