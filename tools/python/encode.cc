@@ -2,7 +2,9 @@
 // cbrdf.encode: the keywords as the encoder's text options (cbrdf/encoder_options.h), checked by
 // the library's one validate() and worded with Python's spelling ("max_error="), then the encode
 // on the calling thread with the GIL released. Its progress callback takes the GIL back only to
-// let Ctrl-C through (KeyboardInterrupt) and to call the caller's progress= function.
+// let Ctrl-C through (KeyboardInterrupt) and to call the caller's progress= function. Returns the
+// bytes and what `cbrdf encode` prints about them (the search's choice, whether the target was
+// met, its note, the noise estimate), which cbrdf/__init__.py turns into attributes and warnings.
 #include <pybind11/pybind11.h>
 
 #include <climits>
@@ -19,6 +21,7 @@
 #include "cbrdf/encoder.h"
 #include "cbrdf/encoder_options.h"
 #include "cbrdf/encoder_settings.h"
+#include "cbrdf/noise.h"
 #include "cbrdf/rate_control.h"
 #include "errors.h"
 #include "tables.h"
@@ -211,11 +214,33 @@ class ProgressBridge {
   bool cancelled_by_user_ = false;
 };
 
+// What an encode found besides its bytes: what `cbrdf encode` prints about a targeted encode (the
+// chosen setting, whether the target was met, the ladder's note) and the noise estimate behind the
+// note.
+struct EncodeFacts {
+  int bits = 0;
+  std::optional<RateResult> rate;  // targeted encodes only (its `encoded` emptied)
+  std::optional<NoiseEstimate> noise;
+};
+
+// The noise estimate the ladder's note rests on (the same table and threads: the same numbers):
+// without its sphere renders first, which take most of its time, and with them only for a noisy
+// table, whose ceiling the note names.
+NoiseEstimate noise_of(const BrdfTable& table, int threads) {
+  NoiseOptions o;
+  o.threads = threads;
+  o.ceiling = false;
+  NoiseEstimate e = estimate_noise(table, o);
+  if (!e.noisy()) return e;
+  o.ceiling = true;
+  return estimate_noise(table, o);
+}
+
 // The encode with the GIL released; its errors start with the table's name (the path as given,
 // as the command prefixes them; none for arrays).
 std::vector<std::uint8_t> run_encode(const PyTable& t, EncoderSettings settings,
                                      const RateTarget& target, bool targeted,
-                                     ProgressBridge* bridge) {
+                                     ProgressBridge* bridge, EncodeFacts* facts) {
   const BrdfTable& table = t.table;
   settings.progress = [bridge](const EncodeProgress& p) { return (*bridge)(p); };
   Expected<std::vector<std::uint8_t>> out = std::vector<std::uint8_t>{};
@@ -224,12 +249,21 @@ std::vector<std::uint8_t> run_encode(const PyTable& t, EncoderSettings settings,
     try {
       if (!targeted) {
         auto r = encode_table(table, settings);
+        if (r.ok()) facts->bits = r->bits;
         out = r.ok() ? Expected<std::vector<std::uint8_t>>(std::move(r->bytes)) : r.status();
       } else {
         // The whole ladder, as `cbrdf encode --target-*`: the model, then model + residual.
         auto r = encode_to_target_ladder(table, settings, target);
-        out =
-            r.ok() ? Expected<std::vector<std::uint8_t>>(std::move(r->encoded.bytes)) : r.status();
+        if (r.ok()) {
+          facts->bits = r->encoded.bits;
+          out = std::move(r->encoded.bytes);
+          r->encoded = EncodeResult{};
+          // The estimate explains a missed target or a note; a met target needs none.
+          if (!r->met || !r->note.empty()) facts->noise = noise_of(table, settings.fit.threads);
+          facts->rate = std::move(*r);
+        } else {
+          out = r.status();
+        }
       }
     } catch (const std::exception& e) {
       out = error(ErrorCode::kInternal, std::string("encoding failed: ") + e.what());
@@ -239,9 +273,40 @@ std::vector<std::uint8_t> run_encode(const PyTable& t, EncoderSettings settings,
   return take(std::move(out), t.name);
 }
 
+// The facts as the dict cbrdf/__init__.py reads (None where an encode has no such fact).
+py::dict facts_dict(const EncodeFacts& f, const RateTarget& target) {
+  py::dict d;
+  d["bits"] = f.bits;
+  const py::object none = py::none();
+  d["target_met"] = f.rate ? py::object(py::bool_(f.rate->met)) : none;
+  d["target_bytes"] = target.max_bytes > 0 ? py::object(py::float_(target.max_bytes)) : none;
+  d["target_psnr"] = target.min_psnr > 0 ? py::object(py::float_(target.min_psnr)) : none;
+  if (f.rate) {
+    const RateCandidate& c = f.rate->chosen;
+    d["nbytes"] = c.bytes;
+    d["psnr_tonemapped"] = c.psnr_tonemapped;
+    d["psnr_linear"] = c.psnr_linear;
+    d["slices"] = c.slices;
+    d["components"] = c.components;
+    d["max_error"] = c.max_error;
+    d["settings_tried"] = f.rate->tried.size();
+    d["note"] = f.rate->note.empty() ? none : py::object(py::str(f.rate->note));
+    d["residual_of_smoothed_input"] = f.rate->residual_of_smoothed_input;
+  }
+  if (f.noise) {
+    d["noisy"] = f.noise->noisy();
+    d["noise_sigma"] = f.noise->max_sigma();
+    d["noise_floor_error"] =
+        f.noise->noisy() ? py::object(py::float_(noise_floor_error(*f.noise))) : none;
+    d["psnr_ceiling_tonemapped"] =
+        f.noise->noisy() ? py::object(py::float_(f.noise->psnr_ceiling_tonemapped)) : none;
+  }
+  return d;
+}
+
 // `make_table()` gives the cbrdf._Table, called once every option has been checked: reading or
 // converting a table takes a while, and a bad option is refused at once.
-py::bytes encode(const EncodeArgs& a) {
+py::tuple encode(const EncodeArgs& a) {
   EncoderOptions o = options_of(a);
   auto [settings, target] = settings_of(a, o);
   const bool targeted = target.max_bytes > 0 || target.min_psnr > 0;
@@ -257,8 +322,10 @@ py::bytes encode(const EncodeArgs& a) {
                   2);
   }
   ProgressBridge bridge(a.progress);
-  auto out = run_encode(t, std::move(settings), target, targeted, &bridge);
-  return py::bytes(reinterpret_cast<const char*>(out.data()), out.size());
+  EncodeFacts facts;
+  auto out = run_encode(t, std::move(settings), target, targeted, &bridge, &facts);
+  return py::make_tuple(py::bytes(reinterpret_cast<const char*>(out.data()), out.size()),
+                        facts_dict(facts, target));
 }
 
 }  // namespace

@@ -40,6 +40,10 @@ __all__ = [
     "Error",
     "ArgumentTypeError",
     "ErrorCode",
+    "CbrdfWarning",
+    "TargetNotMetWarning",
+    "NoisyTableWarning",
+    "Encoded",
     "MerlArray",
     "Model",
     "Slice",
@@ -149,6 +153,28 @@ class ArgumentTypeError(Error, TypeError):
 
 
 _cbrdf._set_error_class(Error, ArgumentTypeError)
+
+
+# ---- Warnings: what `cbrdf encode` prints about a file it wrote, as Python warnings ------------
+
+class CbrdfWarning(UserWarning):
+    """The base of cbrdf's warnings (``warnings.simplefilter("error", cbrdf.CbrdfWarning)``
+    makes every one of them an exception; ``"ignore"`` silences them).  :func:`encode` issues
+    it itself for a note of the encoder that is neither of the two below."""
+
+
+class TargetNotMetWarning(CbrdfWarning):
+    """:func:`encode` with ``target_psnr`` or ``target_bytes``: no setting met the target and
+    the closest file was returned, as ``cbrdf encode`` says "(the target could not be met: this
+    is the closest)".  The result's ``target_met`` is False; its ``psnr_tonemapped`` and ``len``
+    are what was reached."""
+
+
+class NoisyTableWarning(CbrdfWarning):
+    """:func:`encode` with a target on a noisy table: the ladder stopped at the table's noise
+    floor (or kept the model alone) because more bytes would code noise, the note ``cbrdf
+    encode`` prints.  The result's ``noisy``, ``noise_sigma``, ``noise_floor_error`` and
+    ``psnr_ceiling_tonemapped`` give the estimate (:func:`estimate_noise`)."""
 
 
 # ---- Arguments: each public entry point checks its own, naming the function and the argument --
@@ -541,7 +567,7 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
            mask: _Any = None, source_name: str | None = None,
            mixture_copulas: str | None = None, format_version: str = "auto",
            metadata: str = "short", residual_steps: str | None = None,
-           progress: _Any = None) -> bytes:
+           progress: _Any = None) -> Encoded:
     """Fit the copula model to a table and return the bytes of a .cbrdf file.
 
     With the same input and options the bytes equal those ``cbrdf encode`` writes
@@ -607,7 +633,19 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
             goes on. An exception it raises stops the encode and propagates.
 
     Returns:
-        The .cbrdf file's bytes.
+        The .cbrdf file's bytes, as an :class:`Encoded` (a ``bytes`` with what the encoder
+        chose and found as attributes: ``target_met``, ``psnr_tonemapped``, ``note``,
+        ``noisy``, ...).
+
+    Warns:
+        TargetNotMetWarning: no setting met ``target_psnr`` or ``target_bytes``; the closest
+            file is returned.  The message is the command's: ``"encode: target_psnr=50: 1885
+            bytes, 45.60 dB tone-mapped (the target could not be met: this is the closest)"``.
+        NoisyTableWarning: with a target, the table is noisy and the search stopped at its
+            noise floor (the command's note, e.g. ``"encode: the input is noisy (about 3% per
+            bin, see cbrdf info): stopped at its noise floor ..."``).
+        CbrdfWarning: any other note of the encoder (a residual layer that cannot be written
+            on the table).
 
     Raises:
         Error: an option out of range (``exit_code`` 2, the message naming every bad
@@ -627,10 +665,66 @@ def encode(table: _Any, *, bits: int | str = "auto", components: int | str = 1, 
     if progress is not None:
         progress = _from_caller(progress)
     # The options are checked in C++ by the library's validate(), before the table is made.
-    return _cbrdf._encode(_table_maker(table, mask, fn="encode", name="table"), bits, components, slices, family, loss, level, placement,
-                          naive_marginals, threads, target_bytes, target_psnr, max_error,
-                          lossless, source_name, mixture_copulas, format_version,
-                          metadata, residual_steps, progress)
+    data, facts = _cbrdf._encode(_table_maker(table, mask, fn="encode", name="table"), bits, components, slices, family, loss, level, placement,
+                                 naive_marginals, threads, target_bytes, target_psnr, max_error,
+                                 lossless, source_name, mixture_copulas, format_version,
+                                 metadata, residual_steps, progress)
+    nbytes = facts.pop("nbytes", None)
+    result = Encoded(data, **facts)
+    _encode_warnings(result, nbytes)
+    return result
+
+
+class Encoded(bytes):
+    """The bytes of a .cbrdf file as :func:`encode` returns them: a ``bytes`` (compare, slice,
+    write or decode it as one) that also carries what the encoder chose and found, the facts
+    ``cbrdf encode`` prints.  ``None`` where an encode has no such fact.
+
+    Attributes:
+        bits: bits per marginal code in the file (chosen by ``bits="auto"`` or the search).
+        target_psnr, target_bytes: the target asked for, or None.
+        target_met: with a target, whether the file meets it (False: the closest file, with a
+            :class:`TargetNotMetWarning`); None without one.
+        psnr_tonemapped, psnr_linear: with a target, the file's sphere PSNR (dB) against the
+            input, as the search measured it.
+        slices, components, max_error: with a target, the setting chosen (``max_error`` 0: no
+            residual layer).
+        settings_tried: with a target, how many settings the search measured.
+        note: with a target, the encoder's note ("the input is noisy ...") or None; issued as
+            a warning too.
+        residual_of_smoothed_input: with a target, whether the residual layer codes the input
+            with its noise smoothed out (its bound then holds against that, not the input).
+        noisy, noise_sigma: when a target was missed or the encoder left a note, the noise
+            estimate (:func:`estimate_noise`): any channel above the noise-free threshold, and
+            the largest channel's relative deviation (0.03: 3% per bin).
+        noise_floor_error, psnr_ceiling_tonemapped: for a noisy table, the smallest residual
+            bound worth coding and the tone-mapped PSNR beyond which a file reproduces noise
+            (dB; NaN where not measurable); None otherwise.
+    """
+
+    _FACTS = ("bits", "target_psnr", "target_bytes", "target_met", "psnr_tonemapped",
+              "psnr_linear", "slices", "components", "max_error", "settings_tried", "note",
+              "residual_of_smoothed_input", "noisy", "noise_sigma", "noise_floor_error",
+              "psnr_ceiling_tonemapped")
+
+    def __new__(cls, data: bytes = b"", **facts: _Any) -> "Encoded":
+        self = super().__new__(cls, data)
+        for k in cls._FACTS:
+            setattr(self, k, facts.get(k))
+        return self
+
+
+def _encode_warnings(result: Encoded, nbytes: float | None) -> None:
+    """The warnings of an encode: what `cbrdf encode` prints about the file, in its words."""
+    if result.target_met is False:
+        given = (f"target_psnr={result.target_psnr:g}" if result.target_psnr is not None
+                 else f"target_bytes={result.target_bytes:g}")
+        _warnings.warn(TargetNotMetWarning(
+            f"encode: {given}: {nbytes:.0f} bytes, {result.psnr_tonemapped:.2f} dB tone-mapped "
+            f"(the target could not be met: this is the closest)"), stacklevel=4)
+    if result.note:
+        category = NoisyTableWarning if result.noisy else CbrdfWarning
+        _warnings.warn(category(f"encode: {result.note}"), stacklevel=4)
 
 
 def _record(fn: str, name: str, d: _Any, keys: tuple) -> None:
@@ -812,7 +906,6 @@ class Model(_cbrdf._Model):
             (``BrdfSampler::sample_batch``, with the GIL released), equal to
             ``cbrdf_model_sample`` per draw bit for bit.
         """
-        return super().sample(wo, u, threads)
         if not isinstance(threads, int) and _np.ndim(threads) > 0:
             # sample(wo, u1, u2): the third argument is threads, and numpy's own refusal of an
             # array there ("only integer scalar arrays ...") would not say why.
@@ -820,6 +913,7 @@ class Model(_cbrdf._Model):
                 f"Model.sample takes (wo, u, threads=0): u is one (N, 2) array of pairs "
                 f"(u1, u2), e.g. np.stack([u1, u2], axis=-1), and threads an int, not "
                 f"{_describe(threads)} (a built-in table is cbrdf.sample_table(name))")
+        return super().sample(wo, u, threads)
 
     @_entry
     def pdf(self, wo: _Any, wi: _Any, threads: int = 0) -> _np.ndarray:
