@@ -28,6 +28,7 @@
 
 #include "parallel_for.h"
 #include "sampling_math.h"
+#include "sampling_share.h"
 
 namespace cbrdf {
 namespace {
@@ -310,6 +311,7 @@ struct BrdfSampler::Table {
   std::once_flag once;
   std::atomic<bool> ready{false};
   bool empty = true;             // the BRDF reflects nothing at this theta_o
+  double c = 1.0;                // the cosine-weighted share of draws (1: the table is unused)
   std::vector<double> row_cdf;   // theta_h_cells + 1
   std::vector<double> cell_cdf;  // per theta_h row, phi_h_cells + 1 (conditional)
 };
@@ -331,6 +333,8 @@ BrdfSampler::BrdfSampler(BrdfFn f, const SamplerSettings& settings)
   settings_.cosine_fraction = std::isfinite(settings_.cosine_fraction)
                                   ? std::clamp(settings_.cosine_fraction, 0.0, 1.0)
                                   : 0.1;
+  if (std::isnan(settings_.min_table_gain))
+    settings_.min_table_gain = SamplerSettings{}.min_table_gain;
   const int n = settings_.theta_h_cells;
   cos_edges_.resize(std::size_t(n) + 1);
   for (int a = 0; a <= n; ++a) {
@@ -364,6 +368,8 @@ void BrdfSampler::build_table(int k, Table& t) const {
   const double to = (k + 0.5) / bins * (kPi / 2);
   const Vec3 wo{std::sin(to), 0.0, std::cos(to)};
   std::vector<double> cell_p(std::size_t(nh) * np, 0.0);
+  std::vector<internal::QuadraturePoint> points;
+  points.reserve(std::size_t(nh) * np * ss * ss);
   double total = 0.0;
   for (int a = 0; a < nh; ++a) {
     const double c0 = cos_edges_[a], c1 = cos_edges_[a + 1];
@@ -382,7 +388,9 @@ void BrdfSampler::build_table(int k, Table& t) const {
           double rgb[3] = {0, 0, 0};
           f_(wi, wo, rgb);
           const double m = (rgb[0] + rgb[1] + rgb[2]) / 3;
-          if (std::isfinite(m) && m > 0) sum += m * wi.z * 4 * d;
+          const double g = std::isfinite(m) && m > 0 ? m * wi.z : 0.0;
+          sum += g * 4 * d;
+          points.push_back({g, wi.z, d, (c0 - c1) * dphi / (ss * ss), a * np + b});
         }
       }
       const double mass = sum / (ss * ss) * (c0 - c1) * dphi;
@@ -411,10 +419,52 @@ void BrdfSampler::build_table(int k, Table& t) const {
   }
   for (double& v : t.row_cdf) v /= run;
   t.row_cdf[nh] = 1.0;
+  // Each point's table density per unit solid angle of wi, as pdf() reads it.
+  std::vector<double> table_pdf(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const internal::QuadraturePoint& q = points[i];
+    const std::size_t a = std::size_t(q.cell) / std::size_t(np), b = std::size_t(q.cell) % np;
+    const double* cdf = &t.cell_cdf[a * std::size_t(np + 1)];
+    const double p = (t.row_cdf[a + 1] - t.row_cdf[a]) * (cdf[b + 1] - cdf[b]);
+    table_pdf[i] = p / (q.area * ss * ss) / (4 * q.d);
+  }
+  const double edges[2] = {rejected_share(t, double(k) / bins * (kPi / 2)),
+                           rejected_share(t, double(k + 1) / bins * (kPi / 2))};
+  t.c = internal::best_cosine_share(points, table_pdf, edges, settings_.cosine_fraction,
+                                    settings_.min_table_gain);
+}
+
+double BrdfSampler::rejected_share(const Table& t, double theta_o) const {
+  const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells, ss = settings_.supersample;
+  const double dphi = 2 * kPi / np;
+  const Vec3 wo{std::sin(theta_o), 0.0, std::cos(theta_o)};
+  double rejected = 0.0;
+  for (int a = 0; a < nh; ++a) {
+    const double c0 = cos_edges_[a], c1 = cos_edges_[a + 1];
+    const double* cdf = &t.cell_cdf[std::size_t(a) * (np + 1)];
+    const double row = t.row_cdf[a + 1] - t.row_cdf[a];
+    if (!(row > 0)) continue;
+    for (int b = 0; b < np; ++b) {
+      const double p = row * (cdf[b + 1] - cdf[b]);
+      if (!(p > 0)) continue;
+      int out = 0;
+      for (int i = 0; i < ss; ++i) {
+        const double ct = c0 + (i + 0.5) / ss * (c1 - c0);
+        const double st = std::sqrt(std::max(0.0, 1 - ct * ct));
+        for (int j = 0; j < ss; ++j) {
+          const double phi = (b + (j + 0.5) / ss) * dphi;
+          const double d = wo.x * st * std::cos(phi) + wo.z * ct;
+          out += !(d > 0) || !(2 * d * ct - wo.z > 0);
+        }
+      }
+      rejected += p * out / (ss * ss);
+    }
+  }
+  return rejected;
 }
 
 inline bool BrdfSampler::draw_choice(const Table& t, double u1, double u2, Draw* d) const {
-  d->c = t.empty ? 1.0 : settings_.cosine_fraction;
+  d->c = t.c;
   const Choice ch = choose(d->c, u1, u2);
   d->v1 = ch.v1;
   d->v2 = ch.v2;
@@ -435,7 +485,7 @@ double BrdfSampler::sample_pdf(const Vec3& wi_in, const Vec3& wo_in) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return 0.0;
   const Table& t = table_at(theta_o_bin(wo.z, settings_.theta_o_bins));
   const int nh = settings_.theta_h_cells, np = settings_.phi_h_cells;
-  const double c = t.empty ? 1.0 : settings_.cosine_fraction;
+  const double c = t.c;
   const Located at =
       locate(wo.x, wo.y, wo.z, azimuth_frame(wo.x, wo.y), wi.x, wi.y, wi.z, nh, np, 2 * kPi / np);
   const double p =
@@ -533,7 +583,7 @@ int BrdfSampler::draw_lanes(const BatchIo& io, std::size_t base, int m, Lanes& l
     const bool live = l.oz[k] > 0 && !std::isnan(l.u1[k]) && !std::isnan(l.u2[k]);
     const Table* t = live ? &table_at(l.bin[k]) : nullptr;
     l.live[k] = live ? 1.0 : 0.0;
-    l.c[k] = t != nullptr && !t->empty ? settings_.cosine_fraction : 1.0;  // as draw_choice
+    l.c[k] = t != nullptr ? t->c : 1.0;  // as draw_choice
     cdf[k] = t != nullptr && !t->empty ? t->row_cdf.data() : kNoCdf;
   }
   lanes_choices(l, m);

@@ -21,10 +21,15 @@
 ///    pdf_h = P / (delta cos * delta phi) exactly, P the cell's probability as the draws see it
 ///    (its row's step of the row CDF times its step of the row's cell CDF), and
 ///    wi = 2 (wo.h) h - wo has sample_pdf(wi, wo) = pdf_h(h) / (4 (wo.h)), h = normalize(wi + wo).
-///  - A defensive fraction `cosine_fraction` of draws is cosine-weighted in wi, so the density is
-///    positive wherever wi is above the horizon (the table may miss a thin feature or differ from
-///    the BRDF at other theta_o in its bin). The full density is
+///  - A defensive share c of draws is cosine-weighted in wi, so the density is positive wherever
+///    wi is above the horizon (the table may miss a thin feature or differ from the BRDF at other
+///    theta_o in its bin). The full density is
 ///      pdf = c cos(theta_i) / pi + (1 - c) pdf_table(wi, wo).
+///    c is chosen per table when it is built, from the points its masses were computed at: the
+///    share in [cosine_fraction, 1] that minimises the predicted variance of f cos / pdf, or 1
+///    (cosine-weighted only) where the table's predicted gain over cosine-weighted sampling is
+///    below min_table_gain. Broad lobes near normal incidence (fabrics, matte paints) are where a
+///    piecewise-constant table of a model does no better than the cosine it is mixed with.
 ///  - A drawn h whose reflection falls at or below the horizon is a rejected sample (valid =
 ///    false). sample_pdf() is 0 there, so it integrates over the upper hemisphere to 1 minus the
 ///    rejected probability, the mass of cells that reflect below the horizon.
@@ -54,7 +59,13 @@ struct SamplerSettings {
   int theta_h_cells = 90;        ///< MERL-spaced theta_h cells
   int phi_h_cells = 64;          ///< uniform phi_h cells
   int supersample = 2;           ///< points per cell per axis when building a table
-  double cosine_fraction = 0.1;  ///< defensive cosine-weighted share, in [0, 1]
+  double cosine_fraction = 0.1;  ///< least cosine-weighted share of each table's draws, in [0, 1]
+  /// A table is drawn from only where, on the BRDF it tabulates, it is predicted to give at least
+  /// this many times less variance than cosine-weighted sampling (for f cos / pdf at the table's
+  /// theta_o); elsewhere every draw is cosine-weighted. Its share of draws is then chosen in
+  /// [cosine_fraction, 1] to minimise that predicted variance. 0 or less: the share is
+  /// cosine_fraction wherever the table is not empty (the sampler of cbrdf 2.2).
+  double min_table_gain = 2.0;
 };
 
 /// One draw of BrdfSampler::sample().
@@ -128,6 +139,8 @@ class BrdfSampler {
   /// The table of theta_o bin k, built on first use (thread-safe).
   const Table& table_at(int k) const;
   void build_table(int k, Table& t) const;
+  /// The share of t's mass whose reflection of a wo at theta_o falls below the horizon.
+  double rejected_share(const Table& t, double theta_o) const;
   /// A draw's choices (sampling.cc): cosine-weighted or from t (true; d->v1 is then the row
   /// search's u), and in t its cell in a row.
   bool draw_choice(const Table& t, double u1, double u2, Draw* d) const;
