@@ -182,6 +182,8 @@ CASES = {
                         {"wi": DIRS_BAD + [(W, V)], "wo": DIRS_BAD + [(W, V)]}),
     "Model.sample": (lambda e, wo=W, u=U, threads=0: _model(e).sample(wo, u, threads),
                      {"wo": DIRS_BAD, "u": U_BAD, "threads": INT_BAD}),
+    "Model.sample_pdf": (lambda e, wi=W, wo=W, threads=0: _model(e).sample_pdf(wi, wo, threads),
+                         {"wi": DIRS_BAD, "wo": DIRS_BAD, "threads": INT_BAD}),
     "Model.pdf": (lambda e, wo=W, wi=W, threads=0: _model(e).pdf(wo, wi, threads),
                   {"wo": DIRS_BAD, "wi": DIRS_BAD, "threads": INT_BAD}),
     "Model.bin_value": (lambda e, channel=0, theta_h=1, theta_d=2, phi_d=3:

@@ -68,7 +68,7 @@ def test_float32_broadcast_and_horizon(model):
 
 
 @pytest.mark.parametrize("wi", [
-    [[0, 0, 2.0]], [[np.nan, 0, 1]], [[0, 0, np.inf]], np.zeros((5, 3)), np.ones((4, 2)),
+    [[0, 0, 2.0]], [[np.nan, 0, 1]], [[0, 0, np.inf]], np.full((5, 3), 1e-3), np.ones((4, 2)),
     np.ones((2, 3, 3)), "abc",
 ])
 def test_bad_directions_raise(model, wi):
@@ -117,7 +117,7 @@ def test_sample_and_pdf(model):
     assert ok.mean() > 0.5
     np.testing.assert_allclose(np.linalg.norm(wi[ok], axis=1), 1, atol=1e-9)
     assert np.all(wi[ok, 2] > 0) and not wi[~ok].any() and not weight[~ok].any()
-    np.testing.assert_allclose(model.pdf(wo[ok], wi[ok]), pdf[ok], rtol=1e-9)
+    np.testing.assert_allclose(model.sample_pdf(wi[ok], wo[ok]), pdf[ok], rtol=1e-9)
     f = model.eval(wi[ok], wo[ok])
     np.testing.assert_allclose(weight[ok], f * wi[ok, 2:3] / pdf[ok, None], rtol=1e-12)
     # Deterministic and thread-independent.

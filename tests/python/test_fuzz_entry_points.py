@@ -93,7 +93,7 @@ for r in range(rounds):
                                    rng.choice([0, 1, -1, 2.5, None, 300])))
     attempt("sample", lambda: m.sample(direction_array(), rng.choice([nrng.random((3, 2)),
                                        np.array([0.5, 0.5]), rng.choice(WEIRD)])))
-    attempt("pdf", lambda: m.pdf(direction_array(), direction_array()))
+    attempt("sample_pdf", lambda: m.sample_pdf(direction_array(), direction_array()))
     attempt("bin_value", lambda: m.bin_value(*[rng.choice(WEIRD + [0, 1, 89, np.arange(3)])
                                               for _ in range(4)]))
     key = rng.choice(["bits", "components", "slices", "family", "loss", "level", "placement",

@@ -306,7 +306,7 @@ def test_item12_directions_must_be_real_numbers(work):
     expect_error(lambda: m.bin_value(0, 1.7, 2, 3), "theta_h")
     for t in (-1, 257, 1.5, "2"):
         expect_error(lambda: m.eval(wo, wo, threads=t), "threads")
-        expect_error(lambda: m.pdf(wo, wo, threads=t), "threads")
+        expect_error(lambda: m.sample_pdf(wo, wo, threads=t), "threads")
 
 
 def test_item12_container_version_is_the_written_one(work):

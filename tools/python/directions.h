@@ -77,19 +77,28 @@ Dirs<T> dirs_of(const py::handle& obj, const char* name, std::size_t width = 3) 
 // The number of rows of a batch of arguments: equal, or 1 for broadcast singles.
 std::size_t batch_rows(std::initializer_list<std::pair<std::size_t, bool>> parts, const char* what);
 
+// Whether a batch of directions may hold (0, 0, 0): the wi of a rejected draw, which eval, pdf
+// and sample_pdf take as below the horizon (0), so that drawn directions pass on unchecked.
+enum class ZeroRows { kRefused, kAllowed };
+
 template <typename T>
-void check_directions(const Dirs<T>& d, std::size_t n, const char* name) {
+void check_directions(const Dirs<T>& d, std::size_t n, const char* name,
+                      ZeroRows zero = ZeroRows::kRefused) {
   const std::size_t rows = d.single ? 1 : n;
   for (std::size_t k = 0; k < rows; ++k) {
     const T* w = d.at(k);
     const double x = double(w[0]), y = double(w[1]), z = double(w[2]);
     const bool finite = std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
     if (finite && std::fabs(x * x + y * y + z * z - 1.0) <= kUnitTolerance) continue;
+    const bool is_zero = x == 0 && y == 0 && z == 0;
+    if (is_zero && zero == ZeroRows::kAllowed) continue;
     char buf[128];
     std::snprintf(buf, sizeof buf, "(%.9g, %.9g, %.9g)", x, y, z);
     const std::string what =
         d.single ? std::string(name) : std::string(name) + "[" + std::to_string(k) + "]";
-    raise_invalid(what + " must be a finite unit vector, not " + buf);
+    raise_invalid(what + " must be a finite unit vector" +
+                  (zero == ZeroRows::kAllowed ? " or (0, 0, 0) (a rejected draw)" : "") + ", not " +
+                  buf);
   }
 }
 

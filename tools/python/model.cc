@@ -57,8 +57,8 @@ py::array eval_batch(const ModelEvaluator& ev, const py::handle& wi_obj, const p
   const Dirs<T> wi = dirs_of<T>(wi_obj, "wi");
   const Dirs<T> wo = dirs_of<T>(wo_obj, "wo");
   const std::size_t n = batch_rows({{wi.n, wi.single}, {wo.n, wo.single}}, "eval");
-  check_directions(wi, n, "wi");
-  check_directions(wo, n, "wo");
+  check_directions(wi, n, "wi", ZeroRows::kAllowed);
+  check_directions(wo, n, "wo", ZeroRows::kAllowed);
   py::array_t<T> out = wi.single && wo.single
                            ? py::array_t<T>(std::vector<py::ssize_t>{3})
                            : py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n), 3});
@@ -130,15 +130,17 @@ py::tuple model_sample(PyModel& m, const py::handle& wo_obj, const py::handle& u
   return py::make_tuple(wi_out, pdf_out, w_out);
 }
 
-py::array model_pdf(PyModel& m, const py::handle& wo_obj, const py::handle& wi_obj,
-                    const py::object& threads_obj) {
+// The sampler's density of wi given wo, in eval's (wi, wo) order (Model.pdf(wo, wi), deprecated,
+// calls it with its arguments swapped).
+py::array model_sample_pdf(PyModel& m, const py::handle& wi_obj, const py::handle& wo_obj,
+                           const py::object& threads_obj) {
   m.ev();
   const int threads = threads_arg(threads_obj);
-  const Dirs<double> wo = dirs_of<double>(wo_obj, "wo");
   const Dirs<double> wi = dirs_of<double>(wi_obj, "wi");
-  const std::size_t n = batch_rows({{wo.n, wo.single}, {wi.n, wi.single}}, "pdf");
-  check_directions(wo, n, "wo");
-  check_directions(wi, n, "wi");
+  const Dirs<double> wo = dirs_of<double>(wo_obj, "wo");
+  const std::size_t n = batch_rows({{wi.n, wi.single}, {wo.n, wo.single}}, "sample_pdf");
+  check_directions(wi, n, "wi", ZeroRows::kAllowed);
+  check_directions(wo, n, "wo", ZeroRows::kAllowed);
   auto sampler = m.get_sampler();
   const bool single = wo.single && wi.single;
   py::array_t<double> out = single ? py::array_t<double>(std::vector<py::ssize_t>{})
@@ -298,15 +300,15 @@ void def_methods(py::class_<PyModel>& c) {
             const Dirs<double> b = dirs_of<double>(wo_obj, "wo");
             if (!a.single) raise_invalid("wi must be one direction, shape (3,)");
             if (!b.single) raise_invalid("wo must be one direction, shape (3,)");
-            check_directions(a, 1, "wi");
-            check_directions(b, 1, "wo");
+            check_directions(a, 1, "wi", ZeroRows::kAllowed);
+            check_directions(b, 1, "wo", ZeroRows::kAllowed);
             double rgb[3];
             ev->eval(vec3(a.data), vec3(b.data), rgb);
             return py::make_tuple(rgb[0], rgb[1], rgb[2]);
           },
           py::arg("wi"), py::arg("wo"))
       .def("sample", &model_sample, py::arg("wo"), py::arg("u"), py::arg("threads") = 0)
-      .def("pdf", &model_pdf, py::arg("wo"), py::arg("wi"), py::arg("threads") = 0)
+      .def("sample_pdf", &model_sample_pdf, py::arg("wi"), py::arg("wo"), py::arg("threads") = 0)
       .def("bin_value", &model_bin_value, py::arg("channel"), py::arg("theta_h"),
            py::arg("theta_d"), py::arg("phi_d"))
       .def("_render", &render_model, py::arg("light_angle_deg"), py::arg("size"));

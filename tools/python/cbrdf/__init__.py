@@ -874,11 +874,12 @@ class Model(_cbrdf._Model):
             for bit) is used and the result is float32; otherwise float64, equal to
             ``ModelEvaluator::eval`` per pair bit for bit.  C-contiguous float32 or
             float64 arrays are read in place; others are copied once.
-            0 at or below the horizon.
+            0 at or below the horizon, and 0 where wi or wo is exactly (0, 0, 0), the
+            wi of a rejected draw of :meth:`sample` (see :meth:`sample_pdf`).
 
         Raises:
-            Error: a direction that is not a finite unit vector (|w|^2 within 1e-3
-                of 1), naming its index; mismatched lengths or shapes.
+            Error: any other direction that is not a finite unit vector (|w|^2 within
+                1e-3 of 1), naming its index; mismatched lengths or shapes.
         """
         return super().eval(wi, wo, threads)
 
@@ -916,9 +917,38 @@ class Model(_cbrdf._Model):
         return super().sample(wo, u, threads)
 
     @_entry
+    def sample_pdf(self, wi: _Any, wo: _Any, threads: int = 0) -> _np.ndarray:
+        """The sampler's density of drawing wi given wo, per unit solid angle: the pdf
+        :meth:`sample` returns for a drawn wi (``cbrdf_model_sample_pdf``).
+
+        Args:
+            wi, wo: (N, 3) arrays of unit vectors (or one (3,) vector, broadcast), in the
+                (wi, wo) order of :meth:`eval`.
+            threads: at most this many threads (0: the library's limit).
+
+        Returns:
+            (N,) float64 (a float for two single vectors).  0 when wi or wo is at or below
+            the horizon, and 0 where either is exactly (0, 0, 0), the wi of a rejected draw,
+            so that :meth:`sample`'s output passes on unchecked::
+
+                wi, pdf, weight = model.sample(wo, u)
+                f = model.eval(wi, wo)           # 0 for rejected draws
+                p = model.sample_pdf(wi, wo)     # equal to pdf; 0 for rejected draws
+
+        Raises:
+            Error: any other direction that is not a finite unit vector (|w|^2 within
+                1e-3 of 1), naming its index; mismatched lengths or shapes.
+        """
+        return super().sample_pdf(wi, wo, threads)
+
+    @_entry
     def pdf(self, wo: _Any, wi: _Any, threads: int = 0) -> _np.ndarray:
-        """The sampler's density of drawing wi given wo (note the order), 0 below the horizon."""
-        return super().pdf(wo, wi, threads)
+        """Deprecated: :meth:`sample_pdf` with its arguments in the other order (wo, wi);
+        warns DeprecationWarning and returns ``sample_pdf(wi, wo, threads)``."""
+        _warnings.warn("Model.pdf(wo, wi) is deprecated: use Model.sample_pdf(wi, wo), whose "
+                       "arguments are in the (wi, wo) order of eval", DeprecationWarning,
+                       stacklevel=3)
+        return super().sample_pdf(wi, wo, threads)
 
     @_entry
     def bin_value(self, channel: _Any, theta_h: _Any, theta_d: _Any, phi_d: _Any):
