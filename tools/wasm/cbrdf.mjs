@@ -334,6 +334,9 @@ export class Model {
   // directions wo from uniform numbers u, with their densities and weights f cos / pdf. Single:
   // wo [x, y, z], u [u1, u2] -> { wi: [3], pdf, weight: [3] }. Batch: wo of n triples, u of n
   // pairs (Float64Array or Float32Array) -> { wi, pdf, weight } of 3n, n, 3n in wo's type.
+  // A rejected draw (wo at or below the horizon, wi reflected below it) has wi = (0, 0, 0),
+  // pdf 0 and weight 0; eval and pdf give 0 for that wi, so draws pass straight back:
+  //   const s = model.sample(wo, u);  const f = model.eval(s.wi, wo);  // 0 where rejected
   sample(wo, u) {
     const { rt } = this;
     const h = this.live();
