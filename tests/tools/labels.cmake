@@ -7,7 +7,8 @@
 # Cli.SampleEncodeInfoDecode...'s); the command's unreachable targets end to end (the library's
 # searches behind it run in UnreachableTarget.*); the report's end-to-end runs, which repeat
 # encodes and decodes the library's own tests run (the report's other tests, and its option
-# checks, run under the sanitizers).
+# checks, run under the sanitizers); the sampling study of an encoded fabric (the sampler's own
+# tests run there).
 cbrdf_label_tests(slow
   [=[Cli\.MixturesAndDataChosenSlices]=]
   [=[TargetCli\.UnreachableTargetsWriteTheClosestFileAndSayWhy]=]
@@ -16,6 +17,7 @@ cbrdf_label_tests(slow
   [=[ReportHtml\..*]=]
   [=[ReportNoise\.LadderAgainstTheTruthMarksTheNoiseFloor]=]
   [=[Ladder\.MeasuresEveryMethodOnASmallSetting]=]
-  [=[ReportLossless\..*]=])
+  [=[ReportLossless\..*]=]
+  [=[ReportSampling\.FeltIsNoWorseThanCosineAndThe22SamplerWas]=])
 
 cbrdf_label_tests(browser [=[ReportHtml\..*]=])
