@@ -137,3 +137,22 @@ def test_bad_batches_keep_their_messages(model):
         model.sample(bad, [0.5, 0.5])
     with pytest.raises(cbrdf.Error, match=r"wi\[2\] must be a finite unit vector"):
         model.eval(bad.astype(np.float32), wo.astype(np.float32))
+
+
+def test_a_broadcast_row_over_many_runs_equals_the_tiled_batch(model):
+    # More rows than one block of a broadcast row's copies (32,768), the last run partial.
+    rng = np.random.default_rng(14)
+    n = 70_001
+    wi, wo = directions(n, rng), directions(1, rng)[0]
+    wo[2] = abs(wo[2]) + 0.1
+    wo /= np.linalg.norm(wo)
+    tiled = np.tile(wo, (n, 1))
+    for dtype in (np.float32, np.float64):
+        assert same_bits(model.eval(wi.astype(dtype), wo.astype(dtype)),
+                         model.eval(wi.astype(dtype), tiled.astype(dtype)))
+    u = rng.random((n, 2))
+    for a, b in zip(model.sample(wo, u), model.sample(tiled, u)):
+        assert same_bits(a, b)
+    for a, b in zip(model.sample(wi[:n // 2], u[5]), model.sample(wi[:n // 2],
+                                                                  np.tile(u[5], (n // 2, 1)))):
+        assert same_bits(a, b)

@@ -39,14 +39,35 @@ std::unique_ptr<PyModel> model_from_path(const std::string& path, py::object fil
   return model_from_bytes(bytes, path, std::move(file));
 }
 
-// The rows of a batch argument as one C-contiguous (n, width) block: the caller's array itself
-// (no copy) unless it is a single row broadcast to n rows, which is repeated into *expanded.
+// Rows per kernel call when an argument is one row broadcast to all (below 1 MB of copies).
+constexpr std::size_t kBroadcastRun = std::size_t{1} << 15;
+
+// A batch argument's rows as the kernels read them: the caller's C-contiguous array in place, or,
+// for one row broadcast to every row, a block of copies of it, which serves every run of rows
+// (they are all the same), so that a broadcast costs a block of memory, not a copy per row.
 template <typename T>
-const T* full_rows(const Dirs<T>& d, std::size_t n, std::vector<T>* expanded) {
-  if (!d.single || n <= 1) return d.data;
-  expanded->resize(d.width * n);
-  for (std::size_t k = 0; k < n; ++k) std::copy_n(d.data, d.width, expanded->data() + d.width * k);
-  return expanded->data();
+class Rows {
+ public:
+  Rows(const Dirs<T>& d, std::size_t n) : d_(d) {
+    if (!d.single) return;
+    copies_.resize(d.width * std::max<std::size_t>(1, std::min(n, kBroadcastRun)));
+    for (std::size_t at = 0; at < copies_.size(); at += d.width) {
+      std::copy_n(d.data, d.width, copies_.data() + at);
+    }
+  }
+  const T* from(std::size_t k) const { return d_.single ? copies_.data() : d_.data + d_.width * k; }
+
+ private:
+  const Dirs<T>& d_;
+  std::vector<T> copies_;
+};
+
+// body(begin, end) over [first, last): at once, or in runs of kBroadcastRun rows when an argument
+// is broadcast (its copies cover that many).
+template <typename Fn>
+void in_runs(std::size_t first, std::size_t last, bool broadcast, const Fn& body) {
+  const std::size_t run = broadcast ? kBroadcastRun : std::max<std::size_t>(1, last - first);
+  for (std::size_t b = first; b < last; b += run) body(b, std::min(last, b + run));
 }
 
 // Pairs through the evaluator's batch kernels (eval_batch, eval_batch_f32: equal to eval and
@@ -63,16 +84,15 @@ py::array eval_batch(const ModelEvaluator& ev, const py::handle& wi_obj, const p
                            ? py::array_t<T>(std::vector<py::ssize_t>{3})
                            : py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n), 3});
   T* rgb = out.mutable_data();
-  std::vector<T> wi_rows, wo_rows;
-  const T* wi_p = full_rows(wi, n, &wi_rows);
-  const T* wo_p = full_rows(wo, n, &wo_rows);
+  const Rows<T> wi_rows(wi, n), wo_rows(wo, n);
   interruptible(n, [&](std::size_t first, std::size_t last) {
-    const std::size_t at = 3 * first;
-    if constexpr (std::is_same_v<T, float>) {
-      ev.eval_batch_f32(last - first, wi_p + at, wo_p + at, rgb + at, threads);
-    } else {
-      ev.eval_batch(last - first, wi_p + at, wo_p + at, rgb + at, threads);
-    }
+    in_runs(first, last, wi.single || wo.single, [&](std::size_t b, std::size_t e) {
+      if constexpr (std::is_same_v<T, float>) {
+        ev.eval_batch_f32(e - b, wi_rows.from(b), wo_rows.from(b), rgb + 3 * b, threads);
+      } else {
+        ev.eval_batch(e - b, wi_rows.from(b), wo_rows.from(b), rgb + 3 * b, threads);
+      }
+    });
   });
   return out;
 }
@@ -118,14 +138,14 @@ py::tuple model_sample(PyModel& m, const py::handle& wo_obj, const py::handle& u
   double* wi_p = wi_out.mutable_data();
   double* pdf_p = pdf_out.mutable_data();
   double* w_p = w_out.mutable_data();
-  std::vector<double> wo_rows, u_rows;
-  const double* wo_p = full_rows(wo, n, &wo_rows);
-  const double* u_p = full_rows(u, n, &u_rows);
+  const Rows<double> wo_rows(wo, n), u_rows(u, n);
   // BrdfSampler::sample_batch, as cbrdf_model_sample_batch: u clamped into [0, 1), a rejected
   // draw all zeros, equal to sample() with weights per draw bit for bit.
   interruptible(n, [&](std::size_t first, std::size_t last) {
-    sampler->sample_batch(last - first, wo_p + 3 * first, u_p + 2 * first, wi_p + 3 * first,
-                          pdf_p + first, w_p + 3 * first, threads);
+    in_runs(first, last, wo.single || u.single, [&](std::size_t b, std::size_t e) {
+      sampler->sample_batch(e - b, wo_rows.from(b), u_rows.from(b), wi_p + 3 * b, pdf_p + b,
+                            w_p + 3 * b, threads);
+    });
   });
   return py::make_tuple(wi_out, pdf_out, w_out);
 }
