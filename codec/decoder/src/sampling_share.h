@@ -21,13 +21,13 @@ struct QuadraturePoint {
 };
 
 // The share c in [c_min, 1] that minimises the predicted variance of f cos / pdf (the estimator
-// of the albedo at the table's wo) under pdf = c cos / pi + (1 - c) table, by a scan in steps of
-// 1/40; then 1 (cosine-weighted only) unless the table's best is at least min_gain times less
-// variance than cosine-weighted sampling's: the prediction is made on the tabulated BRDF (a
-// model, which differs from the measurement it approximates by a few per cent), and a smaller
-// predicted gain is within that error. table_pdf[k] is the table's density at points[k]'s wi;
-// rejected holds the share of the table's mass that reflects below the horizon at other theta_o
-// the table serves (its bin's edges): the variance predicted is the worst of these.
+// of the albedo at the table's wo) under pdf = c cos / pi + (1 - c) table, to within 0.01; then 1
+// (cosine-weighted only) unless the table's best is at least min_gain times less variance than
+// cosine-weighted sampling's: the prediction is made on the tabulated BRDF (a model, which differs
+// from the measurement it approximates by a few per cent), and a smaller predicted gain is within
+// that error. table_pdf[k] is the table's density at points[k]'s wi; rejected holds the share of
+// the table's mass that reflects below the horizon at other theta_o the table serves (its bin's
+// edges): the variance predicted is the worst of these.
 double best_cosine_share(std::span<const QuadraturePoint> points, std::span<const double> table_pdf,
                          std::span<const double> rejected, double c_min, double min_gain);
 
