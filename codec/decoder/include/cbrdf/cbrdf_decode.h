@@ -46,7 +46,7 @@
  *   by the encoder are freed with cbrdf_free.
  * - Cost (CPU time of opening the golden files, tests/data/golden, on a loaded 2-core machine;
  *   docs/renderer.md, Cost, has the benchmarks). Opening a file without a residual layer takes
- *   4 to 7 ms; the first open in a process 3 to 8 ms more (the decoder's below-horizon reference
+ *   4 to 7 ms; the first open in a process 3 to 10 ms more (the decoder's below-horizon reference
  *   mask, built once). A file
  *   with a residual layer (info.residual_mode != CBRDF_RESIDUAL_NONE) holds one code per MERL bin,
  *   4,374,000 codes decoded at every open: 80 to 90 ms (_BOUNDED, _ROW_BOUNDED) and 190 to 250 ms
