@@ -41,14 +41,18 @@ check_shared() {
   echo "test-install: $name needs $lib.so.2, found at $found through RUNPATH $(runpath_of "$program")"
   env -u LD_LIBRARY_PATH "$program" "$@"
 }
-# A program linked with a static cbrdf archive: no NEEDED cbrdf entry.   check_static PROGRAM ARGS...
+# A program linked with a static cbrdf archive: no NEEDED cbrdf entry, every library it needs
+# found; then runs it with ARGS, if any.   check_static PROGRAM [ARGS...]
 check_static() {
   local program=$1 name
   shift
   name=$(basename "$program")
   case " $(needed_of "$program") " in *libcbrdf*) fail "$name needs $(needed_of "$program")" ;; esac
+  if env -u LD_LIBRARY_PATH ldd "$program" | grep -q 'not found'; then
+    fail "$name: $(env -u LD_LIBRARY_PATH ldd "$program" | grep 'not found' | tr '\n' ' ')"
+  fi
   echo "test-install: $name links cbrdf statically (needs: $(needed_of "$program"))"
-  env -u LD_LIBRARY_PATH "$program" "$@"
+  if (($# > 0)); then env -u LD_LIBRARY_PATH "$program" "$@"; fi
 }
 
 cmake --install "$build" --prefix "$prefix" > "$work/install.log"
@@ -115,7 +119,8 @@ if ((has_encoder)); then
   check_shared "$work/consumer_c_encoder" libcbrdf_encoder "$root/tests/data/golden/v1.0-frank6-b10.cbrdf"
   cc -std=c99 -Wall -Wextra -Werror -pedantic "$root/tests/install/consumer_c/encoder_main.c" \
     $(pkg-config --cflags --libs cbrdf-static) -lm -o "$work/consumer_c_encoder_archive"
-  check_static "$work/consumer_c_encoder_archive" "$root/tests/data/golden/v1.0-frank6-b10.cbrdf"
+  # Not run: its encode would repeat consumer_c_encoder's (2 s); the C++ consumer runs the archive.
+  check_static "$work/consumer_c_encoder_archive"
 fi
 
 # C++ through the CMake package, on a pkg-config that knows no package at all: the package itself
