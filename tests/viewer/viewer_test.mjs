@@ -5,6 +5,8 @@
 //      ModelEvaluator::eval_f32 (viewer_reference): relative error <= 1e-3 where the native value
 //      is above 1e-6 of the file's peak; on every golden file and the sample nickel encoded with
 //      the defaults, with Clayton and lossless;
+//      and the lit sphere's centre (32 x 32 pixels) of a 2-component Clayton file against the
+//      native values at each pixel's pair (the tangent frame near the view direction);
 //   2. screenshots of each view have content; the sphere's highlight is where the light puts it;
 //      the difference view of a file against itself is black (PSNR at the 100 dB cap); a file
 //      against its measurement shows a finite PSNR;
@@ -63,7 +65,9 @@ execFileSync(encoder, ['-q', 'encode', nickelBinary, '-o', nickel]);
 const nickelClayton = join(work, 'nickel-clayton.cbrdf'), nickelLossless = join(work, 'nickel-lossless.cbrdf');
 execFileSync(encoder, ['-q', 'encode', nickelBinary, '--family', 'clayton', '-o', nickelClayton]);
 execFileSync(encoder, ['-q', 'encode', nickelBinary, '--lossless', '-o', nickelLossless]);
-const files = [...golden, nickelClayton, nickelLossless, nickel, nickelBinary];
+// Two Clayton components (committed: tests/data/viewer/README.md): the sphere's centre test.
+const clayton2 = join(here, '../data/viewer/nickel-clayton2.cbrdf');
+const files = [...golden, clayton2, nickelClayton, nickelLossless, nickel, nickelBinary];
 
 // A PNG's pixels (8-bit RGB or RGBA, non-interlaced: what chromium writes).
 function decodePng(buf) {
@@ -243,6 +247,56 @@ try {
   for (const r of table) console.log(`| ${r.file} | ${r.pairs} | ${r.compared} | ${r.max.toExponential(2)} | ${r.median.toExponential(2)} |`);
   console.log('');
   writeFileSync(join(args.out, 'shader_errors.json'), JSON.stringify(table, null, 1));
+
+  // 1b. The sphere's centre, where the shader's tangent frame is built differently (normals within
+  // 2.6 degrees of the view): each pixel of the 32 x 32 around the centre of the lit sphere against
+  // the native eval_f32 at that pixel's (wi, wo) in an orthonormal frame, times cos theta_i. A
+  // frame that is not orthonormal there skews the pair (25-180% off on this file).
+  {
+    const iClayton = files.indexOf(clayton2), size = 320, half = size / 2, R = 16;
+    for (const light of [[0, 0, 1], [0.5, 0.45, 0.74].map((v) => v / Math.hypot(0.5, 0.45, 0.74))]) {
+      const px = await page.evaluate((L, i, sz) => {
+        const g = window.cbrdfViewer.gpu, t = g.target(sz, sz);
+        g.sphere(window.cbrdfViewer.state.brdfs[i].gpu, t, L, 1);
+        const out = g.read(t);
+        g.freeTarget(t);
+        return Array.from(out);
+      }, light, iClayton, size);
+      const pixels = [], pwi = [], pwo = [];
+      const dot = (u, v) => u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+      for (let y = half - R; y < half + R; ++y) {
+        for (let x = half - R; x < half + R; ++x) {
+          // The pixel's normal (gl.readPixels' rows run bottom up, as the shader's vUv.y).
+          const p = [(x + 0.5) / half - 1, (y + 0.5) / half - 1];
+          const nrm = [p[0], p[1], Math.sqrt(1 - p[0] * p[0] - p[1] * p[1])];
+          const tl = Math.hypot(1 - nrm[0] * nrm[0], nrm[1] * nrm[0], nrm[2] * nrm[0]);
+          const t = [(1 - nrm[0] * nrm[0]) / tl, -nrm[1] * nrm[0] / tl, -nrm[2] * nrm[0] / tl];
+          const b = [nrm[1] * t[2] - nrm[2] * t[1], nrm[2] * t[0] - nrm[0] * t[2], nrm[0] * t[1] - nrm[1] * t[0]];
+          const local = (v) => [dot(v, t), dot(v, b), dot(v, nrm)];
+          const a = local(light);
+          if (a[2] <= 0) continue;
+          pixels.push({ x, y, r: Math.hypot(p[0], p[1]) * half, cos: a[2] });
+          pwi.push(...a);
+          pwo.push(...local([0, 0, 1]));
+        }
+      }
+      const input = Buffer.concat([Buffer.from(new Float32Array(pwi).buffer), Buffer.from(new Float32Array(pwo).buffer)]);
+      const ref = new Float32Array(new Uint8Array(execFileSync(args.reference, [clayton2], { input })).buffer);
+      const worst = [0, 0];  // within the 2.6-degree zone (7.2 px), and the ring outside it
+      pixels.forEach((q, k) => {
+        for (let c = 0; c < 3; ++c) {
+          const want = ref[3 * k + c] * q.cos, got = px[4 * (q.y * size + q.x) + c];
+          const e = Math.abs(got - want) / Math.max(want, 1e-30);
+          const z = q.r < half * Math.sin(Math.acos(0.999)) ? 0 : 1;
+          worst[z] = Number.isFinite(e) ? Math.max(worst[z], e) : Infinity;
+        }
+      });
+      check(pixels.length === 4 * R * R && worst[0] <= 1e-3 && worst[1] <= 1e-3,
+            `nickel-clayton2.cbrdf, sphere centre lit from (${light.map((v) => v.toFixed(2)).join(', ')}): ` +
+            `${pixels.length} pixels against the native eval_f32: max rel. error ${worst[0].toExponential(2)} ` +
+            `within 2.6 degrees of the view, ${worst[1].toExponential(2)} in the ring around it`);
+    }
+  }
 
   // 2. The sphere: nickel.cbrdf against nickel.binary, light from the upper right.
   const iModel = files.length - 2, iTable = files.length - 1;
