@@ -71,8 +71,8 @@ struct cbrdf_model {
   std::unique_ptr<const cbrdf::ModelEvaluator> evaluator;  // built from `model` where it lives
   mutable std::once_flag sampler_once;
   mutable std::unique_ptr<const cbrdf::BrdfSampler> sampler;
-  // Set once the sampler is built: checked first, as std::call_once costs more than a load on
-  // every call (a single draw is about 100 ns).
+  // Set once the sampler is built: checked first, as std::call_once costs more than a load, and
+  // renderers draw one sample per call.
   mutable std::atomic<const cbrdf::BrdfSampler*> sampler_ready{nullptr};
 
   cbrdf_model() = default;
