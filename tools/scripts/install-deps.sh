@@ -26,7 +26,8 @@ groups[main]="${groups[libraries]} liblzma-dev libzfp-dev libopenexr-dev libdrac
 groups[python]="${groups[main]} pybind11-dev python3-pybind11 python3-dev python3-numpy
   python3-pytest python3-matplotlib python3-setuptools python3-wheel python3-venv python3-build"
 groups[docs]="${groups[main]} doxygen"
-# cbrdf.wasm compiles zstd's decompressor from Debian's source package (dpkg-dev, a deb-src entry).
+# cbrdf.wasm compiles zstd's decompressor from Debian's source package (dpkg-dev, a deb-src entry),
+# fetched below into the cache its configure reads.
 groups[wasm]="${groups[build]} emscripten nodejs node-acorn dpkg-dev"
 # npm: Debian's only where no npm is on the PATH (a machine's own Node.js comes with its own npm,
 # which Debian's package conflicts with).
@@ -58,10 +59,6 @@ wants() { [[ " ${purposes[*]} " =~ " $1 " || " ${purposes[*]} " =~ " test " ]]; 
 sudo=""
 if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
 
-# A deb-src entry for the WebAssembly build (the build fetches the sources into its own tree:
-# tools/wasm/fetch-zstd-source.sh).
-if wants wasm; then "$here/../wasm/fetch-zstd-source.sh" --deb-src-only; fi
-
 missing=()
 for p in "${packages[@]}"; do
   if [[ $p == npm ]] && command -v npm > /dev/null; then continue; fi
@@ -75,6 +72,18 @@ if ((${#missing[@]})); then
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 else
   echo "install-deps: all ${#packages[@]} packages for ${purposes[*]} present"
+fi
+
+# cbrdf.wasm's configure fetches nothing: zstd's sources go once into the cache it looks in
+# (tools/wasm/fetch-zstd-source.sh, which adds a deb-src entry if apt has none), as the user who
+# ran this script through sudo, whose builds read that cache.
+if wants wasm; then
+  fetch=("$here/../wasm/fetch-zstd-source.sh")
+  if [[ $(id -u) -eq 0 && -n ${SUDO_USER:-} && $SUDO_USER != root ]]; then
+    "${fetch[0]}" --deb-src-only
+    fetch=(sudo -u "$SUDO_USER" -H "${fetch[@]}")
+  fi
+  echo "install-deps: zstd's sources for cbrdf.wasm in $("${fetch[@]}")"
 fi
 
 # The viewer's browser tests (tests/viewer) drive chromium with puppeteer-core, pinned in
