@@ -66,6 +66,22 @@ SliceFitResult fit_family(const internal::SliceData& s, CopulaFamily family,
 // squared).
 constexpr double kAutoObjectiveFloor = 1e-6;
 
+// A mixture fit's effort, added to its slice's report.
+void count_effort(const internal::MixtureFit& m, SliceFitResult* r) {
+  r->report.hals_sweeps += m.sweeps;
+  r->report.hals_unconverged += m.unconverged;
+  r->report.solver_iterations += m.solver_iterations;
+}
+
+// Keeps a mixture fit where it lowers its slice's objective, and counts its effort either way.
+void keep_if_better(internal::MixtureFit m, SliceFitResult* r) {
+  if (m.objective < r->report.objective) {
+    r->cs = std::move(m.cs);
+    r->report.objective = m.objective;
+  }
+  count_effort(m, r);
+}
+
 // Grows the fit into a mixture (fit/mixture.h). A fixed count is fitted in one call, which adds
 // components one at a time; `auto_components` adds them one call at a time and keeps a component
 // only when it lowers the objective by the factor auto_component_gain, and stops early once the
@@ -73,15 +89,8 @@ constexpr double kAutoObjectiveFloor = 1e-6;
 void add_components(const internal::SliceData& s, const FitSettings& st, SliceFitResult* r) {
   const CopulaFamily family = st.auto_family ? internal::kAutoMixtureFamily : st.family;
   if (!st.auto_components) {
-    internal::MixtureFit m =
-        internal::fit_mixture(s, r->cs, st.components, family, st.loss, st.mixture_copulas);
-    if (m.objective < r->report.objective) {
-      r->cs = std::move(m.cs);
-      r->report.objective = m.objective;
-    }
-    r->report.hals_sweeps += m.sweeps;
-    r->report.hals_unconverged += m.unconverged;
-    r->report.solver_iterations += m.solver_iterations;
+    keep_if_better(
+        internal::fit_mixture(s, r->cs, st.components, family, st.loss, st.mixture_copulas), r);
     return;
   }
   for (int k = r->cs.components() + 1; k <= st.components; ++k) {
@@ -89,9 +98,7 @@ void add_components(const internal::SliceData& s, const FitSettings& st, SliceFi
     if (r->report.objective < kAutoObjectiveFloor) break;
     internal::MixtureFit m =
         internal::fit_mixture(s, r->cs, k, family, st.loss, st.mixture_copulas);
-    r->report.hals_sweeps += m.sweeps;
-    r->report.hals_unconverged += m.unconverged;
-    r->report.solver_iterations += m.solver_iterations;
+    count_effort(m, r);
     if (m.cs.components() < k || !(m.objective < st.auto_component_gain * r->report.objective)) {
       break;
     }
@@ -361,13 +368,7 @@ struct FitLadder::State {
       internal::MixtureFit m = internal::fit_mixture_continued(s, r->cs, components, family,
                                                                st.loss, &state, st.mixture_copulas);
       job_sweeps[std::size_t(job)] = state.started ? state.sweeps - before : 0;
-      if (m.objective < r->report.objective) {
-        r->cs = std::move(m.cs);
-        r->report.objective = m.objective;
-      }
-      r->report.hals_sweeps += m.sweeps;
-      r->report.hals_unconverged += m.unconverged;
-      r->report.solver_iterations += m.solver_iterations;
+      keep_if_better(std::move(m), r);
     });
     if (internal::cancel_requested()) {
       top = 0;  // the factorizations are left part-way: start again on a later call
