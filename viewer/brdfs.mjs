@@ -19,15 +19,17 @@ function cString(x, ptr) {
   return new TextDecoder().decode(b.subarray(ptr, end));
 }
 
-// The viewer's arrays of a .cbrdf: { tables, generic, residual, facts, slice(s, c) }
-// (viewer_tables.cc). The module's handle stays open for slice(), which returns the marginals and
-// copula image of slice s, channel c: { width, h, p, d, copula } (cbrdf_viewer_slice's layout).
+// The viewer's arrays of a .cbrdf, from its one decode: { tables, generic, residual, facts,
+// slice(s, c) } (viewer_tables.cc), or null when the file does not decode. facts also holds the
+// slices and metadata as cbrdf.mjs's info() gives them. The module's handle stays open for
+// slice(), which returns the marginals and copula image of slice s, channel c:
+// { width, h, p, d, copula } (cbrdf_viewer_slice's layout).
 function viewerArrays(x, bytes) {
   const p = x.malloc(bytes.length);
   new Uint8Array(x.memory.buffer).set(bytes, p);
   const v = x.cbrdf_viewer_open(p, bytes.length);
   x.free(p);
-  if (v === 0) throw new Error('cbrdf_viewer_open failed on a file the C API accepted');
+  if (v === 0) return null;
   const countPtr = x.malloc(4);
   const get = (which) => {
     const ptr = x.cbrdf_viewer_array(v, which, countPtr);
@@ -52,13 +54,18 @@ function viewerArrays(x, bytes) {
   return out;
 }
 
-// A .cbrdf: throws the C API's CbrdfError (code, status, message) for a bad file.
+// A .cbrdf, decoded once (cbrdf_viewer_open). A file that does not decode is opened through the
+// C API to throw its CbrdfError (code, status, message): the message cbrdf info gives natively.
 export async function openCbrdf(name, bytes) {
   const rt = await wasm();
-  const model = rt.open(bytes);  // the C API's validation
-  const info = model.info();
   const arrays = viewerArrays(rt.exports, bytes);
-  return { kind: 'model', name, bytes: bytes.length, model, info, arrays };
+  if (!arrays) {
+    rt.open(bytes).free();  // throws for the file the viewer's decode refused
+    throw new Error('the viewer could not decode a file the C API accepts');
+  }
+  const { sliceList, metadata } = arrays.facts;
+  const info = { slices: sliceList.length, sliceList, metadata };
+  return { kind: 'model', name, bytes: bytes.length, info, arrays };
 }
 
 // A MERL .binary: three int32 dimensions (90, 90, 180), then 3 x 1,458,000 doubles (R, G, B

@@ -248,6 +248,27 @@ try {
   console.log('');
   writeFileSync(join(args.out, 'shader_errors.json'), JSON.stringify(table, null, 1));
 
+  // 1a. Each file is decoded once, by cbrdf_viewer_open, whose facts carry the slices and metadata:
+  // they must be what the C API's info() reports of the same bytes.
+  {
+    const differ = await page.evaluate(async () => {
+      const rt = await (await import('/brdfs.mjs')).wasm();
+      const out = [];
+      const brdfs = window.cbrdfViewer.state.brdfs;
+      for (let i = 0; i < brdfs.length; ++i) {
+        if (brdfs[i].kind !== 'model') continue;
+        const bytes = new Uint8Array(await (await fetch(`files/${i}`)).arrayBuffer());
+        const m = rt.open(bytes), info = m.info();
+        m.free();
+        const mine = brdfs[i].info;
+        if (mine.slices !== info.slices || JSON.stringify(mine.sliceList) !== JSON.stringify(info.sliceList) ||
+            JSON.stringify(mine.metadata) !== JSON.stringify(info.metadata)) out.push(brdfs[i].name);
+      }
+      return out;
+    });
+    check(differ.length === 0, `the page's slices and metadata are the C API's info() (${differ.length ? `differ: ${differ.join(', ')}` : 'all files'})`);
+  }
+
   // 1b. The sphere's centre, where the shader's tangent frame is built differently (normals within
   // 2.6 degrees of the view): each pixel of the 32 x 32 around the centre of the lit sphere against
   // the native eval_f32 at that pixel's (wi, wo) in an orthonormal frame, times cos theta_i. A
@@ -432,6 +453,16 @@ try {
   check(rounds.every(([m, t]) => m > 0 && t > 0), 'frame times measured');
   // A 6 KB file (the residual golden file), then a mixture with Clayton/Gumbel terms (whose
   // per-bin volume is computed on opening).
+  // Decodes counted: each dropped file is decoded once (cbrdf_model_open_memory or
+  // cbrdf_viewer_open; the page used to call both).
+  await page.evaluate(async () => {
+    const rt = await (await import('/brdfs.mjs')).wasm();
+    window.cbrdfDecodes = 0;
+    for (const name of ['cbrdf_model_open_memory', 'cbrdf_viewer_open']) {
+      const f = rt.exports[name];
+      rt.exports[name] = (...a) => { ++window.cbrdfDecodes; return f(...a); };
+    }
+  });
   for (const re of [/v1\.2-residual-frank6/, /mixture3/]) {
     const small = golden.find((f) => re.test(f)) ?? golden[0];
     const good = await drop(`dropped-${small.split('/').pop()}`, readFileSync(small));
@@ -439,6 +470,8 @@ try {
           `dropping ${small.split('/').pop()} (${readFileSync(small).length} bytes): first frame after ${good.drop.firstFrameMs.toFixed(0)} ms ` +
           `(decoding and upload ${good.drop.openMs.toFixed(0)} ms, the two 320x320 spheres ${(good.drop.firstFrameMs - good.drop.openMs).toFixed(0)} ms)`);
   }
+  const decodes = await page.evaluate('window.cbrdfDecodes');
+  check(decodes === 2, `the two dropped files were decoded ${decodes} times (once each)`);
   if (logs.some((l) => /error/i.test(l))) console.log(`page console:\n${logs.join('\n')}`);
 } finally {
   await browser.close();

@@ -15,6 +15,7 @@
 
 #include "cbrdf/codec.h"
 #include "cbrdf/container.h"
+#include "cbrdf/copula_family.h"
 #include "cbrdf/gpu_tables.h"
 #include "cbrdf/model.h"
 
@@ -50,8 +51,8 @@ struct cbrdf_viewer {
 
 #define CBRDF_WASM_EXPORT extern "C" __attribute__((visibility("default"), used))
 
-// Builds the viewer's arrays from a .cbrdf file in memory; NULL when the file does not decode
-// (the page opens every file with cbrdf_model_open_memory first, which reports why).
+// Builds the viewer's arrays from a .cbrdf file in memory, its one decode on the page; NULL when
+// the file does not decode (the page then asks cbrdf_model_open_memory why).
 CBRDF_WASM_EXPORT cbrdf_viewer* cbrdf_viewer_open(const void* data, std::size_t size) {
   if (data == nullptr) return nullptr;
   ContainerInfo info;
@@ -90,6 +91,36 @@ CBRDF_WASM_EXPORT cbrdf_viewer* cbrdf_viewer_open(const void* data, std::size_t 
                   static_cast<unsigned long long>(c.offset), unsigned(c.stored_bytes),
                   unsigned(c.payload_bytes), c.compressed ? "true" : "false");
     j += buf;
+  }
+  // The slices and metadata as the C API reports them (cbrdf.mjs's info(): sliceList, metadata),
+  // so that the page needs no second decode through cbrdf_model_open_memory.
+  j += "],\"sliceList\":[";
+  for (std::size_t s = 0; s < v->model.slices.size(); ++s) {
+    const Slice& sl = v->model.slices[s];
+    std::snprintf(buf, sizeof buf, "%s{\"thetaDBegin\":%d,\"thetaDEnd\":%d,\"channels\":[",
+                  s ? "," : "", sl.theta_d_begin, sl.theta_d_end);
+    j += buf;
+    for (int ch = 0; ch < kChannels; ++ch) {
+      const ChannelSlice& cs = sl.channel[std::size_t(ch)];
+      j += ch ? ",[" : "[";
+      for (int r = 0; r < cs.components(); ++r) {
+        const Component& c = cs.component(r);
+        j += r ? ",{\"family\":" : "{\"family\":";
+        append_json_string(&j, std::string(family_name(c.family)));
+        std::snprintf(buf, sizeof buf, ",\"theta\":%.17g,\"scale\":%.17g}", c.theta, c.scale);
+        j += buf;
+      }
+      j += "]";
+    }
+    j += "]}";
+  }
+  j += "],\"metadata\":[";
+  for (std::size_t i = 0; i < info.metadata.size(); ++i) {
+    j += i ? ",[" : "[";
+    append_json_string(&j, info.metadata[i].first);
+    j += ",";
+    append_json_string(&j, info.metadata[i].second);
+    j += "]";
   }
   j += "]}";
   return v.release();
