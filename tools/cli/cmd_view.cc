@@ -26,6 +26,14 @@
 #ifndef CBRDF_WASM_DIRS
 #define CBRDF_WASM_DIRS ""
 #endif
+// Where `cmake --install` puts the page and cbrdf.wasm, relative to the installed command's folder
+// (cmake/install_viewer.cmake).
+#ifndef CBRDF_VIEWER_INSTALLED
+#define CBRDF_VIEWER_INSTALLED ""
+#endif
+#ifndef CBRDF_WASM_INSTALLED
+#define CBRDF_WASM_INSTALLED ""
+#endif
 
 namespace cbrdf::cli {
 namespace {
@@ -50,9 +58,18 @@ bool has_file(const fs::path& dir, const char* name) {
   return !dir.empty() && fs::is_regular_file(dir / name, ec);
 }
 
-// The first of: the option, the environment variable, the build's defaults ('|'-separated).
-std::optional<fs::path> locate(const std::string& option, const char* env, const char* defaults,
-                               const char* marker, std::string* tried) {
+// The folder `relative` names from the running command's own folder; empty when unknown.
+fs::path beside_command(const char* relative) {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (ec || !*relative) return {};
+  return (self.parent_path() / relative).lexically_normal();
+}
+
+// The first of: the option, the environment variable, the defaults ('|'-separated).
+std::optional<fs::path> locate(const std::string& option, const char* env,
+                               const std::string& defaults, const char* marker,
+                               std::string* tried) {
   std::vector<std::string> candidates;
   if (!option.empty()) {
     candidates.push_back(option);
@@ -94,21 +111,35 @@ int run_view(const Context& ctx, const ViewOptions& o) {
                        "view: " + f + ": no such file (give .cbrdf or MERL .binary files)"));
     }
   }
+  // An installed command (its page beside it, in ../share/cbrdf/viewer) uses the installed
+  // folders only: the build tree it was made in may be gone or hold another version.
+  const fs::path installed_viewer = beside_command(CBRDF_VIEWER_INSTALLED);
+  const bool installed = has_file(installed_viewer, "index.html");
+  const std::string viewer_defaults = installed ? installed_viewer.string() : CBRDF_VIEWER_DIR;
+  const std::string wasm_defaults =
+      installed ? beside_command(CBRDF_WASM_INSTALLED).string() : CBRDF_WASM_DIRS;
   std::string tried_viewer, tried_wasm;
   const auto viewer =
-      locate(o.viewer_dir, "CBRDF_VIEWER_DIR", CBRDF_VIEWER_DIR, "index.html", &tried_viewer);
+      locate(o.viewer_dir, "CBRDF_VIEWER_DIR", viewer_defaults, "index.html", &tried_viewer);
   if (!viewer) {
     return fail(cbrdf::error(ErrorCode::kNotFound,
                              "view: the viewer's page (index.html) is not in " + tried_viewer +
                                  "; pass --viewer DIR (the repository's viewer/ folder)"));
   }
-  const auto wasm =
-      locate(o.wasm_dir, "CBRDF_WASM_DIR", CBRDF_WASM_DIRS, "cbrdf.wasm", &tried_wasm);
+  const auto wasm = locate(o.wasm_dir, "CBRDF_WASM_DIR", wasm_defaults, "cbrdf.wasm", &tried_wasm);
   if (!wasm || !has_file(*wasm, "cbrdf.mjs")) {
+    const std::string where = tried_wasm.empty() ? o.wasm_dir : tried_wasm;
+    if (installed && o.wasm_dir.empty() && !std::getenv("CBRDF_WASM_DIR")) {
+      return fail(cbrdf::error(
+          ErrorCode::kNotFound,
+          "view: cbrdf.wasm and cbrdf.mjs are not in " + where +
+              ": this installation was made without a WebAssembly build. Build one "
+              "(tools/wasm/README.md: emcmake cmake -S . -B build-wasm -DCBRDF_DECODER_ONLY=ON, "
+              "then cmake --build build-wasm) and run cmake --install again, or pass --wasm DIR"));
+    }
     return fail(cbrdf::error(
         ErrorCode::kNotFound,
-        "view: cbrdf.wasm and cbrdf.mjs are not in " +
-            (tried_wasm.empty() ? o.wasm_dir : tried_wasm) +
+        "view: cbrdf.wasm and cbrdf.mjs are not in " + where +
             "; build them (tools/wasm/README.md) and pass --wasm DIR (e.g. build-wasm/wasm)"));
   }
 
