@@ -42,8 +42,10 @@ no_wasm() {
   if "$prefix/bin/cbrdf" view --no-open --port 0 "$file" > "$work/out" 2> "$work/err"; then
     fail "cbrdf view without an installed cbrdf.wasm succeeded"
   fi
-  grep -q "made without a WebAssembly build" "$work/err" && grep -q "tools/wasm/README.md" "$work/err" ||
+  if ! grep -q "made without a WebAssembly build" "$work/err" ||
+     ! grep -q "tools/wasm/README.md" "$work/err"; then
     fail "cbrdf view without cbrdf.wasm: unexpected message: $(cat "$work/err")"
+  fi
   echo "installed_view_test: without cbrdf.wasm the command says: $(cat "$work/err")"
 }
 if ((!expect_wasm)); then
