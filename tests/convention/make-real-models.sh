@@ -7,7 +7,9 @@
 # the table. Without ../shared it says SKIPPED and succeeds (ctest reports the test skipped).
 #   make-real-models.sh CLI OUT_DIR SHARED_DIR BUILD_DIR
 # CBRDF_REAL_MATERIALS_DIR names another folder of tables; CBRDF_RELEASE_CLI another command (the
-# sanitizer suite encodes with the release build's).
+# sanitizer suite encodes with the release build's); CBRDF_REAL_MODELS_DIR a folder of models
+# this script made before (the release build's), copied with their times so that only those
+# older than the command or their table are encoded again.
 set -euo pipefail
 cli=${CBRDF_RELEASE_CLI:-$1} out=$2 shared=$3 build=$4
 if [ ! -d "$shared/data/nbrdf-merl" ] || [ ! -f "$shared/tools/make-merl.sh" ]; then
@@ -22,6 +24,12 @@ exec 9> "$out.lock"
 flock 9  # parallel tests: one encodes, the others wait for its files
 SECONDS=0
 made=0
+if [ -n "${CBRDF_REAL_MODELS_DIR:-}" ] && [ -d "$CBRDF_REAL_MODELS_DIR" ] &&
+  [ "$(cd "$CBRDF_REAL_MODELS_DIR" && pwd)" != "$(cd "$out" && pwd)" ]; then
+  for model in "$CBRDF_REAL_MODELS_DIR"/*.cbrdf; do
+    [ -f "$model" ] && cp -p "$model" "$out/"
+  done
+fi
 for table in "$tables"/*.binary; do
   name=$(basename "$table" .binary)
   case $name in *-noisy) continue ;; esac

@@ -38,10 +38,12 @@ echo "run-tests: decoder-only build passed at $(( $(date +%s) - start )) s"
 # The libraries without the tools: only zstd, xxhash, Ceres and Eigen looked up.
 CBRDF_REAL_MATERIALS_DIR="$build/real-materials" tools/scripts/check-libraries-only.sh
 echo "run-tests: libraries-only build passed at $(( $(date +%s) - start )) s"
-# The sanitizer suite (clang) reuses the release build's real-material tables and cbrdf.wasm (for
-# the viewer's test, whose HTTP server it checks under ASan).
+# The sanitizer suite (clang) reuses the release build's real-material tables, their models (for
+# the rejected-draw tests) and cbrdf.wasm (for the viewer's test, whose HTTP server it checks
+# under ASan).
 CBRDF_REAL_MATERIALS_DIR="$build/real-materials" CBRDF_WASM_BUILD_DIR="$build/wasm-build" \
-  CBRDF_RELEASE_CLI="$build/cbrdf" tools/scripts/run-sanitizers.sh
+  CBRDF_RELEASE_CLI="$build/cbrdf" CBRDF_REAL_MODELS_DIR="$build/real-models" \
+  tools/scripts/run-sanitizers.sh
 echo "run-tests: sanitizer suite passed at $(( $(date +%s) - start )) s"
 tools/scripts/run-fuzz.sh "${CBRDF_FUZZ_SECONDS:-60}"
 echo "run-tests: everything passed in $(( $(date +%s) - start )) s"
