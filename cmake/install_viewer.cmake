@@ -11,6 +11,8 @@ set(CBRDF_VIEWER_WASM_DIRS ${PROJECT_BINARY_DIR}/wasm-build/wasm ${PROJECT_SOURC
 if(CBRDF_WASM_BUILD_DIR)
   list(PREPEND CBRDF_VIEWER_WASM_DIRS ${CBRDF_WASM_BUILD_DIR}/wasm)
 endif()
+# tests/viewer's viewer_installed checks the install against the same list.
+set_property(GLOBAL PROPERTY CBRDF_VIEWER_WASM_DIRS ${CBRDF_VIEWER_WASM_DIRS})
 set(CBRDF_VIEWER_INSTALL_DIR ${CMAKE_INSTALL_DATADIR}/cbrdf/viewer)
 set(CBRDF_VIEWER_WASM_INSTALL_DIR ${CMAKE_INSTALL_DATADIR}/cbrdf/wasm)
 

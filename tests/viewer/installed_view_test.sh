@@ -5,14 +5,23 @@
 # CBRDF_VIEWER_DIR and CBRDF_WASM_DIR unset) and fetches /, /app.mjs, /cbrdf.wasm, /cbrdf.mjs and
 # /files/0, which must be the installed files byte for byte (the installed page and module carry a
 # marker the source tree's do not, so a command serving the build's folders fails). Then, with the
-# installed wasm removed (or none built: no --expect-wasm), the command must refuse with a message
-# naming how to build one.
-#   usage: installed_view_test.sh BUILD_DIR FILE.cbrdf [--expect-wasm]
+# installed wasm removed (or none built), the command must refuse with a message naming how to
+# build one. WASM_DIRS: the wasm builds `cmake --install` looks in (cmake/install_viewer.cmake);
+# when one holds cbrdf.wasm and cbrdf.mjs, the install must hold them too.
+#   usage: installed_view_test.sh BUILD_DIR FILE.cbrdf [WASM_DIRS...]
 set -euo pipefail
-build=${1:?usage: installed_view_test.sh BUILD_DIR FILE.cbrdf [--expect-wasm]}
-file=${2:?usage: installed_view_test.sh BUILD_DIR FILE.cbrdf [--expect-wasm]}
+usage="usage: installed_view_test.sh BUILD_DIR FILE.cbrdf [WASM_DIRS...]"
+build=${1:?$usage}
+file=${2:?$usage}
+shift 2
 expect_wasm=0
-[[ ${3:-} == --expect-wasm ]] && expect_wasm=1
+for dir in "$@"; do
+  if [[ -f $dir/cbrdf.wasm && -f $dir/cbrdf.mjs ]]; then
+    expect_wasm=1
+    echo "installed_view_test: a wasm build is in $dir: the install must hold it"
+    break
+  fi
+done
 work=$(mktemp -d "${TMPDIR:-/tmp}/cbrdf-installed-view.XXXXXX")
 pid=
 cleanup() {
