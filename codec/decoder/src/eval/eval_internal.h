@@ -17,10 +17,12 @@
 #include "eval/interp_tables.h"
 
 // The batch kernels: GCC/Clang vector extensions (vector_kernels.h) on x86-64, where they were
-// written and measured, unless the build asks for the portable ones (CBRDF_PORTABLE_KERNELS, so
-// that CI tests them on x86-64); plain C++ (portable_kernels.h) with any other compiler or target.
+// written and measured, and in WebAssembly with SIMD128 (-msimd128: Clang lowers each vector to
+// v128 operations; tools/wasm), unless the build asks for the portable ones
+// (CBRDF_PORTABLE_KERNELS, so that CI tests them on x86-64); plain C++ (portable_kernels.h) with
+// any other compiler or target.
 #if !defined(CBRDF_PORTABLE_KERNELS) && (defined(__GNUC__) || defined(__clang__)) && \
-    defined(__x86_64__)
+    (defined(__x86_64__) || defined(__wasm_simd128__))
 #define CBRDF_VECTOR_KERNELS 1
 #else
 #define CBRDF_VECTOR_KERNELS 0

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The batch's second stage with GCC/Clang vector extensions (vector_size types and
-// __builtin_shufflevector), for x86-64 (eval_internal.h: CBRDF_VECTOR_KERNELS); batch_dispatch.cc
-// compiles block_eval for AVX-512, AVX2 and the baseline. Included by batch_dispatch.cc only.
+// __builtin_shufflevector), for x86-64 and WebAssembly SIMD128 (eval_internal.h:
+// CBRDF_VECTOR_KERNELS); batch_dispatch.cc compiles block_eval for AVX-512, AVX2 and the baseline
+// on x86-64, for SIMD128 alone in WebAssembly. Included by batch_dispatch.cc only.
 #pragma once
 
 #include <cstdint>
@@ -11,7 +12,7 @@
 #include "eval/batch_block.h"
 
 #if !CBRDF_VECTOR_KERNELS
-#error "vector_kernels.h needs GCC or Clang on x86-64 (eval_internal.h)"
+#error "vector_kernels.h needs GCC or Clang on x86-64 or WebAssembly SIMD128 (eval_internal.h)"
 #endif
 
 namespace cbrdf::internal {
