@@ -17,8 +17,8 @@
 //   node --no-experimental-fetch wasm_test.mjs CBRDF_MJS WASM_REFERENCE GOLDEN_DIR
 // Prints one line per check that fails and "N passed, M failed"; exit status 1 if any failed.
 import { spawnSync } from 'node:child_process';
-import { readdirSync, readFileSync } from 'node:fs';
-import { join, resolve } from 'node:path';
+import { readdirSync, readFileSync, statSync } from 'node:fs';
+import { dirname, join, resolve } from 'node:path';
 import { isDeepStrictEqual } from 'node:util';
 import { pathToFileURL } from 'node:url';
 
@@ -105,6 +105,11 @@ function directions(n, rand) {
 const s = Math.sqrt(0.5);
 const kSpecial = [[[0, 0, 1], [0, 0, 1]], [[s, 0, s], [-s, 0, s]], [[s, 0, s], [s, 0, s]],
                   [[1, 0, 0], [0, 0, 1]], [[0, s, s], [0, -s, s]], [[0.6, 0, 0.8], [-0.6, 1e-17, 0.8]]];
+
+// The module's size budget for the web (tools/wasm/README.md, Size), with the default options.
+const wasmBytes = statSync(join(dirname(resolve(mjsPath)), 'cbrdf.wasm')).size;
+check(wasmBytes <= 400000, `cbrdf.wasm is ${wasmBytes} bytes, over its budget of 400,000 ` +
+      '(tools/wasm/README.md, Size: which code is compiled for size)');
 
 const cbrdf = await load();
 const files = readdirSync(goldenDir).filter((f) => f.endsWith('.cbrdf')).sort();
