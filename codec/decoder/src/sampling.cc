@@ -192,6 +192,15 @@ inline double cell_probability(const double* row_cdf, const double* cell_cdf, in
   return (row_cdf[a + 1] - row_cdf[a]) * (cdf[b + 1] - cdf[b]);
 }
 
+// The half vector at point (i, j) of the ss x ss points of cell (a, b) a table is built from,
+// uniform in cos(theta_h) (c0 > c1, the row's edges) and phi_h, in wo's azimuth frame.
+inline Vec3 cell_point(double c0, double c1, int b, int i, int j, int ss, double dphi) {
+  const double ct = c0 + (i + 0.5) / ss * (c1 - c0);
+  const double st = std::sqrt(std::max(0.0, 1 - ct * ct));
+  const double phi = (b + (j + 0.5) / ss) * dphi;
+  return {st * std::cos(phi), st * std::sin(phi), ct};
+}
+
 // pdf(wo, wi) from its cell's probability p and cos(theta_h) edges ce0 > ce1: the table's density
 // of h (p over the cell's solid angle) over 4 wo.h, mixed with the cosine-weighted density.
 inline double mix_pdf(double p, double ce0, double ce1, double d, double c, double wz,
@@ -376,11 +385,8 @@ void BrdfSampler::build_table(int k, Table& t) const {
     for (int b = 0; b < np; ++b) {
       double sum = 0.0;
       for (int i = 0; i < ss; ++i) {
-        const double ct = c0 + (i + 0.5) / ss * (c1 - c0);
-        const double st = std::sqrt(std::max(0.0, 1 - ct * ct));
         for (int j = 0; j < ss; ++j) {
-          const double phi = (b + (j + 0.5) / ss) * dphi;
-          const Vec3 h{st * std::cos(phi), st * std::sin(phi), ct};
+          const Vec3 h = cell_point(c0, c1, b, i, j, ss, dphi);
           const double d = dot(wo, h);
           if (!(d > 0)) continue;
           const Vec3 wi{2 * d * h.x - wo.x, 2 * d * h.y - wo.y, 2 * d * h.z - wo.z};
@@ -419,14 +425,14 @@ void BrdfSampler::build_table(int k, Table& t) const {
   }
   for (double& v : t.row_cdf) v /= run;
   t.row_cdf[nh] = 1.0;
-  // Each point's table density per unit solid angle of wi, as pdf() reads it.
+  // Each point's table density per unit solid angle of wi, as pdf() reads it (no cosine share).
   std::vector<double> table_pdf(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const internal::QuadraturePoint& q = points[i];
-    const std::size_t a = std::size_t(q.cell) / std::size_t(np), b = std::size_t(q.cell) % np;
-    const double* cdf = &t.cell_cdf[a * std::size_t(np + 1)];
-    const double p = (t.row_cdf[a + 1] - t.row_cdf[a]) * (cdf[b + 1] - cdf[b]);
-    table_pdf[i] = p / (q.area * ss * ss) / (4 * q.d);
+    const Located at{q.d, q.cell / np, q.cell % np, true};
+    const double p = cell_probability(t.row_cdf.data(), t.cell_cdf.data(), np, at);
+    table_pdf[i] = mix_pdf(p, cos_edges_[std::size_t(at.a)], cos_edges_[std::size_t(at.a) + 1], q.d,
+                           0.0, q.wi_z, dphi);
   }
   const double edges[2] = {rejected_share(t, double(k) / bins * (kPi / 2)),
                            rejected_share(t, double(k + 1) / bins * (kPi / 2))};
@@ -441,20 +447,16 @@ double BrdfSampler::rejected_share(const Table& t, double theta_o) const {
   double rejected = 0.0;
   for (int a = 0; a < nh; ++a) {
     const double c0 = cos_edges_[a], c1 = cos_edges_[a + 1];
-    const double* cdf = &t.cell_cdf[std::size_t(a) * (np + 1)];
-    const double row = t.row_cdf[a + 1] - t.row_cdf[a];
-    if (!(row > 0)) continue;
     for (int b = 0; b < np; ++b) {
-      const double p = row * (cdf[b + 1] - cdf[b]);
+      const double p =
+          cell_probability(t.row_cdf.data(), t.cell_cdf.data(), np, Located{1.0, a, b, true});
       if (!(p > 0)) continue;
       int out = 0;
       for (int i = 0; i < ss; ++i) {
-        const double ct = c0 + (i + 0.5) / ss * (c1 - c0);
-        const double st = std::sqrt(std::max(0.0, 1 - ct * ct));
         for (int j = 0; j < ss; ++j) {
-          const double phi = (b + (j + 0.5) / ss) * dphi;
-          const double d = wo.x * st * std::cos(phi) + wo.z * ct;
-          out += !(d > 0) || !(2 * d * ct - wo.z > 0);
+          const Vec3 h = cell_point(c0, c1, b, i, j, ss, dphi);
+          const double d = dot(wo, h);
+          out += !(d > 0) || !(2 * d * h.z - wo.z > 0);
         }
       }
       rejected += p * out / (ss * ss);
