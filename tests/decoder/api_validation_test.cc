@@ -26,23 +26,13 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-Vec3 dir(double theta_deg, double phi_deg) {
-  const double t = theta_deg * std::numbers::pi / 180, p = phi_deg * std::numbers::pi / 180;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
-
-const ModelEvaluator& peaked_evaluator() {
-  static const ModelEvaluator e(testing::make_model(testing::six_slices(), /*peaked=*/true));
-  return e;
-}
-
 bool all_nan(const double rgb[3]) {
   return std::isnan(rgb[0]) && std::isnan(rgb[1]) && std::isnan(rgb[2]);
 }
 
 TEST(ApiValidation, EvalOfAnInvalidDirectionIsNaN) {
-  const ModelEvaluator& e = peaked_evaluator();
-  const Vec3 wo = dir(0, 0);
+  const ModelEvaluator& e = testing::peaked_evaluator();
+  const Vec3 wo = testing::direction_deg(0, 0);
   double rgb[3];
   // Before: {NaN, 0, 1} at the normal returned the peak value.
   for (const Vec3& bad :
@@ -59,9 +49,9 @@ TEST(ApiValidation, EvalOfAnInvalidDirectionIsNaN) {
 }
 
 TEST(ApiValidation, EvalAndEvalF32AgreeOnInvalidInput) {
-  const ModelEvaluator& e = peaked_evaluator();
+  const ModelEvaluator& e = testing::peaked_evaluator();
   // Before: 0.0028 (double) against 6.47 (float, where 1e300 is +Inf).
-  const Vec3 bad{1e300, 0, 1e300}, wo = dir(30, 180);
+  const Vec3 bad{1e300, 0, 1e300}, wo = testing::direction_deg(30, 180);
   const float badf[3] = {float(bad.x), float(bad.y), float(bad.z)};
   const float wof[3] = {float(wo.x), float(wo.y), float(wo.z)};
   double rgb[3];
@@ -73,7 +63,7 @@ TEST(ApiValidation, EvalAndEvalF32AgreeOnInvalidInput) {
     EXPECT_TRUE(std::isnan(rgbf[c]));
   }
   // The batch forms mark the same pair NaN and evaluate the others as eval does.
-  const Vec3 wi = dir(30, 0);
+  const Vec3 wi = testing::direction_deg(30, 0);
   const double in_i[6] = {wi.x, wi.y, wi.z, bad.x, bad.y, bad.z};
   const double in_o[6] = {wo.x, wo.y, wo.z, wo.x, wo.y, wo.z};
   double out[6], ref[3];
@@ -91,8 +81,9 @@ TEST(ApiValidation, EvalAndEvalF32AgreeOnInvalidInput) {
 }
 
 TEST(ApiValidation, DirectionsWithinTheToleranceAreRescaled) {
-  const ModelEvaluator& e = peaked_evaluator();
-  const Vec3 wi = dir(30, 0), wo = dir(30, 180);  // the mirror direction
+  const ModelEvaluator& e = testing::peaked_evaluator();
+  const Vec3 wi = testing::direction_deg(30, 0),
+             wo = testing::direction_deg(30, 180);  // the mirror direction
   const Vec3 wi_long{wi.x * 1.0004, wi.y * 1.0004, wi.z * 1.0004};
   const Vec3 wo_short{wo.x * 0.9997, wo.y * 0.9997, wo.z * 0.9997};
   double unit[3], scaled[3];
@@ -114,7 +105,7 @@ TEST(ApiValidation, DirectionsWithinTheToleranceAreRescaled) {
 TEST(ApiValidation, SamplerOutlivesAMovedEvaluator) {
   // Before: the sampler pointed at the evaluator; moving it away crashed the next draw.
   ModelEvaluator e(testing::make_model(testing::six_slices(), /*peaked=*/true));
-  const Vec3 wo = dir(40, 70);
+  const Vec3 wo = testing::direction_deg(40, 70);
   const BrdfSampler sampler = make_model_sampler(e);
   const BrdfFn f = model_brdf_fn(e);
   BrdfSample before[16];
@@ -141,19 +132,20 @@ TEST(ApiValidation, SamplerOutlivesAMovedEvaluator) {
   // Copies share the prepared tables and evaluate identically.
   const ModelEvaluator copy = moved;
   double a[3], b[3];
-  copy.eval(dir(20, 0), wo, a);
-  moved.eval(dir(20, 0), wo, b);
+  copy.eval(testing::direction_deg(20, 0), wo, a);
+  moved.eval(testing::direction_deg(20, 0), wo, b);
   EXPECT_EQ(std::memcmp(a, b, sizeof a), 0);
 }
 
 TEST(ApiValidation, SmallSampleBatchesEqualLargeOnes) {
-  const ModelEvaluator& e = peaked_evaluator();
+  const ModelEvaluator& e = testing::peaked_evaluator();
   const BrdfSampler s = make_model_sampler(e);
   constexpr std::size_t kN = 300;
   std::vector<double> wo(3 * kN), u(2 * kN), wi(3 * kN), pdf(kN), weight(3 * kN);
   for (std::size_t k = 0; k < kN; ++k) {
     // Some wo below the horizon, some invalid, some off unit length within the tolerance.
-    const Vec3 w = dir(k % 13 == 0 ? 100.0 : double(k % 89), double(k * 37 % 360));
+    const Vec3 w =
+        testing::direction_deg(k % 13 == 0 ? 100.0 : double(k % 89), double(k * 37 % 360));
     const double scale = k % 7 == 0 ? 1.0003 : 1.0;
     wo[3 * k] = w.x * scale;
     wo[3 * k + 1] = w.y * scale;
@@ -193,7 +185,7 @@ TEST(ApiValidation, DirectionalAlbedoMatchesBruteForce) {
   ASSERT_TRUE(decoded.ok()) << decoded.status().message();
   const ModelEvaluator e(std::move(decoded).value());
   for (double theta : {15.0, 60.0}) {
-    const Vec3 wo = dir(theta, 0);
+    const Vec3 wo = testing::direction_deg(theta, 0);
     double a[3];
     e.albedo(wo.z, a, 1);
     // Brute force over wi, uniform in cos(theta_i) and phi_i.

@@ -22,24 +22,14 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-Vec3 dir(double theta_deg, double phi_deg) {
-  const double t = theta_deg * std::numbers::pi / 180, p = phi_deg * std::numbers::pi / 180;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
-
-const ModelEvaluator& evaluator() {
-  static const ModelEvaluator e(testing::make_model(testing::six_slices(), /*peaked=*/true));
-  return e;
-}
-
 bool all_zero(const double* rgb) {
   return rgb[0] == 0.0 && rgb[1] == 0.0 && rgb[2] == 0.0;
 }
 
 TEST(RejectedDraw, ZeroVectorEvaluatesToZeroNotNaN) {
-  const ModelEvaluator& e = evaluator();
+  const ModelEvaluator& e = testing::peaked_evaluator();
   const BrdfSampler s = make_model_sampler(e);
-  const Vec3 wo = dir(30, 20), wi = dir(40, 200);
+  const Vec3 wo = testing::direction_deg(30, 20), wi = testing::direction_deg(40, 200);
   for (const Vec3& zero : {Vec3{0, 0, 0}, Vec3{-0.0, 0.0, -0.0}}) {
     double rgb[3] = {kNaN, kNaN, kNaN};
     e.eval(zero, wo, rgb);
@@ -78,8 +68,8 @@ struct Pairs {
 Pairs make_pairs(std::size_t n, bool rescaled) {
   Pairs p{std::vector<double>(3 * n), std::vector<double>(3 * n)};
   for (std::size_t k = 0; k < n; ++k) {
-    Vec3 i = dir(double(k * 7 % 95), double(k * 31 % 360));
-    const Vec3 o = dir(double(k * 13 % 91), double(k * 17 % 360));
+    Vec3 i = testing::direction_deg(double(k * 7 % 95), double(k * 31 % 360));
+    const Vec3 o = testing::direction_deg(double(k * 13 % 91), double(k * 17 % 360));
     if (rescaled && k % 5 == 0) i = Vec3{i.x * 1.0004, i.y * 1.0004, i.z * 1.0004};
     if (k % 7 == 0) i = Vec3{0, 0, 0};
     const double iv[3] = {i.x, i.y, i.z}, ov[3] = {o.x, o.y, k % 11 == 0 ? 0.0 : o.z};
@@ -93,7 +83,7 @@ Pairs make_pairs(std::size_t n, bool rescaled) {
 }
 
 TEST(RejectedDraw, BatchesGiveZeroForZeroRowsAndEqualEvalElsewhere) {
-  const ModelEvaluator& e = evaluator();
+  const ModelEvaluator& e = testing::peaked_evaluator();
   constexpr std::size_t kN = 5000;  // more than two of the batch's 2048-pair chunks
   for (const bool rescaled : {false, true}) {
     const Pairs p = make_pairs(kN, rescaled);
@@ -136,13 +126,13 @@ TEST(RejectedDraw, BatchesGiveZeroForZeroRowsAndEqualEvalElsewhere) {
 }
 
 TEST(RejectedDraw, DrawsPassStraightBackIntoEvalAndSamplePdf) {
-  const ModelEvaluator& e = evaluator();
+  const ModelEvaluator& e = testing::peaked_evaluator();
   const BrdfSampler s = make_model_sampler(e);
   constexpr std::size_t kN = 20000;
   std::vector<double> wo(3 * kN), u(2 * kN), wi(3 * kN), pdf(kN), weight(3 * kN), f(3 * kN);
   for (std::size_t k = 0; k < kN; ++k) {
     // 16 elevations up to 89 degrees, the azimuth varied.
-    const Vec3 o = dir(89.0 * double(k % 16) / 15, double(k * 37 % 360));
+    const Vec3 o = testing::direction_deg(89.0 * double(k % 16) / 15, double(k * 37 % 360));
     wo[3 * k] = o.x;
     wo[3 * k + 1] = o.y;
     wo[3 * k + 2] = o.z;
@@ -174,10 +164,11 @@ TEST(RejectedDraw, DrawsPassStraightBackIntoEvalAndSamplePdf) {
 }
 
 TEST(RejectedDraw, DeprecatedPdfIsSamplePdfWithTheArgumentsSwapped) {
-  const BrdfSampler s = make_model_sampler(evaluator());
+  const BrdfSampler s = make_model_sampler(testing::peaked_evaluator());
   int differ = 0;
   for (int k = 0; k < 64; ++k) {
-    const Vec3 a = dir(5 + k % 80, k * 47 % 360), b = dir(3 + k * 7 % 85, k * 29 % 360);
+    const Vec3 a = testing::direction_deg(5 + k % 80, k * 47 % 360),
+               b = testing::direction_deg(3 + k * 7 % 85, k * 29 % 360);
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wdeprecated-declarations"
     const double old = s.pdf(b, a);  // pdf(wo, wi)

@@ -14,16 +14,12 @@
 #include "cbrdf/analytic.h"
 #include "cbrdf/samples.h"
 #include "cbrdf/sampling.h"
+#include "synthetic_model.h"
 
 namespace cbrdf {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-Vec3 direction(double theta_deg, double phi) {
-  const double t = theta_deg * kPi / 180;
-  return {std::sin(t) * std::cos(phi), std::sin(t) * std::sin(phi), std::cos(t)};
-}
 
 // A matte, fabric-like lobe: nearly constant, rising a little towards grazing directions.
 void matte(const Vec3& wi, const Vec3& wo, double rgb[3]) {
@@ -63,7 +59,7 @@ Variances variances(const BrdfSampler& s, const BrdfFn& truth, const Vec3& wo, i
 // bin's central theta_o, with mass in cells that reflect normal incidence below the horizon) gave
 // several times cosine-weighted sampling's variance; the share now falls back to cosine there.
 TEST(SamplingShare, MatteLobeAtNormalIncidenceIsNoWorseThanCosine) {
-  const Vec3 wo = direction(0, 0);
+  const Vec3 wo = testing::direction_deg(0, 0);
   SamplerSettings old_settings;
   old_settings.min_table_gain = 0;
   const Variances before = variances(BrdfSampler(matte, old_settings), matte, wo, 100000);
@@ -81,7 +77,7 @@ TEST(SamplingShare, AFallenBackTableDrawsCosineWeighted) {
   const BrdfSampler s(matte);
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  const Vec3 wo = direction(0.5, 1.0);
+  const Vec3 wo = testing::direction_deg(0.5, 60);
   for (int k = 0; k < 2000; ++k) {
     const BrdfSample d = s.sample(wo, u(rng), u(rng));
     ASSERT_TRUE(d.valid);
@@ -99,7 +95,7 @@ TEST(SamplingShare, AGlossyLobeKeepsItsTable) {
   };
   const BrdfSampler s(f);
   for (double theta : {0.0, 30.0, 60.0, 75.0}) {
-    const Vec3 wo = direction(theta, 0.2);
+    const Vec3 wo = testing::direction_deg(theta, 10);
     const BrdfSample d = s.sample(wo, 0.5, 0.5);  // u1 >= 0.1: a table draw
     ASSERT_TRUE(d.valid) << theta;
     EXPECT_NE(d.pdf, d.wi.z / kPi) << theta;

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -163,6 +164,18 @@ inline void add_sparse_residual(Model* m) {
 inline const std::vector<int>& six_slices() {
   static const std::vector<int> b = {0, 6, 15, 30, 50, 70, 90};
   return b;
+}
+
+// The six-slice model with a near-mirror theta_h peak, prepared once per test process.
+inline const ModelEvaluator& peaked_evaluator() {
+  static const ModelEvaluator e(make_model(six_slices(), /*peaked=*/true));
+  return e;
+}
+
+// The unit direction at polar angle theta and azimuth phi, both in degrees (z is the normal).
+inline Vec3 direction_deg(double theta_deg, double phi_deg) {
+  const double t = theta_deg * std::numbers::pi / 180, p = phi_deg * std::numbers::pi / 180;
+  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
 }
 
 // FNV-1a over the bit patterns of everything a decoded model holds (the golden files' pinned
