@@ -216,7 +216,7 @@ async function addFiles(list) {
         continue;
       }
       const b = await openFile(name, bytes);
-      b.gpu = b.kind === 'model' ? gpu.modelBrdf(b.arrays) : gpu.tableBrdf(b.rgb);
+      b.gpu = gpu.brdf(b.packed);
       state.brdfs.push(b);
     } catch (err) {
       // The C API's messages name no file; the page's own (.binary, .hdr) start with its name.

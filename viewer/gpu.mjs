@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// WebGL2 plumbing: a BRDF's textures (model tables or a MERL table as a 3D texture), the
+// WebGL2 plumbing: a BRDF's textures (packGpuTables's, bound by their sampler names), the
 // programs of shaders.mjs, and renders into float framebuffers read back for the test and PSNR.
 import * as S from './shaders.mjs';
 
@@ -17,9 +17,9 @@ export class Gpu {
     gl.bindBuffer(gl.ARRAY_BUFFER, buf);
     gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([-1, -1, 1, -1, -1, 1, 1, 1]), gl.STATIC_DRAW);
     this.quad = buf;
-    // A 1x1x1 volume and 1x1 table for unused samplers.
-    this.emptyVol = this.volume(new Float32Array(3), 1, 1, 1);
-    this.emptyTab = this.tableTexture(new Float32Array(1));
+    // A 1x1 texture for the environment's sampler when no environment is on.
+    this.emptyTab = this.texture({ dimension: 2, width: 1, height: 1, depth: 1, format: 'RGBA32F',
+                                   data: new Float32Array(4) }).tex;
   }
 
   program(name) {
@@ -54,30 +54,23 @@ export class Gpu {
     return this.programs[name];
   }
 
-  tableTexture(data) {
+  // A texture of packGpuTables's list (glsl.mjs), sampled with texelFetch.
+  texture({ dimension, width, height, depth, format, data }) {
     const { gl } = this;
-    // RGBA texels, S.kTableWidth floats a row (shaders.mjs's V and T).
-    const w = S.kTableWidth, h = Math.max(1, Math.ceil(data.length / w));
-    const padded = new Float32Array(w * h);
-    padded.set(data);
+    const [internal, layout] = { RGBA32F: [gl.RGBA32F, gl.RGBA], RGB32F: [gl.RGB32F, gl.RGB],
+                                 R32F: [gl.R32F, gl.RED] }[format];
+    const target = dimension === 3 ? gl.TEXTURE_3D : gl.TEXTURE_2D;
     const t = gl.createTexture();
-    this.scratch(gl.TEXTURE_2D, t);
-    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w / 4, h, 0, gl.RGBA, gl.FLOAT, padded);
-    this.nearest(gl.TEXTURE_2D);
-    gl.bindTexture(gl.TEXTURE_2D, null);
-    return t;
-  }
-
-  // RGB per MERL bin (interleaved, bin index (i 90 + j) 180 + k) as a 180 x 90 x 90 texture.
-  volume(data, w = 180, h = 90, d = 90) {
-    const { gl } = this;
-    const t = gl.createTexture();
-    this.scratch(gl.TEXTURE_3D, t);
+    this.scratch(target, t);
     gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-    gl.texImage3D(gl.TEXTURE_3D, 0, gl.RGB32F, w, h, d, 0, gl.RGB, gl.FLOAT, data);
-    this.nearest(gl.TEXTURE_3D);
-    gl.bindTexture(gl.TEXTURE_3D, null);
-    return t;
+    if (dimension === 3) {
+      gl.texImage3D(target, 0, internal, width, height, depth, 0, layout, gl.FLOAT, data);
+    } else {
+      gl.texImage2D(target, 0, internal, width, height, 0, layout, gl.FLOAT, data);
+    }
+    this.nearest(target);
+    gl.bindTexture(target, null);
+    return { target, tex: t };
   }
 
   // Textures are created on unit 7, which no program samples, and unbound afterwards: a texture
@@ -105,40 +98,27 @@ export class Gpu {
     gl.texParameteri(target, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
   }
 
-  // A BRDF's GPU state: from the viewer arrays of a .cbrdf (viewer_tables.cc) or a table.
-  modelBrdf(arrays) {
-    const tab = arrays.tables;
-    return {
-      kind: 'model',
-      tab: this.tableTexture(tab),
-      gen: arrays.generic ? this.volume(arrays.generic) : this.emptyVol,
-      vol: arrays.residual ? this.volume(arrays.residual) : this.emptyVol,
-      generic: tab[4] === 1 ? 1 : 0,
-      residual: tab[2],
-      knee: tab[3],
-    };
+  // A BRDF's GPU state from packGpuTables's output (a model's, or a MERL table's in the
+  // exact-table mode): its textures by sampler name, and its uniform values.
+  brdf(packed) {
+    return { textures: packed.textures.map((t) => ({ uniform: t.uniform, ...this.texture(t) })),
+             uniforms: packed.uniforms };
   }
 
-  tableBrdf(rgbPhysical) {
-    return { kind: 'table', tab: this.emptyTab, gen: this.emptyVol,
-             vol: this.volume(rgbPhysical), generic: 0, residual: 0, knee: 1 };
-  }
-
+  // Binds a BRDF's textures to units 0.. and sets its uniforms (all floats); returns the next
+  // free texture unit.
   bindBrdf(prog, brdf) {
     const { gl } = this;
     const { u } = prog;
-    const units = [[u.uTab, gl.TEXTURE_2D, brdf.tab], [u.uGen, gl.TEXTURE_3D, brdf.gen],
-                   [u.uVol, gl.TEXTURE_3D, brdf.vol]];
-    units.forEach(([loc, target, tex], i) => {
+    brdf.textures.forEach(({ uniform, target, tex }, i) => {
       gl.activeTexture(gl.TEXTURE0 + i);
       gl.bindTexture(target, tex);
-      if (loc) gl.uniform1i(loc, i);
+      if (u[uniform]) gl.uniform1i(u[uniform], i);
     });
-    if (u.uMode) gl.uniform1i(u.uMode, brdf.kind === 'table' ? 1 : 0);
-    if (u.uGeneric) gl.uniform1i(u.uGeneric, brdf.generic);
-    if (u.uResidual) gl.uniform1i(u.uResidual, brdf.residual);
-    if (u.uKnee) gl.uniform1f(u.uKnee, brdf.knee);
-    return 3;  // the next free texture unit
+    for (const [name, value] of Object.entries(brdf.uniforms)) {
+      if (u[name]) gl.uniform1f(u[name], value);
+    }
+    return brdf.textures.length;
   }
 
   target(w, h) {
