@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: MIT
-# `cbrdf view`'s page (viewer/) and cbrdf.wasm + cbrdf.mjs: where the command finds them in the
-# build, and where `cmake --install` puts them (<datadir>/cbrdf/viewer and <datadir>/cbrdf/wasm),
-# so that the installed command serves the page with no --viewer or --wasm. Included by
-# tools/CMakeLists.txt after the cbrdf_cli target.
+# `cbrdf view`'s page (viewer/) and cbrdf.wasm + cbrdf.mjs (with the npm package they belong to):
+# where the command finds them in the build, and where `cmake --install` puts them
+# (<datadir>/cbrdf/viewer and <datadir>/cbrdf/wasm), so that the installed command serves the page
+# with no --viewer or --wasm. Included by tools/CMakeLists.txt after the cbrdf_cli target.
 include(GNUInstallDirs)
 
 # The wasm builds the command and the install look in, first match wins: CBRDF_WASM_BUILD_DIR,
@@ -29,7 +29,8 @@ set_property(SOURCE cli/cmd_view.cc APPEND PROPERTY COMPILE_DEFINITIONS
 # The page: what the browser loads (its README is the source tree's documentation).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/viewer/ DESTINATION ${CBRDF_VIEWER_INSTALL_DIR}
         COMPONENT viewer FILES_MATCHING PATTERN "*.html" PATTERN "*.mjs" PATTERN "*.css")
-# cbrdf.wasm and cbrdf.mjs from the first wasm build that holds both, looked up when installing
+# cbrdf.wasm, cbrdf.mjs and the npm package's other files from the first wasm build that holds the
+# two, looked up when installing
 # (the wasm is built apart, with Emscripten, possibly after this configure). Without one the
 # install goes on and says so; the installed command then names how to build it.
 install(CODE "set(cbrdf_wasm_dirs \"${CBRDF_VIEWER_WASM_DIRS}\")
@@ -43,8 +44,21 @@ install(CODE [[
     endif()
   endforeach()
   if(cbrdf_wasm_from)
+    # With the rest of the npm package the build staged beside them (tools/npm/README.md): the
+    # folder is then the package as `npm pack` packs it.
+    set(cbrdf_wasm_files "")
+    foreach(name cbrdf.wasm cbrdf.mjs cbrdf.d.ts glsl.mjs glsl.d.ts three.mjs three.d.ts
+                 package.json README.md LICENSE)
+      if(EXISTS "${cbrdf_wasm_from}/${name}")
+        list(APPEND cbrdf_wasm_files "${cbrdf_wasm_from}/${name}")
+      endif()
+    endforeach()
     file(INSTALL DESTINATION "${CMAKE_INSTALL_PREFIX}/${cbrdf_wasm_dest}" TYPE FILE
-         FILES "${cbrdf_wasm_from}/cbrdf.wasm" "${cbrdf_wasm_from}/cbrdf.mjs")
+         FILES ${cbrdf_wasm_files})
+    if(IS_DIRECTORY "${cbrdf_wasm_from}/example")
+      file(INSTALL DESTINATION "${CMAKE_INSTALL_PREFIX}/${cbrdf_wasm_dest}" TYPE DIRECTORY
+           FILES "${cbrdf_wasm_from}/example")
+    endif()
   else()
     list(JOIN cbrdf_wasm_dirs ", " cbrdf_tried)
     message(STATUS "cbrdf view: no cbrdf.wasm and cbrdf.mjs in ${cbrdf_tried}: not installed; "

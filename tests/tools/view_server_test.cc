@@ -225,6 +225,8 @@ class ViewServerTest : public ::testing::Test {
     fs::create_directory_symlink(tmp_ / "outside", viewer_ / "out");
     write_bytes(wasm_ / "cbrdf.wasm", std::string("\0asm\1\0\0\0", 8));
     write_bytes(wasm_ / "cbrdf.mjs", "export function load() {}\n");
+    write_bytes(wasm_ / "glsl.mjs", "export const cbrdfGlsl = '';\n");
+    write_bytes(wasm_ / "three.mjs", "export class CbrdfMaterial {}\n");
     small_ = tmp_ / "small.binary";
     std::string bytes(100000, '\0');
     std::mt19937 rng(7);
@@ -266,6 +268,9 @@ TEST_F(ViewServerTest, ServesTheViewerTheWasmAndTheGivenFilesAndNothingElse) {
   EXPECT_EQ(wasm.body, std::string("\0asm\1\0\0\0", 8));
   EXPECT_TRUE(contains(wasm.head, "application/wasm")) << wasm.head;
   EXPECT_EQ(get(port, "/cbrdf.mjs").status, 200);
+  const Reply glsl = get(port, "/glsl.mjs");
+  EXPECT_EQ(glsl.status, 200);
+  EXPECT_EQ(glsl.body, "export const cbrdfGlsl = '';\n");
   const Reply small = get(port, "/files/0");
   EXPECT_EQ(small.status, 200);
   EXPECT_TRUE(small.body == small_bytes_) << small.body.size() << " bytes";
@@ -283,7 +288,7 @@ TEST_F(ViewServerTest, ServesTheViewerTheWasmAndTheGivenFilesAndNothingElse) {
   EXPECT_TRUE(contains(list.body, "\"name\":\"bad\xEF\xBF\xBD\\u0001name.binary\"")) << list.body;
 
   // Nothing outside the allowlist: absolute paths, "..", encoded dots and slashes, a symlink
-  // out of the folder, a file of the wasm folder other than the two, an index out of range.
+  // out of the folder, a file of the wasm folder other than the three, an index out of range.
   for (const char* target : {"//etc/passwd",
                              "//proc/self/cmdline",
                              "/..%2f..%2fetc/passwd",
@@ -303,7 +308,8 @@ TEST_F(ViewServerTest, ServesTheViewerTheWasmAndTheGivenFilesAndNothingElse) {
                              "/small.binary",
                              "/index.html%00.mjs",
                              "/app.mjs/",
-                             "/etc/passwd"}) {
+                             "/etc/passwd",
+                             "/three.mjs"}) {
     const Reply r = get(port, target);
     EXPECT_GE(r.status, 400) << target;
     EXPECT_LT(r.status, 500) << target;
@@ -324,6 +330,17 @@ TEST_F(ViewServerTest, ServesTheViewerTheWasmAndTheGivenFilesAndNothingElse) {
   EXPECT_EQ(get(port, "/..%2f..%2fetc/passwd").status, 400);
   EXPECT_EQ(get(port, "/leak.mjs").status, 404);
   EXPECT_TRUE(view.running());
+}
+
+// A wasm folder staged before the npm package had glsl.mjs: the page could not import its shader,
+// so the command refuses at start-up and names the file.
+TEST_F(ViewServerTest, RefusesAWasmFolderWithoutGlslMjs) {
+  fs::remove(wasm_ / "glsl.mjs");
+  ViewProcess view(args({small_}), tmp_ / "err.txt");
+  EXPECT_EQ(view.port(), 0);
+  EXPECT_NE(view.stop(SIGKILL), 0);
+  EXPECT_TRUE(contains(view.err(), (wasm_ / "glsl.mjs").string())) << view.err();
+  EXPECT_TRUE(contains(view.err(), "tools/wasm/README.md")) << view.err();
 }
 
 TEST_F(ViewServerTest, MalformedRequestsGet4xxAndTheServerGoesOn) {

@@ -2,9 +2,9 @@
 # SPDX-License-Identifier: MIT
 # The installed `cbrdf view` serves the installed page and cbrdf.wasm with no --viewer or --wasm:
 # installs BUILD into a temporary prefix, starts <prefix>/bin/cbrdf view on a free port (with
-# CBRDF_VIEWER_DIR and CBRDF_WASM_DIR unset) and fetches /, /app.mjs, /cbrdf.wasm, /cbrdf.mjs and
-# /files/0, which must be the installed files byte for byte (the installed page and module carry a
-# marker the source tree's do not, so a command serving the build's folders fails). Then, with the
+# CBRDF_VIEWER_DIR and CBRDF_WASM_DIR unset) and fetches /, /app.mjs, /cbrdf.wasm, /cbrdf.mjs,
+# /glsl.mjs and /files/0, which must be the installed files byte for byte (the installed page and
+# modules carry a marker the source tree's do not, so a command serving the build's folders fails). Then, with the
 # installed wasm removed (or none built), the command must refuse with a message naming how to
 # build one. WASM_DIRS: the wasm builds `cmake --install` looks in (cmake/install_viewer.cmake);
 # when one holds cbrdf.wasm and cbrdf.mjs, the install must hold them too.
@@ -14,11 +14,14 @@ usage="usage: installed_view_test.sh BUILD_DIR FILE.cbrdf [WASM_DIRS...]"
 build=${1:?$usage}
 file=${2:?$usage}
 shift 2
+fail() { echo "installed_view_test: FAILED: $*" >&2; exit 1; }
 expect_wasm=0
 for dir in "$@"; do
   if [[ -f $dir/cbrdf.wasm && -f $dir/cbrdf.mjs ]]; then
     expect_wasm=1
     echo "installed_view_test: a wasm build is in $dir: the install must hold it"
+    [[ -f $dir/glsl.mjs ]] || fail "$dir has no glsl.mjs, which the page imports: a wasm build" \
+      "older than the npm package's staging; build it again (cmake --build ${dir%/wasm})"
     break
   fi
 done
@@ -29,7 +32,6 @@ cleanup() {
   rm -rf "$work"
 }
 trap cleanup EXIT
-fail() { echo "installed_view_test: FAILED: $*" >&2; exit 1; }
 unset CBRDF_VIEWER_DIR CBRDF_WASM_DIR
 
 prefix=$work/prefix
@@ -62,9 +64,10 @@ if ((!expect_wasm)); then
   echo "installed_view_test: passed (no wasm build: the page's files not served)"
   exit 0
 fi
-[[ -f $share/wasm/cbrdf.wasm && -f $share/wasm/cbrdf.mjs ]] ||
-  fail "cbrdf.wasm and cbrdf.mjs are not installed in share/cbrdf/wasm: $(grep -i wasm "$work/install.log")"
+[[ -f $share/wasm/cbrdf.wasm && -f $share/wasm/cbrdf.mjs && -f $share/wasm/glsl.mjs ]] ||
+  fail "cbrdf.wasm, cbrdf.mjs and glsl.mjs are not installed in share/cbrdf/wasm: $(ls "$share/wasm" 2>&1)"
 printf '\n// installed\n' >> "$share/wasm/cbrdf.mjs"
+printf '\n// installed\n' >> "$share/wasm/glsl.mjs"
 
 "$prefix/bin/cbrdf" view --no-open --port 0 "$file" > "$work/out" 2> "$work/err" &
 pid=$!
@@ -77,9 +80,9 @@ for _ in $(seq 100); do
 done
 [[ -n $url ]] || fail "the installed cbrdf view printed no address: $(cat "$work/err")"
 # One fetcher for all the paths (a python3 start costs more than the requests).
-paths=(/ /app.mjs /cbrdf.wasm /cbrdf.mjs /files/0)
+paths=(/ /app.mjs /cbrdf.wasm /cbrdf.mjs /glsl.mjs /files/0)
 expected=("$share/viewer/index.html" "$share/viewer/app.mjs" "$share/wasm/cbrdf.wasm"
-          "$share/wasm/cbrdf.mjs" "$file")
+          "$share/wasm/cbrdf.mjs" "$share/wasm/glsl.mjs" "$file")
 python3 -c 'import sys, urllib.request
 for i, path in enumerate(sys.argv[3:]):
     with urllib.request.urlopen(sys.argv[1] + path[1:], timeout=10) as r:

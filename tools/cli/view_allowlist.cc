@@ -93,12 +93,16 @@ Expected<ViewAllowlist> ViewAllowlist::build(const fs::path& viewer_dir, const f
                  "view: the viewer folder " + viewer.string() + " has no regular index.html");
   }
   const fs::path wasm = fs::canonical(wasm_dir, ec);
-  for (const char* name : {"cbrdf.wasm", "cbrdf.mjs"}) {
+  // The npm package's files the page imports (glsl.mjs: the shader's evaluation), not the rest
+  // of the package the wasm build stages beside them.
+  for (const char* name : {"cbrdf.wasm", "cbrdf.mjs", "glsl.mjs"}) {
     std::error_code fec;
     const fs::path real = ec ? fs::path() : fs::canonical(wasm / name, fec);
     if (ec || fec || !fs::is_regular_file(real, fec) || !is_within(real, wasm)) {
       return error(ErrorCode::kNotFound,
-                   "view: " + (wasm_dir / name).string() + " is not a regular file in its folder");
+                   "view: " + (wasm_dir / name).string() +
+                       " is not a regular file in its folder (a wasm build older than the npm "
+                       "package's files? build it again: tools/wasm/README.md)");
     }
     a.by_path_[std::string("/") + name] = ServedFile{real, mime_of(real), wasm};
   }

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // What `cbrdf view` serves, decided once at start-up: the viewer folder's regular files (none
-// whose real path leaves the folder), cbrdf.wasm and cbrdf.mjs from the wasm folder, /files.json
-// and the given files as /files/N. Nothing else is ever looked up on disk from a request.
+// whose real path leaves the folder), cbrdf.wasm, cbrdf.mjs and glsl.mjs from the wasm folder
+// (the npm package's staging folder), /files.json and the given files as /files/N. Nothing else
+// is ever looked up on disk from a request.
 #pragma once
 
 #include <filesystem>
