@@ -1,0 +1,389 @@
+// SPDX-License-Identifier: MIT
+// CbrdfMaterial: a cbrdf model as a three.js material. A ShaderMaterial around cbrdfGlsl
+// (glsl.mjs) lit by three's own lights: directional, point and spot lights evaluate the model,
+// ambient, hemisphere, light-probe and environment light scale its directional albedo.
+import {
+  Data3DTexture, DataTexture, Euler, FloatType, Material, Matrix4, NearestFilter, RGBAFormat,
+  RGBFormat, RedFormat, ShaderMaterial, UniformsLib, UniformsUtils,
+} from 'three';
+import { cbrdfGlsl, kGpuLayout } from './glsl.mjs';
+
+const kFormats = { RGBA32F: RGBAFormat, RGB32F: RGBFormat, R32F: RedFormat };
+
+// Elevations of the albedo table: cos(theta_o) at (i + 0.5) / n.
+const kAlbedoSize = 32;
+
+/**
+ * The directional albedo of a model, integral of f(wi, wo) cos(theta_i) over wi, per outgoing
+ * elevation: Float32Array of 3 n (RGB at cos(theta_o) = (i + 0.5) / n, i = 0..n-1). Estimated by
+ * the model's importance sampling (model.sample) on a jittered grid of `draws` numbers per
+ * elevation, with a fixed seed so that the same file gives the same table.
+ */
+export function cbrdfAlbedo(model, { elevations = kAlbedoSize, draws = 4096 } = {}) {
+  const side = Math.max(1, Math.round(Math.sqrt(draws)));
+  const n = side * side;
+  const wo = new Float64Array(3 * n * elevations);
+  const u = new Float64Array(2 * n * elevations);
+  let seed = 0x9e3779b9;
+  const random = () => {  // xorshift32: reproducible jitter, no dependence on Math.random
+    seed ^= seed << 13; seed >>>= 0;
+    seed ^= seed >>> 17;
+    seed ^= seed << 5; seed >>>= 0;
+    return seed / 4294967296;
+  };
+  for (let e = 0; e < elevations; ++e) {
+    const mu = (e + 0.5) / elevations;
+    for (let k = 0; k < n; ++k) {
+      const j = e * n + k;
+      wo[3 * j] = Math.sqrt(1 - mu * mu);
+      wo[3 * j + 2] = mu;
+      u[2 * j] = ((k % side) + random()) / side;
+      u[2 * j + 1] = (Math.floor(k / side) + random()) / side;
+    }
+  }
+  const { weight } = model.sample(wo, u);
+  const albedo = new Float32Array(3 * elevations);
+  for (let e = 0; e < elevations; ++e) {
+    for (let c = 0; c < 3; ++c) {
+      let sum = 0;
+      for (let k = 0; k < n; ++k) sum += weight[3 * (e * n + k) + c];
+      albedo[3 * e + c] = sum / n;
+    }
+  }
+  return albedo;
+}
+
+const vertexShader = /* glsl */ `
+varying vec3 vViewPosition;
+#include <common>
+#include <batching_pars_vertex>
+#include <fog_pars_vertex>
+#include <normal_pars_vertex>
+#include <morphtarget_pars_vertex>
+#include <skinning_pars_vertex>
+#include <shadowmap_pars_vertex>
+#include <logdepthbuf_pars_vertex>
+#include <clipping_planes_pars_vertex>
+void main() {
+  #include <morphinstance_vertex>
+  #include <batching_vertex>
+  #include <beginnormal_vertex>
+  #include <morphnormal_vertex>
+  #include <skinbase_vertex>
+  #include <skinnormal_vertex>
+  #include <defaultnormal_vertex>
+  #include <normal_vertex>
+  #include <begin_vertex>
+  #include <morphtarget_vertex>
+  #include <skinning_vertex>
+  #include <project_vertex>
+  #include <logdepthbuf_vertex>
+  #include <clipping_planes_vertex>
+  vViewPosition = - mvPosition.xyz;
+  #include <worldpos_vertex>
+  #include <shadowmap_vertex>
+  #include <fog_vertex>
+}
+`;
+
+// Direct lights are gathered into one loop with a single cbrdfEval call site (the function is
+// large and would be inlined once per light type otherwise); shadow maps, whose samplers only
+// constant indices may address, are read before it in three's unrolled loops.
+const fragmentShader = /* glsl */ `
+#define CBRDF_DIRECT_LIGHTS (NUM_DIR_LIGHTS + NUM_SUN_LIGHTS + NUM_POINT_LIGHTS + NUM_SPOT_LIGHTS)
+uniform float opacity;
+uniform float cbrdfIntensity;
+uniform vec3 cbrdfAlbedo[CBRDF_ALBEDO_SIZE];
+varying vec3 vViewPosition;
+#include <common>
+#include <dithering_pars_fragment>
+#include <envmap_common_pars_fragment>
+#include <envmap_physical_pars_fragment>
+#include <fog_pars_fragment>
+#include <lights_pars_begin>
+#include <normal_pars_fragment>
+#include <shadowmap_pars_fragment>
+#include <logdepthbuf_pars_fragment>
+#include <clipping_planes_pars_fragment>
+${cbrdfGlsl}
+
+// Light k of the direct lights: directional, sun, point, then spot lights.
+void cbrdfDirectLight(int k, vec3 position, out IncidentLight light) {
+  light.visible = false;
+#if NUM_DIR_LIGHTS > 0
+  if (k < NUM_DIR_LIGHTS) { getDirectionalLightInfo(directionalLights[k], light); return; }
+  k -= NUM_DIR_LIGHTS;
+#endif
+#if NUM_SUN_LIGHTS > 0
+  if (k < NUM_SUN_LIGHTS) { getSunLightInfo(sunLights[k], light); return; }
+  k -= NUM_SUN_LIGHTS;
+#endif
+#if NUM_POINT_LIGHTS > 0
+  if (k < NUM_POINT_LIGHTS) { getPointLightInfo(pointLights[k], position, light); return; }
+  k -= NUM_POINT_LIGHTS;
+#endif
+#if NUM_SPOT_LIGHTS > 0
+  if (k < NUM_SPOT_LIGHTS) getSpotLightInfo(spotLights[k], position, light);
+#endif
+}
+
+// The albedo table at cos(theta_o), linear between its elevations.
+vec3 cbrdfAlbedoAt(float mu) {
+  float x = clamp(mu * float(CBRDF_ALBEDO_SIZE) - 0.5, 0.0, float(CBRDF_ALBEDO_SIZE - 1));
+  int i = min(int(x), CBRDF_ALBEDO_SIZE - 2);
+  return mix(cbrdfAlbedo[i], cbrdfAlbedo[i + 1], x - float(i));
+}
+
+void main() {
+  #include <clipping_planes_fragment>
+  #include <logdepthbuf_fragment>
+  #include <normal_fragment_begin>
+  vec3 geometryPosition = - vViewPosition;
+  vec3 viewDir = isOrthographic ? vec3(0.0, 0.0, 1.0) : normalize(vViewPosition);
+
+  // The local frame: z the normal, x the view direction made orthogonal to it (Gram-Schmidt), so
+  // wo lies in the xz plane; the model is isotropic, only the normal matters. Where the view is
+  // along the normal any tangent will do. An interpolated normal turned slightly away from the
+  // camera (at silhouettes) sees the surface at grazing angle rather than from below.
+  float nv = dot(normal, viewDir);
+  vec3 tangent = viewDir - normal * nv;
+  if (dot(tangent, tangent) < 1e-10) {
+    tangent = abs(normal.x) < 0.9 ? vec3(1.0, 0.0, 0.0) - normal * normal.x
+                                  : vec3(0.0, 1.0, 0.0) - normal * normal.y;
+  }
+  tangent = normalize(tangent);
+  vec3 bitangent = cross(normal, tangent);
+  float woz = max(nv, 1e-3);
+  vec3 wo = vec3(sqrt(1.0 - woz * woz), 0.0, woz);
+
+  vec3 radiance = vec3(0.0);
+#if CBRDF_DIRECT_LIGHTS > 0
+  float shadow[CBRDF_DIRECT_LIGHTS];
+  for (int k = 0; k < CBRDF_DIRECT_LIGHTS; ++k) shadow[k] = 1.0;
+  #if defined(USE_SHADOWMAP) && NUM_DIR_LIGHT_SHADOWS > 0
+  DirectionalLightShadow directionalLightShadow;
+  #pragma unroll_loop_start
+  for ( int i = 0; i < NUM_DIR_LIGHT_SHADOWS; i ++ ) {
+    directionalLightShadow = directionalLightShadows[ i ];
+    shadow[ i ] = receiveShadow ? getShadow( directionalShadowMap[ i ], directionalLightShadow.shadowMapSize, directionalLightShadow.shadowIntensity, directionalLightShadow.shadowBias, directionalLightShadow.shadowRadius, vDirectionalShadowCoord[ i ] ) : 1.0;
+  }
+  #pragma unroll_loop_end
+  #endif
+  #if defined(USE_SHADOWMAP) && NUM_SUN_LIGHT_SHADOWS > 0
+  SunLightShadow sunLightShadow;
+  #pragma unroll_loop_start
+  for ( int i = 0; i < NUM_SUN_LIGHT_SHADOWS; i ++ ) {
+    sunLightShadow = sunLightShadows[ i ];
+    shadow[ NUM_DIR_LIGHTS + UNROLLED_LOOP_INDEX ] = receiveShadow ? getSunShadow( sunShadowMap[ i ], sunLightShadow, UNROLLED_LOOP_INDEX ) : 1.0;
+  }
+  #pragma unroll_loop_end
+  #endif
+  #if defined(USE_SHADOWMAP) && NUM_POINT_LIGHT_SHADOWS > 0 && (defined(SHADOWMAP_TYPE_PCF) || defined(SHADOWMAP_TYPE_BASIC))
+  PointLightShadow pointLightShadow;
+  #pragma unroll_loop_start
+  for ( int i = 0; i < NUM_POINT_LIGHT_SHADOWS; i ++ ) {
+    pointLightShadow = pointLightShadows[ i ];
+    shadow[ NUM_DIR_LIGHTS + NUM_SUN_LIGHTS + UNROLLED_LOOP_INDEX ] = receiveShadow ? getPointShadow( pointShadowMap[ i ], pointLightShadow.shadowMapSize, pointLightShadow.shadowIntensity, pointLightShadow.shadowBias, pointLightShadow.shadowRadius, vPointShadowCoord[ i ], pointLightShadow.shadowCameraNear, pointLightShadow.shadowCameraFar ) : 1.0;
+  }
+  #pragma unroll_loop_end
+  #endif
+  #if defined(USE_SHADOWMAP) && NUM_SPOT_LIGHT_SHADOWS > 0
+  SpotLightShadow spotLightShadow;
+  #pragma unroll_loop_start
+  for ( int i = 0; i < NUM_SPOT_LIGHT_SHADOWS; i ++ ) {
+    spotLightShadow = spotLightShadows[ i ];
+    shadow[ NUM_DIR_LIGHTS + NUM_SUN_LIGHTS + NUM_POINT_LIGHTS + UNROLLED_LOOP_INDEX ] = receiveShadow ? getShadow( spotShadowMap[ i ], spotLightShadow.shadowMapSize, spotLightShadow.shadowIntensity, spotLightShadow.shadowBias, spotLightShadow.shadowRadius, vSpotLightCoord[ i ] ) : 1.0;
+  }
+  #pragma unroll_loop_end
+  #endif
+  for (int k = 0; k < CBRDF_DIRECT_LIGHTS; ++k) {
+    IncidentLight light;
+    cbrdfDirectLight(k, geometryPosition, light);
+    vec3 wi = vec3(dot(light.direction, tangent), dot(light.direction, bitangent),
+                   dot(light.direction, normal));
+    if (!light.visible || wi.z <= 0.0) continue;
+    radiance += cbrdfEval(normalize(wi), wo) * wi.z * light.color * shadow[k];
+  }
+#endif
+
+  // Light from all around (ambient, hemisphere, probes, the environment's irradiance) reflects by
+  // the directional albedo: exact for light of the same radiance from every direction.
+  vec3 irradiance = getAmbientLightIrradiance(ambientLightColor);
+#if defined(USE_LIGHT_PROBES)
+  irradiance += getLightProbeIrradiance(lightProbe, normal);
+#endif
+#if NUM_HEMI_LIGHTS > 0
+  #pragma unroll_loop_start
+  for ( int i = 0; i < NUM_HEMI_LIGHTS; i ++ ) {
+    irradiance += getHemisphereLightIrradiance( hemisphereLights[ i ], normal );
+  }
+  #pragma unroll_loop_end
+#endif
+#if defined(USE_ENVMAP)
+  irradiance += getIBLIrradiance(normal);
+#endif
+  radiance += cbrdfAlbedoAt(wo.z) * irradiance * RECIPROCAL_PI;
+
+  vec3 outgoingLight = radiance * cbrdfIntensity;
+  vec4 diffuseColor = vec4(1.0, 1.0, 1.0, opacity);
+  #include <opaque_fragment>
+  #include <tonemapping_fragment>
+  #include <colorspace_fragment>
+  #include <fog_fragment>
+  #include <premultiplied_alpha_fragment>
+  #include <dithering_fragment>
+}
+`;
+
+function isTables(t) {
+  return t !== null && typeof t === 'object' && Array.isArray(t.textures) &&
+         t.uniforms !== null && typeof t.uniforms === 'object';
+}
+
+function threeTexture(t) {
+  const format = kFormats[t.format];
+  if (format === undefined) {
+    throw new Error(`CbrdfMaterial: texture ${t.uniform} has format ${t.format}; ` +
+                    `this three.mjs knows ${Object.keys(kFormats).join(', ')}`);
+  }
+  const tex = t.dimension === 3
+    ? new Data3DTexture(t.data, t.width, t.height, t.depth)
+    : new DataTexture(t.data, t.width, t.height);
+  tex.format = format;
+  tex.type = FloatType;
+  tex.internalFormat = t.format;  // three alone would ask for an unsized RGB float texture
+  tex.minFilter = tex.magFilter = NearestFilter;
+  tex.generateMipmaps = false;
+  tex.flipY = false;
+  tex.unpackAlignment = 1;
+  tex.needsUpdate = true;
+  return tex;
+}
+
+const _euler = new Euler();
+const _matrix = new Matrix4();
+
+/**
+ * A cbrdf model as a three.js material (WebGLRenderer, WebGL2). Options: `model` (an open cbrdf
+ * Model) or `tables` (its gpuTables()) with `albedo` (cbrdfAlbedo(model), or null for no
+ * response to ambient and environment light); `intensity` (scales the reflected radiance,
+ * default 1); `envMap` (a PMREM texture) and `envMapIntensity`, `envMapRotation`; and any
+ * ShaderMaterial parameter (side, transparent, opacity, ...). See three.d.ts.
+ */
+export class CbrdfMaterial extends ShaderMaterial {
+  constructor(options = {}) {
+    const { model, tables: given, albedo: givenAlbedo, intensity = 1, envMap = null,
+            envMapIntensity = 1, envMapRotation = null, ...rest } = options;
+    let tables = given;
+    let albedo = givenAlbedo;
+    if (model !== undefined && model !== null) {
+      if (given !== undefined) throw new TypeError('CbrdfMaterial: give model or tables, not both');
+      if (typeof model.gpuTables !== 'function' || typeof model.sample !== 'function') {
+        throw new TypeError('CbrdfMaterial: options.model must be a cbrdf Model (open(bytes))');
+      }
+      try {
+        tables = model.gpuTables();
+        if (albedo === undefined) albedo = cbrdfAlbedo(model);
+      } catch (e) {
+        e.message = `CbrdfMaterial: ${e.message}`;  // e.g. a model used after free()
+        throw e;
+      }
+    } else if (!isTables(given)) {
+      throw new TypeError('CbrdfMaterial: needs options.model (a cbrdf Model) or options.tables ' +
+                          '(model.gpuTables())');
+    } else if (albedo === undefined) {
+      throw new TypeError('CbrdfMaterial: options.tables needs options.albedo too ' +
+                          '(cbrdfAlbedo(model) before the model is freed, or null: no ambient ' +
+                          'or environment light)');
+    }
+    if (tables.layout !== kGpuLayout) {
+      throw new Error(`CbrdfMaterial: GPU tables of layout ${tables.layout}; this cbrdfGlsl ` +
+                      `reads layout ${kGpuLayout} (cbrdf.mjs and three.mjs of different versions)`);
+    }
+    if (albedo === null) albedo = new Float32Array(3 * kAlbedoSize);
+    if (!(albedo instanceof Float32Array) || albedo.length < 6 || albedo.length % 3 !== 0) {
+      throw new TypeError('CbrdfMaterial: options.albedo must be a Float32Array of RGB per ' +
+                          'elevation (cbrdfAlbedo(model))');
+    }
+    if (envMap !== null && envMap.isPMREMTexture !== true) {
+      throw new TypeError('CbrdfMaterial: envMap must be a PMREM texture ' +
+                          '(new PMREMGenerator(renderer).fromEquirectangular(texture).texture)');
+    }
+
+    const uniforms = UniformsUtils.merge([UniformsLib.envmap, UniformsLib.fog, UniformsLib.lights,
+                                          { opacity: { value: 1 } }]);
+    // Added after the merge, which would copy the textures.
+    const textures = tables.textures.map(threeTexture);
+    tables.textures.forEach((t, i) => { uniforms[t.uniform] = { value: textures[i] }; });
+    for (const [name, value] of Object.entries(tables.uniforms)) uniforms[name] = { value };
+    uniforms.cbrdfIntensity = { value: intensity };
+    uniforms.cbrdfAlbedo = { value: albedo };
+
+    super({ ...rest, uniforms, vertexShader, fragmentShader, lights: true,
+            fog: true, clipping: true });
+    this.defines.CBRDF_ALBEDO_SIZE = albedo.length / 3;
+    this.isCbrdfMaterial = true;
+    this.type = 'CbrdfMaterial';
+    this.cbrdfTables = tables;
+    this.cbrdfTextures = textures;
+    this.envMap = envMap;  // three reads it to compile the environment's code
+    this.envMapIntensity = envMapIntensity;
+    this.envMapRotation = envMapRotation ?? new Euler();
+    this.checked = null;
+  }
+
+  /** Scales the reflected radiance (1: physical units, radiance = f cos(theta_i) E). */
+  get intensity() { return this.uniforms.cbrdfIntensity.value; }
+  set intensity(v) { this.uniforms.cbrdfIntensity.value = v; }
+
+  onBeforeRender(renderer) {
+    if (this.checked !== renderer) this.check(renderer);
+    const u = this.uniforms;
+    u.opacity.value = this.opacity;
+    u.envMap.value = this.envMap;
+    u.envMapIntensity.value = this.envMapIntensity;
+    if (this.envMap) {
+      // WebGLMaterials' rotation for a PMREM map (a render target: no cube-map flip).
+      _euler.copy(this.envMapRotation);
+      u.envMapRotation.value.setFromMatrix4(_matrix.makeRotationFromEuler(_euler)).transpose();
+    }
+  }
+
+  // What the GPU must offer, checked once per renderer, before three compiles the program.
+  check(renderer) {
+    if (renderer.isWebGLRenderer !== true) {
+      throw new Error('CbrdfMaterial is a WebGL material: it needs three\'s WebGLRenderer');
+    }
+    const gl = renderer.getContext();
+    if (typeof WebGL2RenderingContext === 'undefined' || !(gl instanceof WebGL2RenderingContext)) {
+      throw new Error('CbrdfMaterial needs WebGL2 (3D and 32-bit float textures)');
+    }
+    const max2d = gl.getParameter(gl.MAX_TEXTURE_SIZE), max3d = gl.getParameter(gl.MAX_3D_TEXTURE_SIZE);
+    for (const t of this.cbrdfTextures) {
+      const img = t.image;
+      const limit = t.isData3DTexture ? max3d : max2d;
+      if (Math.max(img.width, img.height, img.depth ?? 1) > limit) {
+        throw new Error(`CbrdfMaterial: a ${img.width} x ${img.height} x ${img.depth ?? 1} ` +
+                        `texture exceeds this GPU's limit of ${limit} texels a side`);
+      }
+    }
+    this.checked = renderer;
+  }
+
+  // A material of its own textures (ShaderMaterial.copy would share uniforms' values by clone).
+  clone() {
+    const m = new this.constructor({ tables: this.cbrdfTables, albedo: this.uniforms.cbrdfAlbedo.value,
+                                     intensity: this.intensity, envMap: this.envMap,
+                                     envMapIntensity: this.envMapIntensity,
+                                     envMapRotation: this.envMapRotation.clone() });
+    Material.prototype.copy.call(m, this);
+    return m;
+  }
+
+  dispose() {
+    for (const t of this.cbrdfTextures) t.dispose();
+    super.dispose();
+  }
+}
+
+export { cbrdfGlsl, kGpuLayout };
