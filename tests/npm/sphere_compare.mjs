@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: MIT
+// The package test's comparison: which pixels lie inside the sphere, and the PSNR there.
+
+// Pixels whose centre ray (`cbrdf render`'s perspective camera, tools/render/integrator.cc, looking
+// at the origin with +y up) meets the sphere at the origin where n.v >= minCos: away from the
+// silhouette, where a tessellated sphere's outline and normals depart from the true sphere's
+// (minCos 0.2 leaves out a rim of about 2 pixels here). 1 inside, 0 elsewhere, row 0 at the top.
+export function interiorMask({ width, height, position, fovDeg, radius }, minCos = 0.2) {
+  const len = Math.hypot(...position);
+  const fwd = position.map((v) => -v / len);
+  // right = normalize(forward x (0, 1, 0)), up = right x forward
+  let right = [-fwd[2], 0, fwd[0]];
+  const rl = Math.hypot(...right);
+  right = right.map((v) => v / rl);
+  const up = [right[1] * fwd[2] - right[2] * fwd[1], right[2] * fwd[0] - right[0] * fwd[2],
+              right[0] * fwd[1] - right[1] * fwd[0]];
+  const tanHalf = Math.tan((fovDeg * Math.PI) / 360), aspect = width / height;
+  const mask = new Uint8Array(width * height);
+  for (let y = 0; y < height; ++y) {
+    for (let x = 0; x < width; ++x) {
+      const sx = (((x + 0.5) / width) * 2 - 1) * aspect * tanHalf, sy = (1 - ((y + 0.5) / height) * 2) * tanHalf;
+      let d = [0, 1, 2].map((k) => fwd[k] + right[k] * sx + up[k] * sy);
+      const dl = Math.hypot(...d);
+      d = d.map((v) => v / dl);
+      // |o + t d| = r: t^2 + 2 (o.d) t + |o|^2 - r^2 = 0, the nearer root.
+      const b = position[0] * d[0] + position[1] * d[1] + position[2] * d[2];
+      const disc = b * b - (len * len - radius * radius);
+      if (disc < 0) continue;
+      const t = -b - Math.sqrt(disc);
+      const n = [0, 1, 2].map((k) => (position[k] + t * d[k]) / radius);
+      if (-(n[0] * d[0] + n[1] * d[1] + n[2] * d[2]) >= minCos) mask[y * width + x] = 1;
+    }
+  }
+  return mask;
+}
+
+// `got` against `ref` (RGB float arrays) over the masked pixels: { psnr, peak } with the
+// reference's largest value there as the peak and the MSE over all three channels; `channels`,
+// each channel's PSNR with its own peak; `ratios`, each channel's sum in `got` over its sum in
+// `ref` (a scale error, which a PSNR against the peak forgives when the highlight is small).
+export function compare(ref, got, mask) {
+  const se = [0, 0, 0], peaks = [0, 0, 0], sums = [0, 0, 0], refSums = [0, 0, 0];
+  let n = 0;
+  for (let i = 0; i < mask.length; ++i) {
+    if (!mask[i]) continue;
+    ++n;
+    for (let c = 0; c < 3; ++c) {
+      const r = ref[3 * i + c], g = got[3 * i + c];
+      // A NaN or infinity in the render is an error, not a small difference.
+      se[c] += Number.isFinite(g) ? (r - g) ** 2 : Infinity;
+      peaks[c] = Math.max(peaks[c], r);
+      sums[c] += g;
+      refSums[c] += r;
+    }
+  }
+  if (n === 0) throw new Error('psnr: no pixel inside the mask');
+  const peak = Math.max(...peaks);
+  const db = (p, mse) => (mse === 0 ? Infinity : 10 * Math.log10((p * p) / mse));
+  return { psnr: db(peak, (se[0] + se[1] + se[2]) / (3 * n)), peak,
+           channels: se.map((s, c) => db(peaks[c], s / n)),
+           ratios: sums.map((s, c) => (s === refSums[c] ? 1 : s / refSums[c])) };
+}
