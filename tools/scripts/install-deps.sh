@@ -9,7 +9,8 @@
 #   python     the Python module (pip install ., cmake --preset python) and its tests
 #   docs       the API reference (cmake --build build --target docs) on top of main
 #   wasm       cbrdf.wasm (cmake --preset wasm, tools/wasm) and its node tests
-#   browser    the headless chromium tests (the report page, the viewer: tests/viewer's npm ci)
+#   browser    the headless chromium tests and the npm package's (the report page, the viewer,
+#              tests/npm: npm ci in tests/viewer and tests/npm/types)
 #   test       everything CI runs (tools/scripts/run-tests.sh): all of the above and the test,
 #              sanitizer, fuzzing, benchmark and ABI tools
 # With no PURPOSE: test, everything.
@@ -86,13 +87,17 @@ if wants wasm; then
   echo "install-deps: zstd's sources for cbrdf.wasm in $("${fetch[@]}")"
 fi
 
-# The viewer's browser tests (tests/viewer) drive chromium with puppeteer-core, pinned in
-# tests/viewer/package-lock.json: installed there with npm.
+# The tests' npm packages, each pinned by its package-lock.json and installed there with npm ci
+# (when npm ls finds one missing): the viewer's browser tests (tests/viewer: puppeteer-core), the
+# npm package's type check (tests/npm/types: typescript, @types/three; about 5 s).
 if wants browser; then
-  dir=$(cd "$here/../../tests/viewer" && pwd)
-  if ! (cd "$dir" && npm ls puppeteer-core >/dev/null 2>&1); then
-    echo "install-deps: npm ci in tests/viewer"
-    (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
-  fi
+  for rel in tests/viewer tests/npm/types; do
+    dir=$(cd "$here/../.." && pwd)/$rel
+    [[ -f $dir/package-lock.json ]] || continue
+    if ! (cd "$dir" && npm ls --depth=0 >/dev/null 2>&1); then
+      echo "install-deps: npm ci in $rel"
+      (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+    fi
+  done
 fi
 ((${#missing[@]} == 0)) || echo "install-deps: done"
