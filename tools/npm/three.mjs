@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // CbrdfMaterial: a cbrdf model as a three.js material. A ShaderMaterial around cbrdfGlsl
 // (glsl.mjs) lit by three's own lights: directional, point and spot lights evaluate the model,
-// ambient, hemisphere, light-probe and environment light scale its directional albedo.
+// ambient, hemisphere, light-probe and environment light scale its directional albedo
+// (cbrdfAlbedo).
 import {
   Data3DTexture, DataTexture, Euler, FloatType, Material, Matrix4, NearestFilter, RGBAFormat,
   RGBFormat, RedFormat, ShaderMaterial, UniformsLib, UniformsUtils,
@@ -14,40 +15,48 @@ const kFormats = { RGBA32F: RGBAFormat, RGB32F: RGBFormat, R32F: RedFormat };
 const kAlbedoSize = 32;
 
 /**
- * The directional albedo of a model, integral of f(wi, wo) cos(theta_i) over wi, per outgoing
- * elevation: Float32Array of 3 n (RGB at cos(theta_o) = (i + 0.5) / n, i = 0..n-1). Estimated by
- * the model's importance sampling (model.sample) on a jittered grid of `draws` numbers per
- * elevation, with a fixed seed so that the same file gives the same table.
+ * The directional albedo of a model, the integral of f(wi, wo) cos(theta_i) over wi, per outgoing
+ * elevation: Float32Array of 3 n (RGB at cos(theta_o) = (i + 0.5) / n, i = 0..n-1). A midpoint
+ * quadrature over the half vector h (wi = h reflecting wo) with theta_h spaced as the MERL grid's
+ * (theta_h = t^2 pi / 2: fine where specular peaks are) and `steps` x 2 `steps` points: the same
+ * table for the same file, by model.eval alone.
  */
-export function cbrdfAlbedo(model, { elevations = kAlbedoSize, draws = 4096 } = {}) {
-  const side = Math.max(1, Math.round(Math.sqrt(draws)));
-  const n = side * side;
-  const wo = new Float64Array(3 * n * elevations);
-  const u = new Float64Array(2 * n * elevations);
-  let seed = 0x9e3779b9;
-  const random = () => {  // xorshift32: reproducible jitter, no dependence on Math.random
-    seed ^= seed << 13; seed >>>= 0;
-    seed ^= seed >>> 17;
-    seed ^= seed << 5; seed >>>= 0;
-    return seed / 4294967296;
-  };
-  for (let e = 0; e < elevations; ++e) {
-    const mu = (e + 0.5) / elevations;
-    for (let k = 0; k < n; ++k) {
-      const j = e * n + k;
-      wo[3 * j] = Math.sqrt(1 - mu * mu);
-      wo[3 * j + 2] = mu;
-      u[2 * j] = ((k % side) + random()) / side;
-      u[2 * j + 1] = (Math.floor(k / side) + random()) / side;
-    }
-  }
-  const { weight } = model.sample(wo, u);
+export function cbrdfAlbedo(model, { elevations = kAlbedoSize, steps = 90 } = {}) {
+  const nt = steps, np = 2 * steps, n = nt * np;
+  const wi = new Float64Array(3 * n), wo = new Float64Array(3 * n), weight = new Float64Array(n);
   const albedo = new Float32Array(3 * elevations);
   for (let e = 0; e < elevations; ++e) {
+    const mu = (e + 0.5) / elevations, so = Math.sqrt(1 - mu * mu);
+    for (let a = 0; a < nt; ++a) {
+      const t = (a + 0.5) / nt, th = 0.5 * Math.PI * t * t;
+      const sh = Math.sin(th), ch = Math.cos(th);
+      // d omega_i = 4 (wo . h) d omega_h, d omega_h = sin theta_h (pi t dt) dphi.
+      const area = sh * (Math.PI * t / nt) * (2 * Math.PI / np);
+      for (let b = 0; b < np; ++b) {
+        const k = a * np + b, ph = (b + 0.5) * (2 * Math.PI / np);
+        const hx = sh * Math.cos(ph), hy = sh * Math.sin(ph);
+        const d = so * hx + mu * ch;
+        const x = 2 * d * hx - so, y = 2 * d * hy, z = 2 * d * ch - mu;
+        const len = Math.hypot(x, y, z);
+        wo[3 * k] = so;
+        wo[3 * k + 2] = mu;
+        if (d <= 0 || z <= 0) {  // wi below the horizon: no contribution (eval gives 0 there)
+          wi[3 * k] = wi[3 * k + 1] = 0;
+          wi[3 * k + 2] = 1;
+          weight[k] = 0;
+          continue;
+        }
+        wi[3 * k] = x / len;
+        wi[3 * k + 1] = y / len;
+        wi[3 * k + 2] = z / len;
+        weight[k] = (z / len) * 4 * d * area;
+      }
+    }
+    const f = model.eval(wi, wo);
     for (let c = 0; c < 3; ++c) {
       let sum = 0;
-      for (let k = 0; k < n; ++k) sum += weight[3 * (e * n + k) + c];
-      albedo[3 * e + c] = sum / n;
+      for (let k = 0; k < n; ++k) sum += f[3 * k + c] * weight[k];
+      albedo[3 * e + c] = sum;
     }
   }
   return albedo;
@@ -310,8 +319,8 @@ export class CbrdfMaterial extends ShaderMaterial {
                           '(new PMREMGenerator(renderer).fromEquirectangular(texture).texture)');
     }
 
-    const uniforms = UniformsUtils.merge([UniformsLib.envmap, UniformsLib.fog, UniformsLib.lights,
-                                          { opacity: { value: 1 } }]);
+      const uniforms = UniformsUtils.merge([UniformsLib.envmap, UniformsLib.fog, UniformsLib.lights,
+                                          { opacity: { value: 1 }, envMapIntensity: { value: 1 } }]);
     // Added after the merge, which would copy the textures.
     const textures = tables.textures.map(threeTexture);
     tables.textures.forEach((t, i) => { uniforms[t.uniform] = { value: textures[i] }; });
