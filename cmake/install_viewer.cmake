@@ -48,7 +48,7 @@ install(CODE [[
     # folder is then the package as `npm pack` packs it.
     set(cbrdf_wasm_files "")
     foreach(name cbrdf.wasm cbrdf.mjs cbrdf.d.ts glsl.mjs glsl.d.ts three.mjs three.d.ts
-                 package.json README.md LICENSE)
+                 package.json README.md LICENSE LICENSE.zstd)
       if(EXISTS "${cbrdf_wasm_from}/${name}")
         list(APPEND cbrdf_wasm_files "${cbrdf_wasm_from}/${name}")
       endif()

@@ -2,8 +2,9 @@
 # SPDX-License-Identifier: MIT
 # Packs the npm package `cbrdf` from a wasm build's staging folder (WASM_BUILD/wasm, filled by the
 # build: tools/wasm/CMakeLists.txt) into OUT/cbrdf-<version>.tgz with `npm pack`, and fails unless
-# the tarball holds exactly the package's files: package.json, README.md, LICENSE, cbrdf.wasm, the
-# three modules and their declarations, and tools/npm/example/'s files. Prints the tarball's path.
+# the tarball holds exactly the package's files: package.json, README.md, LICENSE, LICENSE.zstd,
+# cbrdf.wasm, the three modules and their declarations, and tools/npm/example/'s files. Prints the
+# tarball's path.
 #   usage: tools/npm/pack.sh WASM_BUILD OUT
 set -euo pipefail
 usage="usage: pack.sh WASM_BUILD OUT"
@@ -18,13 +19,14 @@ command -v npm > /dev/null || fail "npm not found (Debian: npm, or Node.js's own
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 
-expected=(package.json README.md LICENSE cbrdf.wasm cbrdf.mjs cbrdf.d.ts glsl.mjs glsl.d.ts
-          three.mjs three.d.ts)
+expected=(package.json README.md LICENSE LICENSE.zstd cbrdf.wasm cbrdf.mjs cbrdf.d.ts glsl.mjs
+          glsl.d.ts three.mjs three.d.ts)
 if [[ -d $here/example ]]; then
   while IFS= read -r f; do expected+=("example/$f"); done < <(cd "$here/example" && find . -type f -printf '%P\n')
 fi
 for f in "${expected[@]}"; do
-  [[ -f $stage/$f ]] || fail "$stage/$f is missing: rebuild the wasm build (cmake --build $build)"
+  [[ -f $stage/$f ]] || fail "$stage/$f is missing: the build stages it from tools/npm or tools/wasm" \
+    "(cmake --build $build)"
 done
 
 json=$(cd "$stage" && npm pack --json --pack-destination "$out" --loglevel=error \
@@ -37,6 +39,7 @@ read -r tgz size unpacked <<< "$(head -n 1 <<< "$listing")"
 got=$(tail -n +2 <<< "$listing" | sort)
 want=$(printf '%s\n' "${expected[@]}" | sort)
 if [[ $got != "$want" ]]; then
+  rm -f "${out:?}/$tgz"
   fail "$tgz does not hold exactly the package's files:
 $(diff <(echo "$want") <(echo "$got") | grep '^[<>]' | sed 's/^</  missing:/; s/^>/  extra:  /')"
 fi
