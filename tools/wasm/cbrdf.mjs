@@ -1,26 +1,35 @@
 // SPDX-License-Identifier: MIT
 // cbrdf's decoder in WebAssembly: open a .cbrdf file held in memory, describe it, evaluate it,
-// sample it and write its full MERL table, from JavaScript (node or a browser).
+// sample it, write its full MERL table and hand its GPU tables to a shader, from JavaScript (node
+// or a browser).
 //
 //   import { open } from './cbrdf.mjs';
 //   const model = await open(bytes);            // Uint8Array / ArrayBuffer of a .cbrdf file
 //   model.info();                               // { slices, bits, ..., sliceList, metadata }
 //   model.eval([0, 0, 1], [0.6, 0, 0.8]);       // [r, g, b] (1/sr)
 //   model.eval(wi, wo);                         // n pairs: Float64Array/Float32Array of 3n
+//   model.eval(wi, wo, out);                    // the same into out (3n), without allocating
 //   model.sample(wo, u);                        // { wi, pdf, weight }
 //   model.pdf(wi, wo);                          // the sampler's density of wi given wo
 //   model.table();                              // Float64Array, a MERL .binary's values
+//   model.gpuTables();                          // textures and uniforms for cbrdfGlsl (glsl.mjs)
+//   model.facts(); model.sliceMarginals(s, c);  // the file's layout; a slice's marginals
 //   model.free();                               // its memory is returned now
 //   await withModel(bytes, (m) => m.eval(wi, wo));  // opens, runs, frees in finally
 //
 // Every call goes to the C API (cbrdf/cbrdf_c.h) compiled into cbrdf.wasm (tools/wasm/README.md),
-// so results are the native library's. A failure throws a CbrdfError carrying the C API's code
+// so results are the native library's; the GPU tables, facts and marginals come from the module's
+// cbrdf_viewer_* calls (viewer_tables.cc). A failure throws a CbrdfError carrying the C API's code
 // (err.code, a cbrdf_status number; err.status, its name such as "checksum") and message. Sizes
 // and array lengths are checked here before anything is allocated in the module; memory is
 // returned by free(), withModel or Symbol.dispose, and by the finalizer only as a best effort
 // (README: Memory).
 // cbrdf.wasm is a standalone module (no Emscripten JavaScript runtime): it imports only a memory
 // growth notice and a few WASI calls (exit; output, environment with some builds), supplied here.
+import { packGpuTables } from './glsl.mjs';
+
+// The GPU evaluation (glsl.mjs) from this module too, so that one import serves a renderer.
+export { cbrdfGlsl, kGpuLayout, packGpuTables } from './glsl.mjs';
 
 const kInfoFields = [
   'versionMajor', 'versionMinor', 'slices', 'maxComponents', 'bits', 'fileBytes',
@@ -35,6 +44,11 @@ const kInvalidArgument = 9, kInternal = 11;  // cbrdf_status
 const kMaxBytes = 2 ** 31;
 // Statuses of this module's own, beside the C API's names (err.code stays a cbrdf_status).
 const kOutOfMemory = 'out-of-memory', kAborted = 'aborted';
+// Batch calls reuse one block of the module's heap per instance, kept between calls up to this
+// size (116,508 pairs of eval); a larger call allocates its own and frees it.
+const kScratchKeep = 8 << 20;
+// cbrdf_viewer_slice's output: 90 theta_h, 180 phi_d and 90 theta_d masses, a 90 x 180 copula.
+const kSliceFloats = 360 + 90 * 180;
 
 // An error of the C API: code (cbrdf_status), status (its name) and the C API's message. Two
 // statuses are this module's: "out-of-memory" (code CBRDF_ERROR_INTERNAL, as the C API reports
@@ -90,14 +104,17 @@ class Runtime {
     this.decoder = new TextDecoder();
     this.failure = null;  // the CbrdfError that stopped the instance (stop())
     this.liveModels = 0;  // opened and not yet freed
+    this.scratchPtr = 0;  // withScratch's block, scratchSize bytes
+    this.scratchSize = 0;
     // Every exported function through enter(), so that a trap or exit stops the instance.
     this.x = {};
     for (const [name, value] of Object.entries(instance.exports)) {
       this.x[name] = typeof value === 'function' ? (...args) => this.enter(value, args) : value;
     }
-    // A model dropped without free() is freed when collected: a best effort only (README).
+    // A model dropped without free() is freed when collected: a best effort only (README). The
+    // registry holds the model's handles (an object the model shares), not the model.
     this.registry = typeof FinalizationRegistry === 'function'
-      ? new FinalizationRegistry((handle) => this.release(handle, null))
+      ? new FinalizationRegistry((handles) => this.release(handles, null))
       : null;
   }
 
@@ -134,6 +151,7 @@ class Runtime {
 
   bytes() { return new Uint8Array(this.memory.buffer); }  // fresh: memory may have grown
   f64(ptr, n) { return new Float64Array(this.memory.buffer, ptr, n); }
+  f32(ptr, n) { return new Float32Array(this.memory.buffer, ptr, n); }
   i32(ptr, n) { return new Int32Array(this.memory.buffer, ptr, n); }
 
   string(ptr) {
@@ -174,6 +192,39 @@ class Runtime {
     }
   }
 
+  // Runs body(p) with size bytes of the module's heap at p: one block reused by every call (batch
+  // calls of any size would otherwise cost a malloc and a free each), grown as needed; a request
+  // above kScratchKeep gets a block of its own, freed after body. Calls never nest (body runs
+  // nothing that reaches back here).
+  withScratch(size, body) {
+    if (size > kScratchKeep) return this.scoped((alloc) => body(alloc(size)));
+    if (size > this.scratchSize) {
+      const grown = Math.min(kScratchKeep, Math.max(size, 2 * this.scratchSize, 4096));
+      if (this.scratchPtr !== 0) this.x.free(this.scratchPtr);
+      this.scratchPtr = 0;
+      this.scratchSize = 0;
+      this.scratchPtr = this.malloc(grown);
+      this.scratchSize = grown;
+    }
+    return body(this.scratchPtr);
+  }
+
+  // Copies a file's bytes into the module and runs open(p, size) on them (the copy is freed).
+  withFile(bytes, open) {
+    return this.scoped((alloc) => {
+      const p = alloc(bytes.length);
+      this.bytes().set(bytes, p);
+      return open(p, bytes.length);
+    });
+  }
+
+  // A C API handle of a file (cbrdf_model_open_memory), or the C API's error thrown.
+  openHandle(bytes) {
+    const m = this.withFile(bytes, (p, n) => this.x.cbrdf_model_open_memory(p, n));
+    if (m === 0) throw this.lastError();
+    return m;
+  }
+
   lastError() {
     const code = this.x.cbrdf_last_error_code();
     const message = this.string(this.x.cbrdf_last_error_message());
@@ -188,21 +239,28 @@ class Runtime {
     if (status !== 0) throw this.lastError();
   }
 
-  adopt(handle) {
-    const model = new Model(this, handle);
+  // A Model of a file whose C API handle (api) or viewer handle (gpu), or both, are open (the
+  // other is made from `file` when first needed).
+  adopt(file, api, gpu) {
+    const handles = { api, gpu };
+    const model = new Model(this, handles, file);
     ++this.liveModels;
-    this.registry?.register(model, handle, model);
+    this.registry?.register(model, handles, model);
     return model;
   }
 
-  // Frees a model's handle (model: null from the finalizer). Never throws: it runs in finally
+  // Frees a model's handles (model: null from the finalizer). Never throws: it runs in finally
   // blocks and finalizers; a stopped instance's memory is beyond use anyway.
-  release(handle, model) {
+  release(handles, model) {
     if (model) this.registry?.unregister(model);
     --this.liveModels;
+    const { api, gpu } = handles;
+    handles.api = 0;
+    handles.gpu = 0;
     if (this.failure) return;
     try {
-      this.x.cbrdf_model_free(handle);
+      if (api !== 0) this.x.cbrdf_model_free(api);
+      if (gpu !== 0) this.x.cbrdf_viewer_free(gpu);
     } catch {
       // stop() has recorded why; every later call throws that.
     }
@@ -241,16 +299,47 @@ function single(name, a, size) {
   return a;
 }
 
+// A copy of a Float32Array in the module's memory (null when count is 0).
+function floats(rt, ptr, count) {
+  return count === 0 ? null : new Float32Array(rt.f32(ptr, count));
+}
+
 export class Model {
-  constructor(rt, handle) {
+  // handles: { api, gpu }, the C API's handle and the viewer's (cbrdf_viewer_open), 0 until made;
+  // file: the file's bytes, from which the missing one is made.
+  constructor(rt, handles, file) {
     this.rt = rt;
-    this.handle = handle;
+    this.handles = handles;
+    this.file = file;
   }
 
-  live() {
-    if (this.handle === 0) throw argumentError('model: used after free()');
+  // The C API's handle (0 once freed).
+  get handle() { return this.handles.api; }
+
+  check() {
+    if (this.file === null) throw argumentError('model: used after free()');
     if (this.rt.failure) throw this.rt.failure;
-    return this.handle;
+  }
+
+  // The C API's handle, made on first use for a model opened with { gpu: true }.
+  live() {
+    this.check();
+    if (this.handles.api === 0) this.handles.api = this.rt.openHandle(this.file);
+    return this.handles.api;
+  }
+
+  // The viewer's handle (GPU tables, facts, marginals), made on first use: a second decode of the
+  // file, kept until free(), unless the model was opened with { gpu: true }.
+  gpu() {
+    this.check();
+    const { rt } = this;
+    if (this.handles.gpu === 0) {
+      const v = rt.withFile(this.file, (p, n) => rt.x.cbrdf_viewer_open(p, n));
+      // The C API decoded this file, so only memory can be missing.
+      if (v === 0) throw rt.outOfMemory('the GPU tables could not be built');
+      this.handles.gpu = v;
+    }
+    return this.handles.gpu;
   }
 
   // What the file holds: cbrdf_model_info's fields (camelCase), the slices (theta_d ranges and
@@ -301,15 +390,20 @@ export class Model {
 
   // f(wi, wo) in RGB (1/sr). Single pair: arrays [x, y, z] -> [r, g, b]. Batch: Float64Array or
   // Float32Array of n (x, y, z) triples each -> the same type of n (r, g, b) triples
-  // (cbrdf_model_eval_batch, in double; a Float32Array gets the doubles rounded to float).
-  eval(wi, wo) {
+  // (cbrdf_model_eval_batch, in double; a Float32Array gets the doubles rounded to float), or,
+  // given out (a Float64Array or Float32Array of 3n, either type), written into out, which is
+  // returned: nothing is allocated, which makes repeated batches several times faster.
+  eval(wi, wo, out) {
     const { rt } = this;
     const h = this.live();
     if (!isBatch(wi) && !isBatch(wo)) {
       single('wi', wi, 3);
       single('wo', wo, 3);
-      return rt.scoped((alloc) => {
-        const p = alloc(72);
+      if (out !== undefined) {
+        throw argumentError('out: only a batch (Float64Array or Float32Array wi and wo) writes ' +
+                            'into out; a single pair returns [r, g, b]');
+      }
+      return rt.withScratch(72, (p) => {
         put(rt, p, wi);
         put(rt, p + 24, wo);
         rt.check(rt.x.cbrdf_model_eval(h, p, p + 24, p + 48));
@@ -320,13 +414,19 @@ export class Model {
     if (triples('wo', wo) !== n) {
       throw argumentError(`wo: ${wo.length / 3} directions for ${n} in wi`);
     }
+    if (out !== undefined && (!isBatch(out) || out.length !== 3 * n)) {
+      throw argumentError(`out: expected a Float64Array or Float32Array of ${3 * n} numbers ` +
+                          `(r, g, b per pair), got ${isBatch(out) ? `length ${out.length}` :
+                                                                   typeof out}`);
+    }
     const bytes = checkedBytes('eval', n, 8 * 9);  // wi 3n, wo 3n, rgb 3n
-    return rt.scoped((alloc) => {
-      const p = alloc(bytes);
+    return rt.withScratch(bytes, (p) => {
       put(rt, p, wi);
       put(rt, p + 24 * n, wo);
       rt.check(rt.x.cbrdf_model_eval_batch(h, n, p, p + 24 * n, p + 48 * n, 1));
-      return take(rt, p + 48 * n, 3 * n, wi);
+      if (out === undefined) return take(rt, p + 48 * n, 3 * n, wi);
+      out.set(rt.f64(p + 48 * n, 3 * n));
+      return out;
     });
   }
 
@@ -353,8 +453,7 @@ export class Model {
       single('u', u, 2);
     }
     const bytes = checkedBytes('sample', n, 8 * 12);  // wo 3n, u 2n, wi 3n, pdf n, weight 3n
-    return rt.scoped((alloc) => {
-      const p = alloc(bytes);
+    return rt.withScratch(bytes, (p) => {
       const pu = p + 24 * n, pwi = pu + 16 * n, ppdf = pwi + 24 * n, pw = ppdf + 8 * n;
       put(rt, p, wo);
       put(rt, pu, u);
@@ -375,8 +474,7 @@ export class Model {
     const h = this.live();
     single('wi', wi, 3);
     single('wo', wo, 3);
-    return rt.scoped((alloc) => {
-      const p = alloc(56);
+    return rt.withScratch(56, (p) => {
       put(rt, p, wi);
       put(rt, p + 24, wo);
       rt.check(rt.x.cbrdf_model_sample_pdf(h, p, p + 24, p + 48));
@@ -398,14 +496,68 @@ export class Model {
     });
   }
 
+  // The evaluator's tables as float32 arrays (cbrdf/gpu_tables.h, spec/gpu-tables.md):
+  // { tables, generic, residual }, generic and residual null when the model has none. Copies:
+  // each call returns new arrays.
+  gpuArrays() {
+    const { rt } = this;
+    const v = this.gpu();
+    return rt.scoped((alloc) => {
+      const count = alloc(4);
+      const get = (which) => {
+        const ptr = rt.x.cbrdf_viewer_array(v, which, count);
+        return floats(rt, ptr, new Uint32Array(rt.memory.buffer, count, 1)[0]);
+      };
+      return { tables: get(0), generic: get(1), residual: get(2) };
+    });
+  }
+
+  // What a renderer binds to evaluate the model with cbrdfGlsl (glsl.mjs): { layout, textures,
+  // uniforms }, packGpuTables of gpuArrays().
+  gpuTables() {
+    return packGpuTables(this.gpuArrays());
+  }
+
+  // The file's layout and the evaluator's sizes, as `cbrdf view` shows them: { version, fileBytes,
+  // bits, footprintBytes (the native evaluator's), gpuTableBytes, residualMode, residualMaxError,
+  // residualMinError, residualKnee, residualEscapes, notMeasuredBins, chunks: [{ tag, offset,
+  // storedBytes, payloadBytes, compressed }], sliceList, metadata } (sliceList and metadata as
+  // info() gives them).
+  facts() {
+    const { rt } = this;
+    return JSON.parse(rt.string(rt.x.cbrdf_viewer_facts(this.gpu())));
+  }
+
+  // Slice s's marginals and copula in channel c (0 R, 1 G, 2 B), its first component's:
+  // { width, thetaH, phiD, thetaD, copula } (Float32Arrays): the probability masses of the 90
+  // theta_h bins, the 180 phi_d bins and the slice's `width` theta_d bins, and the copula density
+  // over the theta_h x phi_d bins (90 x 180, row by theta_h) at the slice's middle theta_d bin.
+  sliceMarginals(s, c) {
+    const { rt } = this;
+    const v = this.gpu();
+    if (!Number.isInteger(c) || c < 0 || c > 2) {
+      throw argumentError(`sliceMarginals: channel ${c} is not 0, 1 or 2 (R, G, B)`);
+    }
+    return rt.withScratch(4 * kSliceFloats, (p) => {
+      const width = Number.isInteger(s) ? rt.x.cbrdf_viewer_slice(v, s, c, p) : -1;
+      if (width < 0) {
+        const slices = this.facts().sliceList.length;
+        throw argumentError(`sliceMarginals: slice ${s} is out of range (the model has ${slices}, ` +
+                            `0 to ${slices - 1})`);
+      }
+      const a = new Float32Array(rt.f32(p, kSliceFloats));
+      return { width, thetaH: a.subarray(0, 90), phiD: a.subarray(90, 270),
+               thetaD: a.subarray(270, 270 + width), copula: a.subarray(360) };
+    });
+  }
+
   // Frees the model's memory in the module now; the model cannot be used afterwards. Idempotent;
   // never throws. Call it (or use withModel, or `using` where the runtime has it) for every model:
   // the finalizer frees a dropped model only if the garbage collector gets to it (README).
   free() {
-    const h = this.handle;
-    if (h === 0) return;
-    this.handle = 0;
-    this.rt.release(h, this);
+    if (this.file === null) return;
+    this.file = null;
+    this.rt.release(this.handles, this);
   }
 }
 // `using model = cbrdf.open(bytes);` frees at the end of the block, where the runtime has
@@ -432,7 +584,7 @@ function freeAfter(model, fn) {
 
 // Creates an instance of cbrdf.wasm. `source`: its bytes (ArrayBuffer, typed array) or a compiled
 // WebAssembly.Module; by default cbrdf.wasm beside this file (read from disk under node, fetched
-// in a browser). Returns { open(bytes), withModel(bytes, fn), version, liveModels, failure,
+// in a browser). Returns { open(bytes, options), withModel(bytes, fn), version, liveModels, failure,
 // exports }: open decodes synchronously. Running out of memory throws a CbrdfError "out-of-memory"
 // and the instance stays usable; if the module itself aborts (a trap, an exit), that call and
 // every later one on this instance and its models throw a CbrdfError ("aborted", or
@@ -491,25 +643,32 @@ export async function load(source) {
     // null, or the CbrdfError that stopped this instance.
     get failure() { return rt.failure; },
     // Decodes a .cbrdf file (Uint8Array, ArrayBuffer or other typed array) with the C API's full
-    // validation (cbrdf_model_open_memory); throws a CbrdfError for a bad file.
-    open(fileBytes) {
+    // validation (cbrdf_model_open_memory); throws a CbrdfError for a bad file. The model keeps a
+    // copy of the file: gpuTables(), facts() and sliceMarginals() decode it a second time on first
+    // use. options.gpu: decode it for those at once instead (cbrdf_viewer_open, the same
+    // validation), and for the C API's calls (info, eval, sample, pdf, table) only on first use:
+    // a page that draws the model on the GPU then decodes it once.
+    open(fileBytes, options = {}) {
       let b = fileBytes;
       if (b instanceof ArrayBuffer) b = new Uint8Array(b);
       else if (ArrayBuffer.isView(b)) b = new Uint8Array(b.buffer, b.byteOffset, b.byteLength);
       else throw argumentError('open: expected the file as a Uint8Array or ArrayBuffer');
+      if (options === null || typeof options !== 'object') {
+        throw argumentError('open: options must be an object such as { gpu: true }');
+      }
       if (rt.failure) throw rt.failure;
       if (b.length >= kMaxBytes) {
         throw argumentError(`open: ${b.length} bytes is too large: cbrdf.wasm holds less than ` +
                             '2^31 (and a .cbrdf file has at most 64 MiB)');
       }
-      const handle = rt.scoped((alloc) => {
-        const p = alloc(b.length);
-        rt.bytes().set(b, p);
-        const m = rt.x.cbrdf_model_open_memory(p, b.length);
-        if (m === 0) throw rt.lastError();
-        return m;
-      });
-      return rt.adopt(handle);
+      const file = b.slice();  // the caller may change its array afterwards
+      if (options.gpu) {
+        const v = rt.withFile(file, (p, n) => rt.x.cbrdf_viewer_open(p, n));
+        // The viewer's decode names no reason: the C API's open does (and, should the file have
+        // decoded but memory run short, gives the model its handle, the GPU's made later).
+        return v !== 0 ? rt.adopt(file, 0, v) : rt.adopt(file, rt.openHandle(file), 0);
+      }
+      return rt.adopt(file, rt.openHandle(file), 0);
     },
     // fn(model) with the file opened, the model freed when fn returns or throws (or, when fn
     // returns a promise, when that settles); returns what fn returns.
@@ -540,9 +699,10 @@ async function sharedInstance() {
   return instance;
 }
 
-// Decodes a .cbrdf file with a module instance shared by every call (made on first use).
-export async function open(fileBytes) {
-  return (await sharedInstance()).open(fileBytes);
+// Decodes a .cbrdf file with a module instance shared by every call (made on first use); options
+// as the instance's open() (load()).
+export async function open(fileBytes, options) {
+  return (await sharedInstance()).open(fileBytes, options);
 }
 
 // Opens the file, runs fn(model) (which may be async) and frees the model in `finally`: memory is
