@@ -28,8 +28,9 @@ interface CbrdfMaterialCommon
   /** Scales the reflected radiance (an exposure); 1: radiance = f cos(theta_i) E. Default 1. */
   intensity?: number;
   /**
-   * An environment map made by three's PMREMGenerator (`pmrem.fromEquirectangular(t).texture`):
-   * its irradiance at the normal reflects by the albedo (no mirror reflections).
+   * An environment map: a PMREM texture (three's PMREMGenerator), an equirectangular map or a
+   * cube map, made PMREM at the first render. Null: the scene's environment. Its irradiance at
+   * the normal reflects by the albedo (exact for a uniform environment; no mirror reflections).
    */
   envMap?: Texture | null;
   /** Scales the environment map's light. Default 1. */
@@ -71,6 +72,7 @@ export declare class CbrdfMaterial extends ShaderMaterial {
   readonly isCbrdfMaterial: true;
   /** Scales the reflected radiance. */
   intensity: number;
+  /** Set: as the option; read: the PMREM texture last rendered (of this map or the scene's). */
   envMap: Texture | null;
   envMapIntensity: number;
   envMapRotation: Euler;

@@ -4,8 +4,10 @@
 // ambient, hemisphere, light-probe and environment light scale its directional albedo
 // (cbrdfAlbedo).
 import {
-  Data3DTexture, DataTexture, Euler, FloatType, Material, Matrix4, NearestFilter, RGBAFormat,
-  RGBFormat, RedFormat, ShaderMaterial, UniformsLib, UniformsUtils,
+  CubeReflectionMapping, CubeRefractionMapping, Data3DTexture, DataTexture,
+  EquirectangularReflectionMapping, EquirectangularRefractionMapping, Euler, FloatType, Material,
+  Matrix4, NearestFilter, PMREMGenerator, RGBAFormat, RGBFormat, RedFormat, ShaderMaterial,
+  UniformsLib, UniformsUtils,
 } from 'three';
 import { cbrdfGlsl, kGpuLayout } from './glsl.mjs';
 
@@ -269,14 +271,44 @@ function threeTexture(t) {
   return tex;
 }
 
-const _euler = new Euler();
 const _matrix = new Matrix4();
+
+// Environment maps as PMREM textures, which the shader's irradiance lookup needs: three makes them
+// only for its standard materials, so the material makes its own, once per map and renderer.
+const _generators = new WeakMap();  // renderer -> PMREMGenerator
+const _pmrems = new WeakMap();      // renderer -> (map -> PMREM render target)
+
+function pmremOf(renderer, map) {
+  if (!map || map.isTexture !== true) return null;
+  if (map.isPMREMTexture === true) return map;
+  const equirect = map.mapping === EquirectangularReflectionMapping ||
+                   map.mapping === EquirectangularRefractionMapping;
+  const cube = map.mapping === CubeReflectionMapping || map.mapping === CubeRefractionMapping;
+  if (!equirect && !cube) {
+    throw new Error('CbrdfMaterial: an environment map must be a PMREM texture, an equirectangular ' +
+                    'map or a cube map (texture.mapping)');
+  }
+  let maps = _pmrems.get(renderer);
+  if (!maps) _pmrems.set(renderer, maps = new WeakMap());
+  const made = maps.get(map);
+  if (made) return made.texture;
+  const image = map.image;
+  const ready = equirect ? image && image.height > 0
+                         : Array.isArray(image) && image.length === 6 && image.every(Boolean);
+  if (!ready) return null;  // not loaded yet: no environment light this frame
+  let generator = _generators.get(renderer);
+  if (!generator) _generators.set(renderer, generator = new PMREMGenerator(renderer));
+  const target = equirect ? generator.fromEquirectangular(map) : generator.fromCubemap(map);
+  maps.set(map, target);
+  map.addEventListener('dispose', () => { target.dispose(); maps.delete(map); });
+  return target.texture;
+}
 
 /**
  * A cbrdf model as a three.js material (WebGLRenderer, WebGL2). Options: `model` (an open cbrdf
  * Model) or `tables` (its gpuTables()) with `albedo` (cbrdfAlbedo(model), or null for no
  * response to ambient and environment light); `intensity` (scales the reflected radiance,
- * default 1); `envMap` (a PMREM texture) and `envMapIntensity`, `envMapRotation`; and any
+ * default 1); `envMap` (else the scene's environment) and `envMapIntensity`, `envMapRotation`; any
  * ShaderMaterial parameter (side, transparent, opacity, ...). See three.d.ts.
  */
 export class CbrdfMaterial extends ShaderMaterial {
@@ -287,7 +319,7 @@ export class CbrdfMaterial extends ShaderMaterial {
     let albedo = givenAlbedo;
     if (model !== undefined && model !== null) {
       if (given !== undefined) throw new TypeError('CbrdfMaterial: give model or tables, not both');
-      if (typeof model.gpuTables !== 'function' || typeof model.sample !== 'function') {
+      if (typeof model.gpuTables !== 'function' || typeof model.eval !== 'function') {
         throw new TypeError('CbrdfMaterial: options.model must be a cbrdf Model (open(bytes))');
       }
       try {
@@ -314,12 +346,7 @@ export class CbrdfMaterial extends ShaderMaterial {
       throw new TypeError('CbrdfMaterial: options.albedo must be a Float32Array of RGB per ' +
                           'elevation (cbrdfAlbedo(model))');
     }
-    if (envMap !== null && envMap.isPMREMTexture !== true) {
-      throw new TypeError('CbrdfMaterial: envMap must be a PMREM texture ' +
-                          '(new PMREMGenerator(renderer).fromEquirectangular(texture).texture)');
-    }
-
-      const uniforms = UniformsUtils.merge([UniformsLib.envmap, UniformsLib.fog, UniformsLib.lights,
+    const uniforms = UniformsUtils.merge([UniformsLib.envmap, UniformsLib.fog, UniformsLib.lights,
                                           { opacity: { value: 1 }, envMapIntensity: { value: 1 } }]);
     // Added after the merge, which would copy the textures.
     const textures = tables.textures.map(threeTexture);
@@ -335,7 +362,8 @@ export class CbrdfMaterial extends ShaderMaterial {
     this.type = 'CbrdfMaterial';
     this.cbrdfTables = tables;
     this.cbrdfTextures = textures;
-    this.envMap = envMap;  // three reads it to compile the environment's code
+    this.cbrdfEnvSource = envMap;
+    this.cbrdfEnvPmrem = null;
     this.envMapIntensity = envMapIntensity;
     this.envMapRotation = envMapRotation ?? new Euler();
     this.checked = null;
@@ -345,16 +373,29 @@ export class CbrdfMaterial extends ShaderMaterial {
   get intensity() { return this.uniforms.cbrdfIntensity.value; }
   set intensity(v) { this.uniforms.cbrdfIntensity.value = v; }
 
-  onBeforeRender(renderer) {
+  /**
+   * The environment map: set a PMREM texture, an equirectangular map or a cube map (null: the
+   * scene's environment); reads back as the PMREM texture rendered, which three reads to compile
+   * the environment's code.
+   */
+  get envMap() { return this.cbrdfEnvPmrem ?? null; }
+  set envMap(map) { this.cbrdfEnvSource = map; }
+
+  onBeforeRender(renderer, scene) {
     if (this.checked !== renderer) this.check(renderer);
     const u = this.uniforms;
     u.opacity.value = this.opacity;
-    u.envMap.value = this.envMap;
-    u.envMapIntensity.value = this.envMapIntensity;
-    if (this.envMap) {
+    // The material's own map, or else the scene's, with their intensity and rotation as three
+    // gives MeshStandardMaterial.
+    const own = this.cbrdfEnvSource !== null && this.cbrdfEnvSource !== undefined;
+    const source = own ? this.cbrdfEnvSource : scene?.environment ?? null;
+    this.cbrdfEnvPmrem = pmremOf(renderer, source);
+    u.envMap.value = this.cbrdfEnvPmrem;
+    if (this.cbrdfEnvPmrem) {
+      u.envMapIntensity.value = own ? this.envMapIntensity : scene.environmentIntensity ?? 1;
+      const rotation = own ? this.envMapRotation : scene.environmentRotation ?? this.envMapRotation;
       // WebGLMaterials' rotation for a PMREM map (a render target: no cube-map flip).
-      _euler.copy(this.envMapRotation);
-      u.envMapRotation.value.setFromMatrix4(_matrix.makeRotationFromEuler(_euler)).transpose();
+      u.envMapRotation.value.setFromMatrix4(_matrix.makeRotationFromEuler(rotation)).transpose();
     }
   }
 
@@ -382,7 +423,7 @@ export class CbrdfMaterial extends ShaderMaterial {
   // A material of its own textures (ShaderMaterial.copy would share uniforms' values by clone).
   clone() {
     const m = new this.constructor({ tables: this.cbrdfTables, albedo: this.uniforms.cbrdfAlbedo.value,
-                                     intensity: this.intensity, envMap: this.envMap,
+                                     intensity: this.intensity, envMap: this.cbrdfEnvSource,
                                      envMapIntensity: this.envMapIntensity,
                                      envMapRotation: this.envMapRotation.clone() });
     Material.prototype.copy.call(m, this);
