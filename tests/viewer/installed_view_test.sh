@@ -16,9 +16,11 @@ file=${2:?$usage}
 shift 2
 fail() { echo "installed_view_test: FAILED: $*" >&2; exit 1; }
 expect_wasm=0
+wasm_from=
 for dir in "$@"; do
   if [[ -f $dir/cbrdf.wasm && -f $dir/cbrdf.mjs ]]; then
     expect_wasm=1
+    wasm_from=$dir
     echo "installed_view_test: a wasm build is in $dir: the install must hold it"
     [[ -f $dir/glsl.mjs ]] || fail "$dir has no glsl.mjs, which the page imports: a wasm build" \
       "older than the npm package's staging; build it again (cmake --build ${dir%/wasm})"
@@ -66,6 +68,12 @@ if ((!expect_wasm)); then
 fi
 [[ -f $share/wasm/cbrdf.wasm && -f $share/wasm/cbrdf.mjs && -f $share/wasm/glsl.mjs ]] ||
   fail "cbrdf.wasm, cbrdf.mjs and glsl.mjs are not installed in share/cbrdf/wasm: $(ls "$share/wasm" 2>&1)"
+# The rest of the npm package the build staged (tools/npm/README.md) is installed beside them.
+for f in package.json README.md LICENSE LICENSE.zstd cbrdf.d.ts glsl.d.ts three.mjs three.d.ts; do
+  if [[ -f $wasm_from/$f ]] && ! cmp -s "$wasm_from/$f" "$share/wasm/$f"; then
+    fail "share/cbrdf/wasm/$f is not the npm package's $wasm_from/$f"
+  fi
+done
 printf '\n// installed\n' >> "$share/wasm/cbrdf.mjs"
 printf '\n// installed\n' >> "$share/wasm/glsl.mjs"
 
