@@ -15,8 +15,8 @@ import { execFileSync } from 'node:child_process';
 import { copyFileSync, cpSync, mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import http from 'node:http';
 import { tmpdir } from 'node:os';
-import { basename, dirname, extname, join, normalize } from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { basename, dirname, extname, join, normalize, resolve } from 'node:path';
+import { fileURLToPath, pathToFileURL } from 'node:url';
 import { readExr } from './exr_read.mjs';
 import { compare, interiorMask } from './sphere_compare.mjs';
 
@@ -28,7 +28,7 @@ for (const k of ['cbrdf', 'wasm-build', 'chromium', 'puppeteer', 'golden', 'out'
 }
 let puppeteer;
 try {
-  puppeteer = (await import(join(args.puppeteer, 'lib/esm/puppeteer/puppeteer-core.js'))).default;
+  puppeteer = (await import(pathToFileURL(resolve(args.puppeteer, 'lib/esm/puppeteer/puppeteer-core.js')))).default;
 } catch {
   console.error(`package_test: puppeteer-core is not at ${args.puppeteer}: run \`npm ci\` in tests/viewer (tools/scripts/install-deps.sh does)`);
   process.exit(1);
@@ -64,7 +64,12 @@ function install(work) {
   for (const f of ['package.json', 'package-lock.json']) copyFileSync(join(here, 'consumer', f), join(site, f));
   const npm = ['--no-audit', '--no-fund', '--prefer-offline', '--loglevel=error', '--no-update-notifier'];
   t0 = Date.now();
-  run('npm', ['ci', ...npm], { cwd: site });
+  try {
+    run('npm', ['ci', ...npm], { cwd: site });
+  } catch (e) {
+    throw new Error(`npm ci in a copy of tests/npm/consumer failed: three ${JSON.parse(readFileSync(join(site, 'package.json'))).dependencies.three} ` +
+                    `must be in npm's cache or its registry reachable\n${e.stderr ?? e.message}`);
+  }
   const ci = seconds(t0);
   t0 = Date.now();
   run('npm', ['install', '--no-save', ...npm, tarball], { cwd: site });
