@@ -11,7 +11,7 @@ export { cbrdfGlsl, kGpuLayout } from 'cbrdf/glsl';
 export interface AlbedoOptions {
   /** Outgoing elevations of the table, at cos(theta_o) = (i + 0.5) / n. Default 32. */
   elevations?: number;
-  /** Quadrature points over theta_h (and twice as many over phi_h) per elevation. Default 90. */
+  /** Quadrature points over theta_h (and twice as many over phi_h) per elevation. Default 64. */
   steps?: number;
 }
 

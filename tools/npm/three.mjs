@@ -23,7 +23,7 @@ const kAlbedoSize = 32;
  * (theta_h = t^2 pi / 2: fine where specular peaks are) and `steps` x 2 `steps` points: the same
  * table for the same file, by model.eval alone.
  */
-export function cbrdfAlbedo(model, { elevations = kAlbedoSize, steps = 90 } = {}) {
+export function cbrdfAlbedo(model, { elevations = kAlbedoSize, steps = 64 } = {}) {
   const nt = steps, np = 2 * steps, n = nt * np;
   const wi = new Float64Array(3 * n), wo = new Float64Array(3 * n), weight = new Float64Array(n);
   const albedo = new Float32Array(3 * elevations);
