@@ -366,7 +366,7 @@ export class CbrdfMaterial extends ShaderMaterial {
     this.cbrdfEnvPmrem = null;
     this.envMapIntensity = envMapIntensity;
     this.envMapRotation = envMapRotation ?? new Euler();
-    this.checked = null;
+    this.cbrdfCheckedRenderer = null;
   }
 
   /** Scales the reflected radiance (1: physical units, radiance = f cos(theta_i) E). */
@@ -382,7 +382,7 @@ export class CbrdfMaterial extends ShaderMaterial {
   set envMap(map) { this.cbrdfEnvSource = map; }
 
   onBeforeRender(renderer, scene) {
-    if (this.checked !== renderer) this.check(renderer);
+    if (this.cbrdfCheckedRenderer !== renderer) this.checkRenderer(renderer);
     const u = this.uniforms;
     u.opacity.value = this.opacity;
     // The material's own map, or else the scene's, with their intensity and rotation as three
@@ -400,7 +400,7 @@ export class CbrdfMaterial extends ShaderMaterial {
   }
 
   // What the GPU must offer, checked once per renderer, before three compiles the program.
-  check(renderer) {
+  checkRenderer(renderer) {
     if (renderer.isWebGLRenderer !== true) {
       throw new Error('CbrdfMaterial is a WebGL material: it needs three\'s WebGLRenderer');
     }
@@ -417,7 +417,7 @@ export class CbrdfMaterial extends ShaderMaterial {
                         `texture exceeds this GPU's limit of ${limit} texels a side`);
       }
     }
-    this.checked = renderer;
+    this.cbrdfCheckedRenderer = renderer;
   }
 
   // A material of its own textures (ShaderMaterial.copy would share uniforms' values by clone).
