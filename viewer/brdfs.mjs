@@ -2,7 +2,7 @@
 // Opening files: a .cbrdf through cbrdf.wasm (the C API's validation and messages; the GPU arrays
 // of viewer_tables.cc), a MERL .binary parsed here. Each gives a "brdf" record the page draws.
 import { load } from './cbrdf.mjs';
-import { kGpuLayout, packGpuTables } from './glsl.mjs';
+import { packGpuTables, packTable } from './glsl.mjs';
 
 export const kMerlScale = [1 / 1500, 1.15 / 1500, 1.66 / 1500];
 const kBins = 90 * 90 * 180;
@@ -69,15 +69,6 @@ export async function openCbrdf(name, bytes) {
   return { kind: 'model', name, bytes: bytes.length, info, arrays, packed: packGpuTables(arrays) };
 }
 
-// A table's physical values drawn by cbrdfEval: tables whose header selects the exact-table mode
-// (spec/gpu-tables.md), the values as its residual volume.
-function tablePacked(rgb) {
-  const header = new Float32Array(106);
-  header[0] = kGpuLayout;
-  header[2] = 2;
-  return packGpuTables({ tables: header, generic: null, residual: rgb });
-}
-
 // A MERL .binary: three int32 dimensions (90, 90, 180), then 3 x 1,458,000 doubles (R, G, B
 // blocks) in stored units; negative values are bins not measured (read as 0, as lookup_linear).
 export function parseMerl(name, bytes) {
@@ -101,7 +92,7 @@ export function parseMerl(name, bytes) {
       rgb[3 * i + c] = s >= 0 ? s * kMerlScale[c] : 0;
     }
   }
-  return { kind: 'table', name, bytes: bytes.length, rgb, notMeasured, packed: tablePacked(rgb) };
+  return { kind: 'table', name, bytes: bytes.length, rgb, notMeasured, packed: packTable(rgb) };
 }
 
 export async function openFile(name, bytes) {

@@ -2,7 +2,10 @@
 // Types of glsl.mjs (`cbrdf/glsl`): the GPU evaluation of a cbrdf model. The layout of the
 // textures and uniforms is spec/gpu-tables.md.
 
-/** The layout version of the tables `cbrdfGlsl` reads (cbrdf/gpu_tables.h's kGpuTablesLayout). */
+/**
+ * The layout version of {@link packGpuTables}'s textures and uniforms, which `cbrdfGlsl` reads
+ * (spec/gpu-tables.md). Raised when a texture, its index formulas or a uniform change.
+ */
 export declare const kGpuLayout: number;
 
 /**
@@ -10,6 +13,8 @@ export declare const kGpuLayout: number;
  * output (all named `cbrdf*`) and `vec3 cbrdfEval(vec3 wi, vec3 wo)`: the BRDF in 1/sr, linear
  * RGB, at unit vectors in the local frame (z the normal), 0 when either is below the horizon.
  * Paste it into a fragment shader after `precision highp float; precision highp int;`.
+ * Samplers: `cbrdfTables` (2D), `cbrdfVolumes` (3D); floats: `cbrdfVolumeCount`,
+ * `cbrdfGenericVolume`, `cbrdfResidualMode`, `cbrdfKnee`.
  */
 export declare const cbrdfGlsl: string;
 
@@ -48,7 +53,16 @@ export interface GpuTables {
 
 /**
  * The textures and uniform values of a model's arrays. Throws a TypeError when `raw.tables` is
- * not a Float32Array of tables, and an Error when the tables are of another layout version or a
- * volume has the wrong size.
+ * not a Float32Array of tables, and an Error when the tables are of another layout version
+ * (cbrdf.wasm and glsl.mjs of different releases), are inconsistent or a volume has the wrong
+ * size; each message starts with `packGpuTables:`.
  */
 export declare function packGpuTables(raw: RawGpuTables): GpuTables;
+
+/**
+ * The textures and uniform values that draw a measured table with `cbrdfEval` (trilinear
+ * between bins, as cbrdf's lookup_linear): `rgb` holds 3 x 90 x 90 x 180 physical values
+ * (1/sr), RGB interleaved per MERL bin, bin (theta_h 90 + theta_d) 180 + phi_d, 0 where not
+ * measured.
+ */
+export declare function packTable(rgb: Float32Array): GpuTables;

@@ -4,32 +4,33 @@
 // (cbrdf/gpu_tables.h) into the textures and uniform values that source reads. The contract
 // between the two is spec/gpu-tables.md, versioned by kGpuLayout.
 
-/** The layout version of the tables this source reads (cbrdf/gpu_tables.h's kGpuTablesLayout). */
-export const kGpuLayout = 1;
+/** The layout version of packGpuTables's textures, which cbrdfGlsl reads. */
+export const kGpuLayout = 2;
 
-const kTableWidth = 4096;  // floats a row of the tables' texture (1024 RGBA texels)
-const kVolume = [180, 90, 90];  // a MERL-grid volume's texels: phi_d, theta_d, theta_h
+const kRawLayout = 1;          // cbrdf/gpu_tables.h's kGpuTablesLayout, what packGpuTables reads
+const kTexelsPerRow = 1024;    // of the tables' texture
+const kDescriptors = 2 * 90;   // texels: 2 per theta_d bin, before the rows
+const kVolume = [180, 90, 90]; // a volume's texels: phi_d, theta_d, theta_h
 
 // Every identifier is prefixed `cbrdf` so that the source can be pasted into any fragment shader.
 // Declarations carry their own precision; the includer's default float and int precision must be
 // highp (WebGL2 guarantees it in fragment shaders).
 export const cbrdfGlsl = `
-uniform highp sampler2D cbrdfTables;        // the tables, RGBA32F, ${kTableWidth} floats a row
-uniform highp sampler3D cbrdfGenericTerms;  // generic terms per bin, RGB32F 180 x 90 x 90
-uniform highp sampler3D cbrdfResidualTerms; // residual (log1p units) or exact table, same shape
-uniform highp float cbrdfHasGeneric;        // 1: add cbrdfGenericTerms
-uniform highp float cbrdfResidualMode;      // 0 none, 1 log residual, 2 exact table
-uniform highp float cbrdfKnee;              // the residual's knee, stored units
+uniform highp sampler2D cbrdfTables;     // descriptors, rows, constants: RGBA32F, ${kTexelsPerRow} texels a row
+uniform highp sampler3D cbrdfVolumes;    // per-bin RGB volumes, RGBA32F, 180 x 90 x 90 each
+uniform highp float cbrdfVolumeCount;    // volumes in cbrdfVolumes: 0, 1 or 2
+uniform highp float cbrdfGenericVolume;  // 1: volume 0 holds the generic terms
+uniform highp float cbrdfResidualMode;   // 0 none, 1 log residual (last volume), 2 exact table
+uniform highp float cbrdfKnee;           // the residual's knee, stored units
 
 const highp float cbrdfPi = 3.14159265358979323846;
 const highp float cbrdfDeg = 57.2957795130823208768;
 const highp float cbrdfFltMax = 3.402823466e38;
 
-// The tables as RGBA texels: float i, and the 4 floats from i (a multiple of 4).
-highp vec4 cbrdfV(int i) {
-  return texelFetch(cbrdfTables, ivec2((i >> 2) & ${kTableWidth / 4 - 1}, i >> ${Math.log2(kTableWidth)}), 0);
+// Texel t of the tables.
+highp vec4 cbrdfTexel(int t) {
+  return texelFetch(cbrdfTables, ivec2(t & ${kTexelsPerRow - 1}, t >> ${Math.log2(kTexelsPerRow)}), 0);
 }
-highp float cbrdfT(int i) { return cbrdfV(i & ~3)[i & 3]; }
 
 // trig.h: atan for |x| <= 7/16 (fdlibm's polynomial) and atan2 in the first quadrant.
 highp float cbrdfAtanCore(highp float x) {
@@ -72,132 +73,232 @@ highp vec3 cbrdfGridPosition(highp vec3 wi, highp vec3 wo) {
               min(180.0, max(0.0, phi * cbrdfDeg)));
 }
 
-// A slice's value at interpolated terms (scalar_eval.cc's add_slice), times weight.
-highp vec3 cbrdfAddSlice(int s, int i0, highp float fh, int jl0, highp float fd, int k0,
-                         highp float fp, highp float weight) {
-  int base = 106 + 8 * s;
-  int R = int(cbrdfT(base + 2)), G = int(cbrdfT(base + 3));
-  int n = G * 12;
-  int h0 = int(cbrdfT(base + 4)) + i0 * n, h1 = h0 + n;
-  int d0 = int(cbrdfT(base + 5)) + jl0 * n, d1 = d0 + n;
-  int p0 = int(cbrdfT(base + 6)) + k0 * n, p1 = p0 + n;
-  int ko = int(cbrdfT(base + 7));
+// One slice's value (scalar_eval.cc's add_slice at interpolated terms) from the descriptor of a
+// theta_d bin: desc the texels of its slice's theta_h row 0, of its own theta_d row, of the
+// slice's phi_d row 0 and of the slice's constants; size.x texels a row, size.y groups. Group r
+// holds the r-th product-form component of R, G and B in lanes 0, 1, 2 (lane 3 is zero).
+highp vec3 cbrdfSlice(highp vec4 desc, highp vec4 size, int h0, highp float fh, highp float fd,
+                      int k0, highp float fp) {
+  int n = int(size.x), groups = int(size.y);
+  int h = int(desc.x) + h0 * n, d = int(desc.y), p = int(desc.z) + k0 * n, c = int(desc.w);
   highp float gh = 1.0 - fh, gd = 1.0 - fd, gp = 1.0 - fp;
-  highp vec3 rgb = vec3(0.0);
-  // A group of 4 slots at once (one RGBA texel per term), each lane's arithmetic that of one slot
-  // in scalar_eval.cc; slot q adds to channel q / R, in the order of q.
-  for (int grp = 0; grp < G; ++grp) {
-    int o = grp * 12;
-    highp vec4 g1 = cbrdfV(h0 + o) * gh + cbrdfV(h1 + o) * fh,
-               w1 = cbrdfV(h0 + o + 4) * gh + cbrdfV(h1 + o + 4) * fh,
-               y1 = cbrdfV(h0 + o + 8) * gh + cbrdfV(h1 + o + 8) * fh;
-    highp vec4 g2 = cbrdfV(d0 + o) * gd + cbrdfV(d1 + o) * fd,
-               w2 = cbrdfV(d0 + o + 4) * gd + cbrdfV(d1 + o + 4) * fd,
-               y2 = cbrdfV(d0 + o + 8) * gd + cbrdfV(d1 + o + 8) * fd;
-    highp vec4 g3 = cbrdfV(p0 + o) * gp + cbrdfV(p1 + o) * fp,
-               w3 = cbrdfV(p0 + o + 4) * gp + cbrdfV(p1 + o + 4) * fp,
-               y3 = cbrdfV(p0 + o + 8) * gp + cbrdfV(p1 + o + 8) * fp;
-    int k = ko + grp * 28;
+  highp vec4 sum = vec4(0.0);
+  for (int r = 0; r < groups; ++r) {
+    // Per axis g, w and y at the two rows around the position (theta_h's g times the slot's k).
+    highp vec4 g1 = cbrdfTexel(h) * gh + cbrdfTexel(h + n) * fh;
+    highp vec4 w1 = cbrdfTexel(h + 1) * gh + cbrdfTexel(h + n + 1) * fh;
+    highp vec4 y1 = cbrdfTexel(h + 2) * gh + cbrdfTexel(h + n + 2) * fh;
+    highp vec4 g2 = cbrdfTexel(d) * gd + cbrdfTexel(d + n) * fd;
+    highp vec4 w2 = cbrdfTexel(d + 1) * gd + cbrdfTexel(d + n + 1) * fd;
+    highp vec4 y2 = cbrdfTexel(d + 2) * gd + cbrdfTexel(d + n + 2) * fd;
+    highp vec4 g3 = cbrdfTexel(p) * gp + cbrdfTexel(p + n) * fp;
+    highp vec4 w3 = cbrdfTexel(p + 1) * gp + cbrdfTexel(p + n + 1) * fp;
+    highp vec4 y3 = cbrdfTexel(p + 2) * gp + cbrdfTexel(p + n + 2) * fp;
     highp vec4 w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
-    highp vec4 omh = cbrdfV(k + 4) + cbrdfV(k + 8) * Y + cbrdfV(k + 12) * W;
-    highp vec4 oph = cbrdfV(k + 16) + cbrdfV(k + 20) * Y + cbrdfV(k + 24) * W;
-    highp vec4 term = cbrdfV(k) * (g1 * g2 * g3) * oph / (omh * omh * omh);
-    for (int l = 0; l < 4; ++l) {
-      int q = grp * 4 + l;
-      if (q < 3 * R) rgb[q / R] += term[l];
-    }
+    // 1 - h = a0 + a X and 1 + h = b0 + b Z, (X, Z) = (Y, W), or (W, Y) where a0 is stored
+    // negated.
+    highp vec4 a0 = cbrdfTexel(c), a = cbrdfTexel(c + 1), b0 = cbrdfTexel(c + 2);
+    highp vec4 b = cbrdfTexel(c + 3);
+    bvec4 swapped = lessThan(a0, vec4(0.0));
+    highp vec4 omh = abs(a0) + a * mix(Y, W, swapped), oph = b0 + b * mix(W, Y, swapped);
+    sum += (g1 * g2 * g3) * oph / (omh * omh * omh);
+    h += 3;
+    d += 3;
+    p += 3;
+    c += 4;
   }
-  return weight * rgb;
+  return sum.rgb;
 }
 
-int cbrdfSliceOf(int j) { return int(cbrdfT(16 + j)); }
-int cbrdfSliceBegin(int s) { return int(cbrdfT(106 + 8 * s)); }
-int cbrdfSliceEnd(int s) { return int(cbrdfT(106 + 8 * s + 1)); }
-
-highp vec3 cbrdfAlongP(int s, int h0, highp float fh, int jl, highp float fd, int p0,
-                       highp float fp, highp float weight) {
-  if (p0 + 1 < 180 || fp == 0.0) return cbrdfAddSlice(s, h0, fh, jl, fd, p0, fp, weight);
-  return cbrdfAddSlice(s, h0, fh, jl, fd, p0, 0.0, weight * (1.0 - fp)) +
-         cbrdfAddSlice(s, h0, fh, jl, fd, 0, 0.0, weight * fp);
-}
-
-// A per-bin RGB volume (bin (i, j, k) at texel (k, j, i)).
-highp vec3 cbrdfBin(highp sampler3D v, int i, int j, int k) {
-  return texelFetch(v, ivec3(k, j, i), 0).rgb;
-}
-
-// Trilinear between the 8 bins around a position, theta_h and theta_d clamped, phi_d periodic
-// (lookup_linear and the residual's interpolation).
-highp vec3 cbrdfTrilinear(highp sampler3D v, highp vec3 pos) {
-  highp float h = clamp(pos.x, 0.0, 89.0), d = clamp(pos.y, 0.0, 89.0), p = clamp(pos.z, 0.0, 180.0);
-  int h0 = min(int(h), 88), d0 = min(int(d), 88), p0 = min(int(p), 179);
-  int p1 = p0 + 1 == 180 ? 0 : p0 + 1;
-  highp float fh = h - float(h0), fd = d - float(d0), fp = p - float(p0);
-  highp vec3 a = cbrdfBin(v, h0, d0, p0) * (1.0 - fp) + cbrdfBin(v, h0, d0, p1) * fp;
-  highp vec3 b = cbrdfBin(v, h0, d0 + 1, p0) * (1.0 - fp) + cbrdfBin(v, h0, d0 + 1, p1) * fp;
-  highp vec3 c = cbrdfBin(v, h0 + 1, d0, p0) * (1.0 - fp) + cbrdfBin(v, h0 + 1, d0, p1) * fp;
-  highp vec3 e = cbrdfBin(v, h0 + 1, d0 + 1, p0) * (1.0 - fp) + cbrdfBin(v, h0 + 1, d0 + 1, p1) * fp;
-  return (a * (1.0 - fd) + b * fd) * (1.0 - fh) + (c * (1.0 - fd) + e * fd) * fh;
-}
-
-// The generic terms (interp_tables.h): trilinear between the 8 bins' summed values.
-highp vec3 cbrdfGeneric(int i0, highp float fh, int d0, highp float fd, int k0, highp float fp) {
-  int i1 = min(i0 + 1, 89), d1 = min(d0 + 1, 89), k1 = (k0 + 1) % 180;
-  highp vec3 lo = (cbrdfBin(cbrdfGenericTerms, i0, d0, k0) * (1.0 - fp) +
-                   cbrdfBin(cbrdfGenericTerms, i0, d0, k1) * fp) * (1.0 - fh) +
-                  (cbrdfBin(cbrdfGenericTerms, i1, d0, k0) * (1.0 - fp) +
-                   cbrdfBin(cbrdfGenericTerms, i1, d0, k1) * fp) * fh;
-  highp vec3 hi = (cbrdfBin(cbrdfGenericTerms, i0, d1, k0) * (1.0 - fp) +
-                   cbrdfBin(cbrdfGenericTerms, i0, d1, k1) * fp) * (1.0 - fh) +
-                  (cbrdfBin(cbrdfGenericTerms, i1, d1, k0) * (1.0 - fp) +
-                   cbrdfBin(cbrdfGenericTerms, i1, d1, k1) * fp) * fh;
+// Trilinear between the 8 bins around a grid position in volume v (bin (i, j, k) at texel
+// (k, j, 90 v + i)), theta_h and theta_d clamped, phi_d periodic (interp_tables.h).
+highp vec3 cbrdfVolume(int v, int i0, highp float fh, int d0, highp float fd, int k0,
+                       highp float fp) {
+  int i1 = min(i0 + 1, 89) + 90 * v, d1 = min(d0 + 1, 89), k1 = k0 == 179 ? 0 : k0 + 1;
+  i0 += 90 * v;
+  highp float gh = 1.0 - fh, gp = 1.0 - fp;
+  highp vec3 lo = (texelFetch(cbrdfVolumes, ivec3(k0, d0, i0), 0).rgb * gp +
+                   texelFetch(cbrdfVolumes, ivec3(k1, d0, i0), 0).rgb * fp) * gh +
+                  (texelFetch(cbrdfVolumes, ivec3(k0, d0, i1), 0).rgb * gp +
+                   texelFetch(cbrdfVolumes, ivec3(k1, d0, i1), 0).rgb * fp) * fh;
+  highp vec3 hi = (texelFetch(cbrdfVolumes, ivec3(k0, d1, i0), 0).rgb * gp +
+                   texelFetch(cbrdfVolumes, ivec3(k1, d1, i0), 0).rgb * fp) * gh +
+                  (texelFetch(cbrdfVolumes, ivec3(k0, d1, i1), 0).rgb * gp +
+                   texelFetch(cbrdfVolumes, ivec3(k1, d1, i1), 0).rgb * fp) * fh;
   return lo * (1.0 - fd) + hi * fd;
 }
 
 highp float cbrdfSaturate(highp float v) { return isnan(v) ? 0.0 : min(v, cbrdfFltMax); }
 
-// log1p and expm1 without their cancellation near 0 (GLSL has neither).
-highp float cbrdfLog1p(highp float x) {
-  highp float u = 1.0 + x;
-  return u == 1.0 ? x : log(u) * (x / (u - 1.0));
-}
-highp float cbrdfExpm1(highp float x) {
-  if (abs(x) < 1e-5) return x + 0.5 * x * x;
-  highp float u = exp(x);
-  return u == 1.0 ? x : (u - 1.0) * (x / log(u));
+// e^x - 1 without its cancellation near 0 (GLSL has no expm1): Taylor to x^6 where |x| < 0.1
+// (relative error below 3e-10 there), e^x - 1 elsewhere.
+highp vec3 cbrdfExpm1(highp vec3 x) {
+  highp vec3 series = x * (1.0 + x / 2.0 * (1.0 + x / 3.0 * (1.0 + x / 4.0 * (1.0 + x / 5.0 *
+                                                              (1.0 + x / 6.0)))));
+  return mix(exp(x) - 1.0, series, lessThan(abs(x), vec3(0.1)));
 }
 
 // ModelEvaluator::eval_f32: RGB (1/sr) at a pair of unit vectors (z the normal); 0 when either
-// is below the horizon.
+// is below the horizon. Each part has one call site, in a loop run as often as a pixel needs it:
+// a GPU that runs both sides of every branch (SwiftShader does) then pays for each part once.
 highp vec3 cbrdfEval(highp vec3 wi, highp vec3 wo) {
   if (!(wi.z > 0.0) || !(wo.z > 0.0)) return vec3(0.0);
   highp vec3 pos = cbrdfGridPosition(wi, wo);
-  if (cbrdfResidualMode == 2.0) return cbrdfTrilinear(cbrdfResidualTerms, pos);
   int h0 = min(int(pos.x), 89), d0 = min(int(pos.y), 89), p0 = min(int(pos.z), 179);
   highp float fh = pos.x - float(h0), fd = pos.y - float(d0), fp = pos.z - float(p0);
-  int s0 = cbrdfSliceOf(d0);
-  highp vec3 rgb;
-  if (d0 + 1 < cbrdfSliceEnd(s0) || fd == 0.0) {
-    rgb = cbrdfAlongP(s0, h0, fh, d0 - cbrdfSliceBegin(s0), fd, p0, fp, 1.0);
-  } else {
-    int s1 = cbrdfSliceOf(d0 + 1);
-    rgb = cbrdfAlongP(s0, h0, fh, d0 - cbrdfSliceBegin(s0), 0.0, p0, fp, 1.0 - fd);
-    rgb += cbrdfAlongP(s1, h0, fh, d0 + 1 - cbrdfSliceBegin(s1), 0.0, p0, fp, fd);
+  // The slices: one (its theta_d rows d0 and d0 + 1), or across a slice boundary the two slices
+  // at their rows, weighted 1 - fd and fd; likewise across phi_d's wrap (rows 179 and 0).
+  bool acrossD = fd != 0.0 && cbrdfTexel(2 * d0 + 1).z == 0.0;
+  bool acrossP = p0 == 179 && fp != 0.0;
+  int np = acrossP ? 2 : 1;
+  int count = cbrdfResidualMode == 2.0 ? 0 : (acrossD ? 2 : 1) * np;
+  highp vec3 rgb = vec3(0.0);
+  for (int e = 0; e < count; ++e) {
+    int side = e / np, end = e - side * np, j = d0 + side;
+    highp float wd = acrossD ? (side == 0 ? 1.0 - fd : fd) : 1.0;
+    highp float wp = acrossP ? (end == 0 ? 1.0 - fp : fp) : 1.0;
+    rgb += (wd * wp) * cbrdfSlice(cbrdfTexel(2 * j), cbrdfTexel(2 * j + 1), h0, fh,
+                                  acrossD ? 0.0 : fd, end == 0 ? p0 : 0, acrossP ? 0.0 : fp);
   }
-  if (cbrdfHasGeneric == 1.0) rgb += cbrdfGeneric(h0, fh, d0, fd, p0, fp);
+  // The volumes: the generic terms (added to the slices'), the residual layer (last).
+  highp vec3 residual = vec3(0.0);
+  int volumes = int(cbrdfVolumeCount);
+  for (int v = 0; v < volumes; ++v) {
+    highp vec3 t = cbrdfVolume(v, h0, fh, d0, fd, p0, fp);
+    if (v == 0 && cbrdfGenericVolume == 1.0) rgb += t; else residual = t;
+  }
+  if (cbrdfResidualMode == 2.0) return residual;
   rgb = vec3(cbrdfSaturate(rgb.r), cbrdfSaturate(rgb.g), cbrdfSaturate(rgb.b));
-  if (cbrdfResidualMode == 1.0) {
-    highp vec3 r = cbrdfTrilinear(cbrdfResidualTerms, pos);
-    highp vec3 scale = vec3(1.0, 1.15, 1.66) / 1500.0;
-    for (int c = 0; c < 3; ++c) {
-      highp float k = cbrdfKnee * scale[c];
-      highp float y = cbrdfLog1p(max(rgb[c], 0.0) / k) + r[c];
-      rgb[c] = y > 0.0 ? min(cbrdfExpm1(y) * k, cbrdfFltMax) : 0.0;
-    }
+  // The layer adds r to log1p(v / k): expm1(log1p(v / k) + r) k = v e^r + k expm1(r), which
+  // needs no logarithm. (A loop of 0 or 1 pass, as the volumes': code behind an if costs every
+  // pixel where both sides of branches run.)
+  int transforms = cbrdfResidualMode == 1.0 ? 1 : 0;
+  for (int i = 0; i < transforms; ++i) {
+    highp vec3 knee = cbrdfKnee * vec3(1.0, 1.15, 1.66) / 1500.0;
+    rgb = min(max(max(rgb, 0.0) * exp(residual) + knee * cbrdfExpm1(residual), 0.0), cbrdfFltMax);
   }
   return rgb;
 }
 `;
+
+function fail(message) {
+  throw new Error(`packGpuTables: ${message}`);
+}
+
+// One slice of the raw tables (layout 1, cbrdf/gpu_tables.h) in layout 2: its product-form
+// slots with a nonzero k, component r of channel c in group r at lane c; theta_h's g times k;
+// constants (a0, negated when 1 - h uses W; a; b0; b). Returns { groups, rows, constants } with
+// rows = { h, d, p } arrays of texels (4 floats each) per row, and the constants' texels.
+function repackSlice(t, d) {
+  const [begin, end, R, G, hOff, dOff, pOff, kOff] = t.subarray(d, d + 8);
+  if (!(end > begin && R >= 1 && G === Math.ceil(3 * R / 4)) ||
+      [hOff, dOff, pOff, kOff].some((o) => o % 4 || o + 12 * G > t.length)) {
+    fail(`a slice descriptor at ${d} is not one of layout ${kRawLayout}`);
+  }
+  const constant = (q, e) => t[kOff + 28 * (q >> 2) + 4 * e + (q & 3)];
+  const slots = [0, 1, 2].map((c) => {
+    const list = [];
+    for (let r = 0; r < R; ++r) if (constant(c * R + r, 0) !== 0) list.push(c * R + r);
+    return list;
+  });
+  const groups = Math.max(...slots.map((l) => l.length));
+  const n = 12 * groups;  // floats a row
+  const axis = (off, count, scaled) => {
+    const out = new Float32Array(count * n);
+    for (let i = 0; i < count; ++i) {
+      for (let c = 0; c < 3; ++c) {
+        slots[c].forEach((q, r) => {
+          const from = off + i * 12 * G + 12 * (q >> 2) + (q & 3), to = i * n + 12 * r + c;
+          out[to] = scaled ? t[from] * constant(q, 0) : t[from];
+          out[to + 4] = t[from + 4];
+          out[to + 8] = t[from + 8];
+        });
+      }
+    }
+    return out;
+  };
+  const constants = new Float32Array(16 * groups);
+  for (let r = 0; r < groups; ++r) {
+    for (let c = 0; c < 4; ++c) {
+      const o = 16 * r + c;
+      constants[o] = 1;
+      constants[o + 8] = 1;
+      const q = slots[c]?.[r];
+      if (q === undefined) continue;
+      const [a0, a1, a2, b0, b1, b2] = [1, 2, 3, 4, 5, 6].map((e) => constant(q, e));
+      const swapped = a2 !== 0 || b1 !== 0;
+      if ((swapped && (a1 !== 0 || b2 !== 0 || !(a0 > 0))) || !(a0 >= 0)) {
+        fail(`slot constants (${a0}, ${a1}, ${a2}, ${b0}, ${b1}, ${b2}) are not of a form ` +
+             `layout ${kGpuLayout} holds`);
+      }
+      constants[o] = swapped ? -a0 : a0;
+      constants[o + 4] = swapped ? a2 : a1;
+      constants[o + 8] = b0;
+      constants[o + 12] = swapped ? b1 : b2;
+    }
+  }
+  // A row of the raw h axis holds the g of 4 slots per group; k multiplies theta_h's g only.
+  return { begin, end, groups,
+           h: axis(hOff, 91, true), d: axis(dOff, end - begin + 1, false),
+           p: axis(pOff, 181, false), constants };
+}
+
+// The texel data of the tables: per theta_d bin j two descriptor texels, then each slice's rows
+// and constants.
+function tablesTexture(t) {
+  const slices = t[1];
+  const packed = [];
+  if (t[2] !== 2) {
+    for (let s = 0; s < slices; ++s) packed.push(repackSlice(t, 106 + 8 * s));
+  }
+  let texels = kDescriptors;
+  const at = packed.map((sl) => {
+    const o = { h: texels, d: texels + sl.h.length / 4, p: texels + (sl.h.length + sl.d.length) / 4,
+                c: texels + (sl.h.length + sl.d.length + sl.p.length) / 4 };
+    texels = o.c + sl.constants.length / 4;
+    return o;
+  });
+  const rows = Math.max(1, Math.ceil(texels / kTexelsPerRow));
+  const data = new Float32Array(rows * 4 * kTexelsPerRow);
+  packed.forEach((sl, s) => {
+    data.set(sl.h, 4 * at[s].h);
+    data.set(sl.d, 4 * at[s].d);
+    data.set(sl.p, 4 * at[s].p);
+    data.set(sl.constants, 4 * at[s].c);
+  });
+  if (packed.length) {
+    for (let j = 0; j < 90; ++j) {
+      const s = t[16 + j];
+      const sl = packed[s];
+      if (!sl || j < sl.begin || j >= sl.end) fail(`theta_d bin ${j} has no slice`);
+      const n = 3 * sl.groups;
+      data.set([at[s].h, at[s].d + (j - sl.begin) * n, at[s].p, at[s].c,
+                n, sl.groups, j + 1 < sl.end || j === 89 ? 1 : 0, 0], 8 * j);
+    }
+  }
+  return { uniform: 'cbrdfTables', dimension: 2, width: kTexelsPerRow, height: rows, depth: 1,
+           format: 'RGBA32F', data };
+}
+
+// The volumes stacked along theta_h (RGBA texels: three.js has no RGB texture format).
+function volumesTexture(list) {
+  const bins = kVolume[0] * kVolume[1] * kVolume[2];
+  if (!list.length) {
+    return { uniform: 'cbrdfVolumes', dimension: 3, width: 1, height: 1, depth: 1,
+             format: 'RGBA32F', data: new Float32Array(4) };
+  }
+  const data = new Float32Array(4 * bins * list.length);
+  list.forEach(([what, v], n) => {
+    if (v.length !== 3 * bins) fail(`${what} holds ${v.length} floats, expected ${3 * bins}`);
+    for (let i = 0, o = 4 * bins * n; i < bins; ++i, o += 4) {
+      data[o] = v[3 * i];
+      data[o + 1] = v[3 * i + 1];
+      data[o + 2] = v[3 * i + 2];
+    }
+  });
+  return { uniform: 'cbrdfVolumes', dimension: 3, width: kVolume[0], height: kVolume[1],
+           depth: kVolume[2] * list.length, format: 'RGBA32F', data };
+}
 
 /**
  * The textures and uniform values cbrdfGlsl reads, from a model's arrays as cbrdf.wasm gives
@@ -205,39 +306,41 @@ highp vec3 cbrdfEval(highp vec3 wi, highp vec3 wo) {
  * See spec/gpu-tables.md for the layout.
  */
 export function packGpuTables(raw) {
-  const tables = raw?.tables;
-  if (!(tables instanceof Float32Array) || tables.length < 106) {
+  const t = raw?.tables;
+  if (!(t instanceof Float32Array) || t.length < 106) {
     throw new TypeError('packGpuTables: raw.tables must be the Float32Array of a model\'s tables');
   }
-  if (tables[0] !== kGpuLayout) {
-    throw new Error(`packGpuTables: tables of layout ${tables[0]}, this cbrdfGlsl reads layout ` +
-                    `${kGpuLayout} (a cbrdf.wasm and glsl.mjs of different versions)`);
+  if (t[0] !== kRawLayout) {
+    fail(`tables of layout ${t[0]}; this glsl.mjs reads layout ${kRawLayout} (cbrdf.wasm and ` +
+         'glsl.mjs from different versions of cbrdf)');
   }
-  const volumeBins = kVolume[0] * kVolume[1] * kVolume[2];
-  const volume = (uniform, data, what) => {
-    if (data && data.length !== 3 * volumeBins) {
-      throw new Error(`packGpuTables: ${what} holds ${data.length} floats, expected ${3 * volumeBins}`);
-    }
-    return data ? { uniform, dimension: 3, width: kVolume[0], height: kVolume[1], depth: kVolume[2],
-                    format: 'RGB32F', data }
-                : { uniform, dimension: 3, width: 1, height: 1, depth: 1, format: 'RGB32F',
-                    data: new Float32Array(3) };
-  };
-  const rows = Math.max(1, Math.ceil(tables.length / kTableWidth));
-  const padded = new Float32Array(rows * kTableWidth);
-  padded.set(tables);
+  const mode = t[2];
+  if (![0, 1, 2].includes(mode)) fail(`residual mode ${mode} is not 0, 1 or 2`);
+  if (mode !== 0 && !raw.residual) fail(`residual mode ${mode} without a residual array`);
+  // In mode 2 the exact table replaces the model: its generic terms are not read.
+  const volumes = [];
+  if (raw.generic && mode !== 2) volumes.push(['generic', raw.generic]);
+  if (mode !== 0) volumes.push(['residual', raw.residual]);
   return {
     layout: kGpuLayout,
-    textures: [
-      { uniform: 'cbrdfTables', dimension: 2, width: kTableWidth / 4, height: rows, depth: 1,
-        format: 'RGBA32F', data: padded },
-      volume('cbrdfGenericTerms', raw.generic, 'generic'),
-      volume('cbrdfResidualTerms', raw.residual, 'residual'),
-    ],
+    textures: [tablesTexture(t), volumesTexture(volumes)],
     uniforms: {
-      cbrdfHasGeneric: tables[4] === 1 ? 1 : 0,
-      cbrdfResidualMode: tables[2],
-      cbrdfKnee: tables[3],
+      cbrdfVolumeCount: volumes.length,
+      cbrdfGenericVolume: raw.generic && mode !== 2 ? 1 : 0,
+      cbrdfResidualMode: mode,
+      cbrdfKnee: t[3],
     },
   };
+}
+
+/**
+ * The textures and uniforms that draw a measured table with cbrdfEval: rgb holds the physical
+ * values (1/sr) per MERL bin, RGB interleaved, bin (theta_h 90 + theta_d) 180 + phi_d; 0 where
+ * not measured. cbrdfEval then interpolates it trilinearly (the exact-table mode).
+ */
+export function packTable(rgb) {
+  const tables = new Float32Array(106);
+  tables[0] = kRawLayout;
+  tables[2] = 2;
+  return packGpuTables({ tables, generic: null, residual: rgb });
 }
