@@ -9,7 +9,7 @@ export const kGpuLayout = 2;
 
 const kRawLayout = 1;          // cbrdf/gpu_tables.h's kGpuTablesLayout, what packGpuTables reads
 const kTexelsPerRow = 1024;    // of the tables' texture
-const kDescriptors = 2 * 90;   // texels: 2 per theta_d bin, before the rows
+const kDescriptors = 90;       // texels: one per theta_d bin, before the rows
 const kVolume = [180, 90, 90]; // a volume's texels: phi_d, theta_d, theta_h
 
 // Every identifier is prefixed `cbrdf` so that the source can be pasted into any fragment shader.
@@ -74,40 +74,42 @@ highp vec3 cbrdfGridPosition(highp vec3 wi, highp vec3 wo) {
 }
 
 // One slice's value (scalar_eval.cc's add_slice at interpolated terms) from the descriptor of a
-// theta_d bin: desc the texels of its slice's theta_h row 0, of its own theta_d row, of the
-// slice's phi_d row 0 and of the slice's constants; size.x texels a row, size.y groups. Group r
-// holds the r-th product-form component of R, G and B in lanes 0, 1, 2 (lane 3 is zero).
-highp vec3 cbrdfSlice(highp vec4 desc, highp vec4 size, int h0, highp float fh, highp float fd,
-                      int k0, highp float fp) {
-  int n = int(size.x), groups = int(size.y);
-  int h = int(desc.x) + h0 * n, d = int(desc.y), p = int(desc.z) + k0 * n, c = int(desc.w);
+// theta_d bin: the texels of its slice's theta_h row 0, of its own theta_d row, of its slice's
+// phi_d row 0, and 2 groups + (1 when the next bin is in the same slice). A row holds per group
+// the texels g, w, y: in .rgb the r-th product-form component of R, G and B (theta_h's g times
+// the component's k), in .a the slice's constants of the 3 channels: theta_h rows a0 (negated
+// when 1 - h uses W), phi_d rows a, theta_d rows b0.
+highp vec3 cbrdfSlice(highp vec4 desc, int h0, highp float fh, highp float fd, int k0,
+                      highp float fp) {
+  int groups = int(desc.w) >> 1, n = 3 * groups;
+  int h = int(desc.x) + h0 * n, d = int(desc.y), p = int(desc.z) + k0 * n;
   highp float gh = 1.0 - fh, gd = 1.0 - fd, gp = 1.0 - fp;
-  highp vec4 sum = vec4(0.0);
+  highp vec3 sum = vec3(0.0);
   for (int r = 0; r < groups; ++r) {
-    // Per axis g, w and y at the two rows around the position (theta_h's g times the slot's k).
-    highp vec4 g1 = cbrdfTexel(h) * gh + cbrdfTexel(h + n) * fh;
-    highp vec4 w1 = cbrdfTexel(h + 1) * gh + cbrdfTexel(h + n + 1) * fh;
-    highp vec4 y1 = cbrdfTexel(h + 2) * gh + cbrdfTexel(h + n + 2) * fh;
-    highp vec4 g2 = cbrdfTexel(d) * gd + cbrdfTexel(d + n) * fd;
-    highp vec4 w2 = cbrdfTexel(d + 1) * gd + cbrdfTexel(d + n + 1) * fd;
-    highp vec4 y2 = cbrdfTexel(d + 2) * gd + cbrdfTexel(d + n + 2) * fd;
-    highp vec4 g3 = cbrdfTexel(p) * gp + cbrdfTexel(p + n) * fp;
-    highp vec4 w3 = cbrdfTexel(p + 1) * gp + cbrdfTexel(p + n + 1) * fp;
-    highp vec4 y3 = cbrdfTexel(p + 2) * gp + cbrdfTexel(p + n + 2) * fp;
-    highp vec4 w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
-    // 1 - h = a0 + a X and 1 + h = b0 + b Z, (X, Z) = (Y, W), or (W, Y) where a0 is stored
-    // negated.
-    highp vec4 a0 = cbrdfTexel(c), a = cbrdfTexel(c + 1), b0 = cbrdfTexel(c + 2);
-    highp vec4 b = cbrdfTexel(c + 3);
-    bvec4 swapped = lessThan(a0, vec4(0.0));
-    highp vec4 omh = abs(a0) + a * mix(Y, W, swapped), oph = b0 + b * mix(W, Y, swapped);
+    highp vec4 gh0 = cbrdfTexel(h), wh0 = cbrdfTexel(h + 1), yh0 = cbrdfTexel(h + 2);
+    highp vec4 gd0 = cbrdfTexel(d), wd0 = cbrdfTexel(d + 1), yd0 = cbrdfTexel(d + 2);
+    highp vec4 gp0 = cbrdfTexel(p), wp0 = cbrdfTexel(p + 1), yp0 = cbrdfTexel(p + 2);
+    highp vec3 g1 = gh0.rgb * gh + cbrdfTexel(h + n).rgb * fh;
+    highp vec3 w1 = wh0.rgb * gh + cbrdfTexel(h + n + 1).rgb * fh;
+    highp vec3 y1 = yh0.rgb * gh + cbrdfTexel(h + n + 2).rgb * fh;
+    highp vec3 g2 = gd0.rgb * gd + cbrdfTexel(d + n).rgb * fd;
+    highp vec3 w2 = wd0.rgb * gd + cbrdfTexel(d + n + 1).rgb * fd;
+    highp vec3 y2 = yd0.rgb * gd + cbrdfTexel(d + n + 2).rgb * fd;
+    highp vec3 g3 = gp0.rgb * gp + cbrdfTexel(p + n).rgb * fp;
+    highp vec3 w3 = wp0.rgb * gp + cbrdfTexel(p + n + 1).rgb * fp;
+    highp vec3 y3 = yp0.rgb * gp + cbrdfTexel(p + n + 2).rgb * fp;
+    highp vec3 w12 = w1 * w2, W = w12 * w3, Y = y1 + w1 * y2 + w12 * y3;
+    // 1 - h = a0 + a X and 1 + h = b0 + a Z: (X, Z) = (Y, W), or (W, Y) where a0 is negated.
+    highp vec3 a0 = vec3(gh0.a, wh0.a, yh0.a), a = vec3(gp0.a, wp0.a, yp0.a);
+    highp vec3 b0 = vec3(gd0.a, wd0.a, yd0.a);
+    bvec3 swapped = lessThan(a0, vec3(0.0));
+    highp vec3 omh = abs(a0) + a * mix(Y, W, swapped), oph = b0 + a * mix(W, Y, swapped);
     sum += (g1 * g2 * g3) * oph / (omh * omh * omh);
     h += 3;
     d += 3;
     p += 3;
-    c += 4;
   }
-  return sum.rgb;
+  return sum;
 }
 
 // Trilinear between the 8 bins around a grid position in volume v (bin (i, j, k) at texel
@@ -148,7 +150,7 @@ highp vec3 cbrdfEval(highp vec3 wi, highp vec3 wo) {
   highp float fh = pos.x - float(h0), fd = pos.y - float(d0), fp = pos.z - float(p0);
   // The slices: one (its theta_d rows d0 and d0 + 1), or across a slice boundary the two slices
   // at their rows, weighted 1 - fd and fd; likewise across phi_d's wrap (rows 179 and 0).
-  bool acrossD = fd != 0.0 && cbrdfTexel(2 * d0 + 1).z == 0.0;
+  bool acrossD = fd != 0.0 && (int(cbrdfTexel(d0).w) & 1) == 0;
   bool acrossP = p0 == 179 && fp != 0.0;
   int np = acrossP ? 2 : 1;
   int count = cbrdfResidualMode == 2.0 ? 0 : (acrossD ? 2 : 1) * np;
@@ -157,8 +159,8 @@ highp vec3 cbrdfEval(highp vec3 wi, highp vec3 wo) {
     int side = e / np, end = e - side * np, j = d0 + side;
     highp float wd = acrossD ? (side == 0 ? 1.0 - fd : fd) : 1.0;
     highp float wp = acrossP ? (end == 0 ? 1.0 - fp : fp) : 1.0;
-    rgb += (wd * wp) * cbrdfSlice(cbrdfTexel(2 * j), cbrdfTexel(2 * j + 1), h0, fh,
-                                  acrossD ? 0.0 : fd, end == 0 ? p0 : 0, acrossP ? 0.0 : fp);
+    rgb += (wd * wp) * cbrdfSlice(cbrdfTexel(j), h0, fh, acrossD ? 0.0 : fd, end == 0 ? p0 : 0,
+                                  acrossP ? 0.0 : fp);
   }
   // The volumes: the generic terms (added to the slices'), the residual layer (last).
   highp vec3 residual = vec3(0.0);
@@ -185,10 +187,8 @@ function fail(message) {
   throw new Error(`packGpuTables: ${message}`);
 }
 
-// One slice of the raw tables (layout 1, cbrdf/gpu_tables.h) in layout 2: its product-form
-// slots with a nonzero k, component r of channel c in group r at lane c; theta_h's g times k;
-// constants (a0, negated when 1 - h uses W; a; b0; b). Returns { groups, rows, constants } with
-// rows = { h, d, p } arrays of texels (4 floats each) per row, and the constants' texels.
+// One slice of the raw tables (layout 1, cbrdf/gpu_tables.h) in layout 2 (spec/gpu-tables.md):
+// { begin, end, groups, h, d, p } with each axis's rows of texels (4 floats).
 function repackSlice(t, d) {
   const [begin, end, R, G, hOff, dOff, pOff, kOff] = t.subarray(d, d + 8);
   if (!(end > begin && R >= 1 && G === Math.ceil(3 * R / 4)) ||
@@ -196,55 +196,57 @@ function repackSlice(t, d) {
     fail(`a slice descriptor at ${d} is not one of layout ${kRawLayout}`);
   }
   const constant = (q, e) => t[kOff + 28 * (q >> 2) + 4 * e + (q & 3)];
+  // The product-form slots that add anything (k != 0), per channel.
   const slots = [0, 1, 2].map((c) => {
     const list = [];
     for (let r = 0; r < R; ++r) if (constant(c * R + r, 0) !== 0) list.push(c * R + r);
     return list;
   });
   const groups = Math.max(...slots.map((l) => l.length));
+  // Per group and channel: k, a0 (negated when swapped), a, b0; zero slots add 0.
+  const k = new Float32Array(3 * groups), a0 = new Float32Array(3 * groups).fill(1);
+  const a = new Float32Array(3 * groups), b0 = new Float32Array(3 * groups).fill(1);
+  slots.forEach((list, c) => list.forEach((q, r) => {
+    const [a1, a2, b1, b2] = [2, 3, 5, 6].map((e) => constant(q, e));
+    const swapped = a2 !== 0 || b1 !== 0;
+    const [x, z] = swapped ? [a2, b1] : [a1, b2];
+    if (x !== z || (swapped ? a1 !== 0 || b2 !== 0 || !(constant(q, 1) > 0)
+                            : !(constant(q, 1) >= 0))) {
+      fail(`slot constants (${[1, 2, 3, 4, 5, 6].map((e) => constant(q, e)).join(', ')}) are ` +
+           `not of a form layout ${kGpuLayout} holds`);
+    }
+    const i = 3 * r + c;
+    k[i] = constant(q, 0);
+    a0[i] = swapped ? -constant(q, 1) : constant(q, 1);
+    a[i] = x;
+    b0[i] = constant(q, 4);
+  }));
   const n = 12 * groups;  // floats a row
-  const axis = (off, count, scaled) => {
+  // Rows of one axis: g, w, y of each group's slots in .rgb, `extra` (3 per group) in .a.
+  const axis = (off, count, scaled, extra) => {
     const out = new Float32Array(count * n);
     for (let i = 0; i < count; ++i) {
-      for (let c = 0; c < 3; ++c) {
-        slots[c].forEach((q, r) => {
-          const from = off + i * 12 * G + 12 * (q >> 2) + (q & 3), to = i * n + 12 * r + c;
-          out[to] = scaled ? t[from] * constant(q, 0) : t[from];
-          out[to + 4] = t[from + 4];
-          out[to + 8] = t[from + 8];
-        });
+      for (let r = 0; r < groups; ++r) {
+        const to = i * n + 12 * r;
+        for (let c = 0; c < 3; ++c) {
+          out[to + 4 * c + 3] = extra[3 * r + c];
+          const q = slots[c][r];
+          if (q === undefined) continue;
+          const from = off + i * 12 * G + 12 * (q >> 2) + (q & 3);
+          out[to + c] = scaled ? t[from] * k[3 * r + c] : t[from];
+          out[to + 4 + c] = t[from + 4];
+          out[to + 8 + c] = t[from + 8];
+        }
       }
     }
     return out;
   };
-  const constants = new Float32Array(16 * groups);
-  for (let r = 0; r < groups; ++r) {
-    for (let c = 0; c < 4; ++c) {
-      const o = 16 * r + c;
-      constants[o] = 1;
-      constants[o + 8] = 1;
-      const q = slots[c]?.[r];
-      if (q === undefined) continue;
-      const [a0, a1, a2, b0, b1, b2] = [1, 2, 3, 4, 5, 6].map((e) => constant(q, e));
-      const swapped = a2 !== 0 || b1 !== 0;
-      if ((swapped && (a1 !== 0 || b2 !== 0 || !(a0 > 0))) || !(a0 >= 0)) {
-        fail(`slot constants (${a0}, ${a1}, ${a2}, ${b0}, ${b1}, ${b2}) are not of a form ` +
-             `layout ${kGpuLayout} holds`);
-      }
-      constants[o] = swapped ? -a0 : a0;
-      constants[o + 4] = swapped ? a2 : a1;
-      constants[o + 8] = b0;
-      constants[o + 12] = swapped ? b1 : b2;
-    }
-  }
-  // A row of the raw h axis holds the g of 4 slots per group; k multiplies theta_h's g only.
-  return { begin, end, groups,
-           h: axis(hOff, 91, true), d: axis(dOff, end - begin + 1, false),
-           p: axis(pOff, 181, false), constants };
+  return { begin, end, groups, h: axis(hOff, 91, true, a0), d: axis(dOff, end - begin + 1, false, b0),
+           p: axis(pOff, 181, false, a) };
 }
 
-// The texel data of the tables: per theta_d bin j two descriptor texels, then each slice's rows
-// and constants.
+// The texel data of the tables: a descriptor texel per theta_d bin, then each slice's theta_h,
+// theta_d and phi_d rows.
 function tablesTexture(t) {
   const slices = t[1];
   const packed = [];
@@ -253,9 +255,8 @@ function tablesTexture(t) {
   }
   let texels = kDescriptors;
   const at = packed.map((sl) => {
-    const o = { h: texels, d: texels + sl.h.length / 4, p: texels + (sl.h.length + sl.d.length) / 4,
-                c: texels + (sl.h.length + sl.d.length + sl.p.length) / 4 };
-    texels = o.c + sl.constants.length / 4;
+    const o = { h: texels, d: texels + sl.h.length / 4, p: texels + (sl.h.length + sl.d.length) / 4 };
+    texels = o.p + sl.p.length / 4;
     return o;
   });
   const rows = Math.max(1, Math.ceil(texels / kTexelsPerRow));
@@ -264,16 +265,15 @@ function tablesTexture(t) {
     data.set(sl.h, 4 * at[s].h);
     data.set(sl.d, 4 * at[s].d);
     data.set(sl.p, 4 * at[s].p);
-    data.set(sl.constants, 4 * at[s].c);
   });
   if (packed.length) {
     for (let j = 0; j < 90; ++j) {
       const s = t[16 + j];
       const sl = packed[s];
       if (!sl || j < sl.begin || j >= sl.end) fail(`theta_d bin ${j} has no slice`);
-      const n = 3 * sl.groups;
-      data.set([at[s].h, at[s].d + (j - sl.begin) * n, at[s].p, at[s].c,
-                n, sl.groups, j + 1 < sl.end || j === 89 ? 1 : 0, 0], 8 * j);
+      const next = j + 1 < sl.end || j === 89 ? 1 : 0;
+      data.set([at[s].h, at[s].d + (j - sl.begin) * 3 * sl.groups, at[s].p, 2 * sl.groups + next],
+               4 * j);
     }
   }
   return { uniform: 'cbrdfTables', dimension: 2, width: kTexelsPerRow, height: rows, depth: 1,
