@@ -12,7 +12,7 @@ import type {
   GpuTexture as MainTexture, ModelFacts, ModelInfo, OpenOptions, RawGpuTables as MainRaw,
   Sample, Samples, SliceInfo, SliceMarginals, Vec3,
 } from 'cbrdf';
-import { cbrdfGlsl as glslSource, kGpuLayout, packGpuTables } from 'cbrdf/glsl';
+import { cbrdfGlsl as glslSource, kGpuLayout, packGpuTables, packTable } from 'cbrdf/glsl';
 import type { GpuTables, GpuTexture, RawGpuTables } from 'cbrdf/glsl';
 import {
   CbrdfMaterial, cbrdfAlbedo, cbrdfGlsl as threeGlsl, kGpuLayout as threeLayout,
@@ -143,6 +143,10 @@ export function shader(raw: RawGpuTables): string {
     expect<Float32Array>()(texture.data);
   }
   for (const [name, value] of Object.entries(packed.uniforms)) expect<number>()(value + name.length);
+  const measured: GpuTables = packTable(new Float32Array(3 * 90 * 90 * 180));
+  expect<number>()(measured.textures.length);
+  // @ts-expect-error: a measured table is float32, not float64 (model.table()'s type)
+  packTable(new Float64Array(3 * 90 * 90 * 180));
   // @ts-expect-error: the layout version is read-only
   kGpuLayout = 2;
   const source = cbrdfGlsl === glslSource && cbrdfGlsl === threeGlsl ? cbrdfGlsl : glslSource;
