@@ -41,7 +41,9 @@ want=$(printf '%s\n' "${expected[@]}" | sort)
 if [[ $got != "$want" ]]; then
   rm -f "${out:?}/$tgz"
   fail "$tgz does not hold exactly the package's files:
-$(diff <(echo "$want") <(echo "$got") | grep '^[<>]' | sed 's/^</  missing:/; s/^>/  extra:  /')"
+$(diff <(echo "$want") <(echo "$got") | grep '^[<>]' | sed 's/^</  missing:/; s/^>/  extra:  /')
+(an extra file: one the build staged before its source was removed, to delete from $stage, or a
+new file to add to package.json.in's files and to this script's list)"
 fi
 echo "pack.sh: $out/$tgz: ${#expected[@]} files, $size bytes ($unpacked unpacked)" >&2
 echo "$out/$tgz"
