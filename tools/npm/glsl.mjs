@@ -132,12 +132,12 @@ highp vec3 cbrdfVolume(int v, int i0, highp float fh, int d0, highp float fd, in
 
 highp float cbrdfSaturate(highp float v) { return isnan(v) ? 0.0 : min(v, cbrdfFltMax); }
 
-// e^x - 1 without its cancellation near 0 (GLSL has no expm1): Taylor to x^6 where |x| < 0.1
-// (relative error below 3e-10 there), e^x - 1 elsewhere.
-highp vec3 cbrdfExpm1(highp vec3 x) {
-  highp vec3 series = x * (1.0 + x / 2.0 * (1.0 + x / 3.0 * (1.0 + x / 4.0 * (1.0 + x / 5.0 *
-                                                              (1.0 + x / 6.0)))));
-  return mix(exp(x) - 1.0, series, lessThan(abs(x), vec3(0.1)));
+// e^x - 1 (ex = e^x) without its cancellation near 0 (GLSL has no expm1): Taylor to x^6 where
+// |x| < 0.1 (relative error below 3e-10 there).
+highp vec3 cbrdfExpm1(highp vec3 x, highp vec3 ex) {
+  highp vec3 series = x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x * (1.0 / 24.0 + x * (1.0 / 120.0 +
+                                                                        x * (1.0 / 720.0))))));
+  return mix(ex - 1.0, series, lessThan(abs(x), vec3(0.1)));
 }
 
 // ModelEvaluator::eval_f32: RGB (1/sr) at a pair of unit vectors (z the normal); 0 when either
@@ -177,7 +177,8 @@ highp vec3 cbrdfEval(highp vec3 wi, highp vec3 wo) {
   int transforms = cbrdfResidualMode == 1.0 ? 1 : 0;
   for (int i = 0; i < transforms; ++i) {
     highp vec3 knee = cbrdfKnee * vec3(1.0, 1.15, 1.66) / 1500.0;
-    rgb = min(max(max(rgb, 0.0) * exp(residual) + knee * cbrdfExpm1(residual), 0.0), cbrdfFltMax);
+    highp vec3 e = exp(residual);
+    rgb = min(max(max(rgb, 0.0) * e + knee * cbrdfExpm1(residual, e), 0.0), cbrdfFltMax);
   }
   return rgb;
 }
