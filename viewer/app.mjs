@@ -132,8 +132,7 @@ function renderSlice() {
   const slices = A.info.slices;
   $('slice').max = String(slices - 1);
   const s = Math.min(Number($('slice').value), slices - 1);
-  const sl = A.arrays.slice(s, Number($('channel').value));
-  if (!sl) return;
+  const sl = A.model.sliceMarginals(s, Number($('channel').value));
   const info = A.info.sliceList[s];
   const span = P.drawCopula($('copula'), sl);
   $('sliceOut').textContent = `${s} (theta_d bins ${info.thetaDBegin}-${info.thetaDEnd - 1}, ` +
@@ -151,7 +150,7 @@ function renderFacts() {
         `<tr><td>bins not measured (all channels)</td><td>${b.notMeasured}</td></tr>` +
         `<tr><td>GPU 3D texture</td><td>${kib(b.rgb.length * 4)}</td></tr></table>`;
     }
-    const f = b.arrays.facts, i = b.info;
+    const f = b.facts, i = b.info;
     const comps = i.sliceList.reduce((n, s) => n + s.channels.reduce((m, c) => m + c.length, 0), 0);
     const families = [...new Set(i.sliceList.flatMap((s) => s.channels.flat().map((c) => c.family)))];
     const residual = ['none', 'bounded log residual', 'exact (lossless)', 'row steps', 'interpolated levels'][f.residualMode + 1];

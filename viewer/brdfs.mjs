@@ -1,72 +1,36 @@
 // SPDX-License-Identifier: MIT
-// Opening files: a .cbrdf through cbrdf.wasm (the C API's validation and messages; the GPU arrays
-// of viewer_tables.cc), a MERL .binary parsed here. Each gives a "brdf" record the page draws.
+// Opening files: a .cbrdf through the package's module (cbrdf.mjs: the C API's validation and
+// messages, the GPU tables of glsl.mjs's layout), a MERL .binary parsed here. Each gives a "brdf"
+// record the page draws: `packed`, the textures and uniforms cbrdfEval reads.
 import { load } from './cbrdf.mjs';
-import { packGpuTables, packTable } from './glsl.mjs';
+import { packTable } from './glsl.mjs';
 
 export const kMerlScale = [1 / 1500, 1.15 / 1500, 1.66 / 1500];
 const kBins = 90 * 90 * 180;
 
+// The page's instance of cbrdf.wasm (its exports are what the browser test counts decodes on).
 let runtime = null;
 export function wasm() {
   runtime ??= load();
   return runtime;
 }
 
-function cString(x, ptr) {
-  const b = new Uint8Array(x.memory.buffer);
-  let end = ptr;
-  while (b[end] !== 0) ++end;
-  return new TextDecoder().decode(b.subarray(ptr, end));
-}
-
-// The viewer's arrays of a .cbrdf, from its one decode: { tables, generic, residual, facts,
-// slice(s, c) } (viewer_tables.cc), or null when the file does not decode. facts also holds the
-// slices and metadata as cbrdf.mjs's info() gives them. The module's handle stays open for
-// slice(), which returns the marginals and copula image of slice s, channel c:
-// { width, h, p, d, copula } (cbrdf_viewer_slice's layout).
-function viewerArrays(x, bytes) {
-  const p = x.malloc(bytes.length);
-  new Uint8Array(x.memory.buffer).set(bytes, p);
-  const v = x.cbrdf_viewer_open(p, bytes.length);
-  x.free(p);
-  if (v === 0) return null;
-  const countPtr = x.malloc(4);
-  const get = (which) => {
-    const ptr = x.cbrdf_viewer_array(v, which, countPtr);
-    const n = new Uint32Array(x.memory.buffer, countPtr, 1)[0];
-    return n ? new Float32Array(new Float32Array(x.memory.buffer, ptr, n)) : null;
-  };
-  const out = { tables: get(0), generic: get(1), residual: get(2),
-                facts: JSON.parse(cString(x, x.cbrdf_viewer_facts(v))) };
-  x.free(countPtr);
-  out.slice = (s, c) => {
-    const buf = x.malloc(16560 * 4);
-    try {
-      const width = x.cbrdf_viewer_slice(v, s, c, buf);
-      if (width < 0) return null;
-      const a = new Float32Array(new Float32Array(x.memory.buffer, buf, 16560));
-      return { width, h: a.subarray(0, 90), p: a.subarray(90, 270), d: a.subarray(270, 270 + width),
-               copula: a.subarray(360) };
-    } finally {
-      x.free(buf);
-    }
-  };
-  return out;
-}
-
-// A .cbrdf, decoded once (cbrdf_viewer_open). A file that does not decode is opened through the
-// C API to throw its CbrdfError (code, status, message): the message cbrdf info gives natively.
+// A .cbrdf, decoded once (open with { gpu: true }: cbrdf_viewer_open, whose facts carry the
+// slices and metadata; a file it refuses is opened through the C API, which throws its
+// CbrdfError: code, status and the message cbrdf info gives natively). The model stays open for
+// the slice plot (model.sliceMarginals).
 export async function openCbrdf(name, bytes) {
-  const rt = await wasm();
-  const arrays = viewerArrays(rt.exports, bytes);
-  if (!arrays) {
-    rt.open(bytes).free();  // throws for the file the viewer's decode refused
-    throw new Error('the viewer could not decode a file the C API accepts');
+  const model = (await wasm()).open(bytes, { gpu: true });
+  try {
+    const facts = model.facts();
+    const { sliceList, metadata } = facts;
+    const info = { slices: sliceList.length, sliceList, metadata };
+    return { kind: 'model', name, bytes: bytes.length, info, facts, model,
+             packed: model.gpuTables() };
+  } catch (err) {
+    model.free();
+    throw err;
   }
-  const { sliceList, metadata } = arrays.facts;
-  const info = { slices: sliceList.length, sliceList, metadata };
-  return { kind: 'model', name, bytes: bytes.length, info, arrays, packed: packGpuTables(arrays) };
 }
 
 // A MERL .binary: three int32 dimensions (90, 90, 180), then 3 x 1,458,000 doubles (R, G, B

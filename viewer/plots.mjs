@@ -184,7 +184,7 @@ export function drawMarginals(canvas, sl) {
   g.fillStyle = '#1f1f1f';
   g.fillRect(0, 0, W, H);
   g.font = '10px sans-serif';
-  const parts = [['theta_h', sl.h], ['theta_d', sl.d], ['phi_d', sl.p]];
+  const parts = [['theta_h', sl.thetaH], ['theta_d', sl.thetaD], ['phi_d', sl.phiD]];
   const w = W / 3;
   parts.forEach(([name, m], n) => {
     const peak = Math.max(...m);
