@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The browser viewer's (viewer/) entry points in cbrdf.wasm, beside the C API: a model's GPU
-// tables (cbrdf/gpu_tables.h, the layout viewer/shaders.mjs reads), the file's facts as JSON, and
-// a slice's marginals and copula density for the page's slice plot.
+// tables (cbrdf/gpu_tables.h, which glsl.mjs's packGpuTables repacks), the file's facts as
+// JSON, and a slice's marginals and copula density for the page's slice plot.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>

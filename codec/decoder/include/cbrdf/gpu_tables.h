@@ -2,8 +2,10 @@
 /// @file
 /// What a GPU shader samples to evaluate a Model: the evaluator's float32 tables
 /// (ModelEvaluator::eval_f32's) as flat float32 arrays, plus two optional MERL-grid volumes (the
-/// terms without a product form, and the residual layer). The browser viewer uploads them as
-/// textures; its shader (viewer/shaders.mjs) reads the layout below and matches eval_f32.
+/// terms without a product form, and the residual layer). The npm package's packGpuTables
+/// (tools/npm/glsl.mjs) repacks them into the textures its cbrdfGlsl reads (spec/gpu-tables.md,
+/// whose layout is versioned apart from this one); the viewer's browser test holds that shader
+/// to eval_f32.
 ///
 /// `tables` (integers are exact, all below 2^24):
 /// - [0] layout version (kGpuTablesLayout); [1] slices S; [2] volume mode: 0 none, 1 residual
