@@ -2,7 +2,7 @@
 // The package test's page: window.cbrdfTest.render(scene) draws a unit sphere at the origin with
 // CbrdfMaterial under one DirectionalLight (three's units: the light's intensity is the
 // irradiance at normal incidence, the material's intensity the exposure), seen by a perspective
-// camera, into a float render target: three applies neither tone mapping nor an output colour
+// (vertical fovDeg) or orthographic (viewHeight) camera, into a float render target: three applies neither tone mapping nor an output colour
 // space there, so the pixels are linear radiance f cos(theta_i) E x exposure, as `cbrdf render`
 // writes them. Returns the RGBA float32 pixels (bottom row first) as base64.
 import * as THREE from 'three';
@@ -37,7 +37,8 @@ async function material(file, exposure) {
   return m;
 }
 
-async function render(renderer, { file, width, height, position, fovDeg, radius, toLight, irradiance, exposure }) {
+async function render(renderer, { file, width, height, position, fovDeg, orthographic, viewHeight, radius,
+                                  toLight, irradiance, exposure }) {
   const scene = new THREE.Scene();
   const sphere = new THREE.Mesh(geometry, await material(file, exposure));
   sphere.scale.setScalar(radius);
@@ -45,7 +46,10 @@ async function render(renderer, { file, width, height, position, fovDeg, radius,
   const light = new THREE.DirectionalLight(0xffffff, irradiance);
   light.position.set(...toLight);  // shines towards its target, the origin
   scene.add(light);
-  const camera = new THREE.PerspectiveCamera(fovDeg, width / height, 0.1, 100);
+  const halfHeight = viewHeight / 2, halfWidth = halfHeight * (width / height);
+  const camera = orthographic
+    ? new THREE.OrthographicCamera(-halfWidth, halfWidth, halfHeight, -halfHeight, 0.1, 100)
+    : new THREE.PerspectiveCamera(fovDeg, width / height, 0.1, 100);
   camera.position.set(...position);
   camera.lookAt(0, 0, 0);
   const target = new THREE.WebGLRenderTarget(width, height, {
