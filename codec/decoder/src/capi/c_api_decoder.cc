@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "capi/batch_checks.h"
 #include "capi/c_api_internal.h"
 #include "cbrdf/brdf_table.h"
 #include "cbrdf/cbrdf_decode.h"
@@ -138,19 +139,15 @@ Status check_eval_direction(const T* w, const char* name, std::size_t index = SI
                           format_vector(w));
 }
 
-// check_eval_direction over a batch's n interleaved pairs, building a Status only for the first
-// bad direction: one per direction made the checks a large share of a batch's time (more so in
-// cbrdf.wasm, which compiles this file for size).
+// check_eval_direction over a batch's n interleaved pairs: one pass that builds no Status
+// (eval_pairs_usable), and the first bad direction's error, in the order wi[0], wo[0], wi[1], ...,
+// only when it fails.
 template <class T>
 Status check_eval_pairs(const T* wi, const T* wo, std::size_t n) {
+  if (eval_pairs_usable(wi, wo, n)) return ok_status();
   for (std::size_t k = 0; k < n; ++k) {
-    const T *i = wi + 3 * k, *o = wo + 3 * k;
-    if ((internal::zero_direction(i[0], i[1], i[2]) || is_direction(i)) &&
-        (internal::zero_direction(o[0], o[1], o[2]) || is_direction(o))) {
-      continue;
-    }
-    CBRDF_RETURN_IF_ERROR(check_eval_direction(i, "wi", k));
-    return check_eval_direction(o, "wo", k);
+    CBRDF_RETURN_IF_ERROR(check_eval_direction(wi + 3 * k, "wi", k));
+    CBRDF_RETURN_IF_ERROR(check_eval_direction(wo + 3 * k, "wo", k));
   }
   return ok_status();
 }
