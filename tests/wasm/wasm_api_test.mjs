@@ -126,9 +126,9 @@ for (const name of names) {
   for (const k of ['tables', 'generic', 'residual']) {
     check(sameArray(arrays[k], raw[k]), `${name}: gpuArrays().${k} equals cbrdf_viewer_array's`);
   }
-  check(arrays.tables[0] === glsl.kGpuLayout, `${name}: tables[0], ${arrays.tables[0]}, is ` +
-        `glsl.mjs's layout ${glsl.kGpuLayout}`);
   const packed = model.gpuTables();
+  check(packed.layout === glsl.kGpuLayout, `${name}: gpuTables().layout ${packed.layout} is ` +
+        `glsl.mjs's kGpuLayout ${glsl.kGpuLayout}`);
   check(isDeepStrictEqual(packed, packGpuTables(raw)), `${name}: gpuTables() is packGpuTables ` +
         'of the viewer\'s arrays');
   check(decodes.gpu === 1 && decodes.api === 1, `${name}: gpuTables() after gpuArrays() decodes ` +
