@@ -4,15 +4,15 @@
 // folder, serves that folder on 127.0.0.1 and renders, in headless chromium (SwiftShader), a
 // sphere with CbrdfMaterial under one directional light into a float render target (page/: no
 // tone mapping, linear output). `cbrdf render` draws the same sphere, camera, light and exposure
-// (kScene); the test fails when, inside the sphere, the PSNR is below 40 dB or a channel's median
-// ratio to the reference is more than 1% from 1 for any file, or when a light 3 degrees off would
-// pass.
+// (kCases: perspective, and orthographic for one file); the test fails when, inside the sphere,
+// the PSNR is below 40 dB or a channel's median ratio to the reference is more than 1% from 1, or
+// when a light 3 degrees off would pass.
 //   node package_test.mjs --cbrdf CBRDF --wasm-build DIR --chromium CHROMIUM
 //        --puppeteer .../node_modules/puppeteer-core --golden DIR --out DIR [--tarball TGZ]
 //        [--files A.cbrdf,B.cbrdf,...]
 // --tarball: an already packed package instead of packing DIR/wasm; --files: other .cbrdf files
-// instead of the three golden ones. Prints "SKIPPED: ..." (ctest
-// reads it as skipped) only when chromium cannot start; fails without puppeteer-core (`npm ci` in
+// instead of the three golden ones (then no --golden). Prints "SKIPPED: ..." (ctest reads it as
+// skipped) only when chromium cannot start; fails without puppeteer-core (`npm ci` in
 // tests/viewer) or without three in npm's cache or registry.
 import { execFileSync } from 'node:child_process';
 import { copyFileSync, cpSync, mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
@@ -26,7 +26,7 @@ import { compare, interiorMask } from './sphere_compare.mjs';
 const here = dirname(fileURLToPath(import.meta.url));
 const args = {};
 for (let i = 2; i < process.argv.length; i += 2) args[process.argv[i].replace(/^--/, '')] = process.argv[i + 1];
-for (const k of ['cbrdf', 'wasm-build', 'chromium', 'puppeteer', args.files ? 'out' : 'golden', 'out']) {
+for (const k of ['cbrdf', 'wasm-build', 'chromium', 'puppeteer', 'out', ...(args.files ? [] : ['golden'])]) {
   if (!args[k]) { console.error(`package_test: --${k} is required`); process.exit(2); }
 }
 let puppeteer;
@@ -135,7 +135,7 @@ async function serve(site) {
   return server;
 }
 
-// The page's render of kScene (with changes) for a file: RGB, row 0 at the top.
+// The page's render of a scene with a file: RGB, row 0 at the top.
 async function pageRender(page, logs, file, scene) {
   const b64 = await page.evaluate((p) => window.cbrdfTest.render(p), { ...scene, file: `files/${file}` })
     .catch((e) => { throw new Error(`${file}: ${e.message}\n${logs.join('\n')}`); });
