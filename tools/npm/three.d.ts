@@ -16,9 +16,12 @@ export interface AlbedoOptions {
 }
 
 /**
- * The model's directional albedo (the integral of f cos(theta_i) over wi) per outgoing elevation:
- * RGB at cos(theta_o) = (i + 0.5) / n, i = 0..n-1, by a quadrature of `model.eval` over the half
- * vector. CbrdfMaterial scales ambient, hemisphere, light-probe and environment light by it.
+ * The model's directional albedo (the integral of f cos(theta_i) over wi) and reflection lobe per
+ * outgoing elevation cos(theta_o) = (i + 0.5) / n, i = 0..n-1, by a quadrature of `model.eval`
+ * over the half vector: 5 n numbers, the n albedos (RGB), then per elevation the lobe's mean
+ * direction (its angle from the normal towards the mirror direction, as a fraction of theta_o)
+ * and its spread (a PMREM roughness, 0 to 1). CbrdfMaterial scales ambient, hemisphere and
+ * light-probe light by the albedo, and reads environment maps along the lobe.
  */
 export declare function cbrdfAlbedo(model: Model, options?: AlbedoOptions): Float32Array;
 
@@ -29,8 +32,10 @@ interface CbrdfMaterialCommon
   intensity?: number;
   /**
    * An environment map: a PMREM texture (three's PMREMGenerator), an equirectangular map or a
-   * cube map, made PMREM at the first render. Null: the scene's environment. Its irradiance at
-   * the normal reflects by the albedo (exact for a uniform environment; no mirror reflections).
+   * cube map, made PMREM at the first render. Null: the scene's environment. Read along the
+   * model's mean reflection direction, blurred to its lobe's spread, times the albedo (exact for
+   * a uniform environment; one lobe per elevation, so a mixed diffuse and glossy material is
+   * approximated).
    */
   envMap?: Texture | null;
   /** Scales the environment map's light. Default 1. */
@@ -59,9 +64,10 @@ export type CbrdfMaterialParameters = CbrdfMaterialCommon & (
 
 /**
  * A cbrdf model as a three.js material (WebGLRenderer on WebGL2). Lit by three's directional,
- * point and spot lights (with their shadows) through the model itself, by ambient, hemisphere,
- * light-probe and PMREM environment light through its albedo; three's tone mapping and output
- * colour space apply as to MeshStandardMaterial. Any mesh with normals.
+ * point and spot lights (with their shadows) through the model itself, by ambient, hemisphere
+ * and light-probe light through its albedo, by an environment map (its own or the scene's)
+ * through its albedo and reflection lobe; three's tone mapping and output colour space apply as
+ * to MeshStandardMaterial. Any mesh with normals.
  *
  * Throws a TypeError for missing or wrong options, an Error (or the model's CbrdfError) for a
  * freed model or tables of another layout version, and at the first render an Error where the

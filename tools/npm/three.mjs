@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // CbrdfMaterial: a cbrdf model as a three.js material. A ShaderMaterial around cbrdfGlsl
 // (glsl.mjs) lit by three's own lights: directional, point and spot lights evaluate the model,
-// ambient, hemisphere, light-probe and environment light scale its directional albedo
-// (cbrdfAlbedo).
+// ambient, hemisphere and light-probe light scale its directional albedo, and an environment map
+// is read along the model's reflection lobe (cbrdfAlbedo).
 import {
   CubeReflectionMapping, CubeRefractionMapping, Data3DTexture, DataTexture,
   EquirectangularReflectionMapping, EquirectangularRefractionMapping, Euler, FloatType, Material,
@@ -17,8 +17,11 @@ const kFormats = { RGBA32F: RGBAFormat, RGB32F: RGBFormat, R32F: RedFormat };
 const kAlbedoSize = 32;
 
 /**
- * The directional albedo of a model, the integral of f(wi, wo) cos(theta_i) over wi, per outgoing
- * elevation: Float32Array of 3 n (RGB at cos(theta_o) = (i + 0.5) / n, i = 0..n-1). A midpoint
+ * The directional albedo of a model, the integral of f(wi, wo) cos(theta_i) over wi, and the
+ * reflected light's lobe, per outgoing elevation cos(theta_o) = (i + 0.5) / n, i = 0..n-1:
+ * Float32Array of 5 n, the n albedos (RGB), then per elevation the lobe's mean direction (its
+ * angle from the normal towards the mirror direction, as a fraction of theta_o) and spread (a
+ * roughness for three's PMREM maps, 0 a mirror to 1 a cosine lobe). A midpoint
  * quadrature over the half vector h (wi = h reflecting wo) with theta_h spaced as the MERL grid's
  * (theta_h = t^2 pi / 2: fine where specular peaks are) and `steps` x 2 `steps` points: the same
  * table for the same file, by model.eval alone.
@@ -26,7 +29,7 @@ const kAlbedoSize = 32;
 export function cbrdfAlbedo(model, { elevations = kAlbedoSize, steps = 64 } = {}) {
   const nt = steps, np = 2 * steps, n = nt * np;
   const wi = new Float64Array(3 * n), wo = new Float64Array(3 * n), weight = new Float64Array(n);
-  const albedo = new Float32Array(3 * elevations);
+  const albedo = new Float32Array(5 * elevations);
   for (let e = 0; e < elevations; ++e) {
     const mu = (e + 0.5) / elevations, so = Math.sqrt(1 - mu * mu);
     for (let a = 0; a < nt; ++a) {
@@ -55,11 +58,30 @@ export function cbrdfAlbedo(model, { elevations = kAlbedoSize, steps = 64 } = {}
       }
     }
     const f = model.eval(wi, wo);
+    let total = 0, mx = 0, my = 0, mz = 0;
     for (let c = 0; c < 3; ++c) {
       let sum = 0;
       for (let k = 0; k < n; ++k) sum += f[3 * k + c] * weight[k];
       albedo[3 * e + c] = sum;
     }
+    for (let k = 0; k < n; ++k) {
+      const y = (0.2126 * f[3 * k] + 0.7152 * f[3 * k + 1] + 0.0722 * f[3 * k + 2]) * weight[k];
+      total += y;
+      mx += y * wi[3 * k];
+      my += y * wi[3 * k + 1];
+      mz += y * wi[3 * k + 2];
+    }
+    // The reflected light's lobe: its mean direction (the angle from the normal towards the
+    // mirror direction, as a fraction of the mirror direction's: smooth where the view meets the
+    // normal and the tangent's azimuth is arbitrary) and its spread, from the mean cosine about
+    // that direction as a Phong lobe's of exponent m ((m + 1) / (m + 2)): roughness^4 =
+    // alpha^2 = 2 / (m + 2) for narrow lobes, plus 3 / (m + 2)^2 so that a cosine lobe (m = 1)
+    // reads the map's most blurred level, as three's irradiance does.
+    const rbar = total > 0 ? Math.min(Math.hypot(mx, my, mz) / total, 0.999999) : 2 / 3;
+    const m = Math.max((2 * rbar - 1) / (1 - rbar), 0);
+    albedo[3 * elevations + 2 * e] = total > 0 ? Math.atan2(-mx, mz) / Math.acos(mu) : 0;
+    const roughness4 = 2 / (m + 2) + 3 / ((m + 2) * (m + 2));
+    albedo[3 * elevations + 2 * e + 1] = Math.min(1, roughness4 ** 0.25);
   }
   return albedo;
 }
@@ -105,6 +127,7 @@ const fragmentShader = /* glsl */ `
 uniform float opacity;
 uniform float cbrdfIntensity;
 uniform vec3 cbrdfAlbedo[CBRDF_ALBEDO_SIZE];
+uniform vec2 cbrdfLobe[CBRDF_ALBEDO_SIZE];
 varying vec3 vViewPosition;
 #include <common>
 #include <dithering_pars_fragment>
@@ -143,6 +166,11 @@ vec3 cbrdfAlbedoAt(float mu) {
   float x = clamp(mu * float(CBRDF_ALBEDO_SIZE) - 0.5, 0.0, float(CBRDF_ALBEDO_SIZE - 1));
   int i = min(int(x), CBRDF_ALBEDO_SIZE - 2);
   return mix(cbrdfAlbedo[i], cbrdfAlbedo[i + 1], x - float(i));
+}
+vec2 cbrdfLobeAt(float mu) {
+  float x = clamp(mu * float(CBRDF_ALBEDO_SIZE) - 0.5, 0.0, float(CBRDF_ALBEDO_SIZE - 1));
+  int i = min(int(x), CBRDF_ALBEDO_SIZE - 2);
+  return mix(cbrdfLobe[i], cbrdfLobe[i + 1], x - float(i));
 }
 
 void main() {
@@ -189,7 +217,8 @@ void main() {
   }
   #pragma unroll_loop_end
   #endif
-  #if defined(USE_SHADOWMAP) && NUM_POINT_LIGHT_SHADOWS > 0 && (defined(SHADOWMAP_TYPE_PCF) || defined(SHADOWMAP_TYPE_BASIC))
+  #if defined(USE_SHADOWMAP) && NUM_POINT_LIGHT_SHADOWS > 0
+  #if defined(SHADOWMAP_TYPE_PCF) || defined(SHADOWMAP_TYPE_BASIC)
   PointLightShadow pointLightShadow;
   #pragma unroll_loop_start
   for ( int i = 0; i < NUM_POINT_LIGHT_SHADOWS; i ++ ) {
@@ -197,6 +226,7 @@ void main() {
     shadow[ NUM_DIR_LIGHTS + NUM_SUN_LIGHTS + UNROLLED_LOOP_INDEX ] = receiveShadow ? getPointShadow( pointShadowMap[ i ], pointLightShadow.shadowMapSize, pointLightShadow.shadowIntensity, pointLightShadow.shadowBias, pointLightShadow.shadowRadius, vPointShadowCoord[ i ], pointLightShadow.shadowCameraNear, pointLightShadow.shadowCameraFar ) : 1.0;
   }
   #pragma unroll_loop_end
+  #endif
   #endif
   #if defined(USE_SHADOWMAP) && NUM_SPOT_LIGHT_SHADOWS > 0
   SpotLightShadow spotLightShadow;
@@ -217,8 +247,8 @@ void main() {
   }
 #endif
 
-  // Light from all around (ambient, hemisphere, probes, the environment's irradiance) reflects by
-  // the directional albedo: exact for light of the same radiance from every direction.
+  // Light from all around (ambient, hemisphere, probes) reflects by the directional albedo: exact
+  // for light of the same radiance from every direction.
   vec3 irradiance = getAmbientLightIrradiance(ambientLightColor);
 #if defined(USE_LIGHT_PROBES)
   irradiance += getLightProbeIrradiance(lightProbe, normal);
@@ -230,10 +260,18 @@ void main() {
   }
   #pragma unroll_loop_end
 #endif
-#if defined(USE_ENVMAP)
-  irradiance += getIBLIrradiance(normal);
+  vec3 albedo = cbrdfAlbedoAt(wo.z);
+  radiance += albedo * irradiance * RECIPROCAL_PI;
+#if defined(USE_ENVMAP) && defined(ENVMAP_TYPE_PMREM)
+  // The environment through the model's lobe at this elevation: the PMREM map, prefiltered to
+  // the lobe's spread, along its mean direction, times the albedo.
+  vec2 lobe = cbrdfLobeAt(wo.z);
+  float lobeAngle = lobe.x * acos(wo.z);
+  vec3 lobeDir = transformDirectionByInverseViewMatrix(
+      normalize(cos(lobeAngle) * normal - sin(lobeAngle) * tangent), viewMatrix);
+  radiance += albedo * envMapIntensity *
+              textureLod(envMap, envMapRotation * lobeDir, roughnessToMip(lobe.y)).rgb;
 #endif
-  radiance += cbrdfAlbedoAt(wo.z) * irradiance * RECIPROCAL_PI;
 
   vec3 outgoingLight = radiance * cbrdfIntensity;
   vec4 diffuseColor = vec4(1.0, 1.0, 1.0, opacity);
@@ -285,8 +323,8 @@ function pmremOf(renderer, map) {
                    map.mapping === EquirectangularRefractionMapping;
   const cube = map.mapping === CubeReflectionMapping || map.mapping === CubeRefractionMapping;
   if (!equirect && !cube) {
-    throw new Error('CbrdfMaterial: an environment map must be a PMREM texture, an equirectangular ' +
-                    'map or a cube map (texture.mapping)');
+    throw new Error('CbrdfMaterial: an environment map must be a PMREM texture, an ' +
+                    'equirectangular map or a cube map (texture.mapping)');
   }
   let maps = _pmrems.get(renderer);
   if (!maps) _pmrems.set(renderer, maps = new WeakMap());
@@ -341,23 +379,26 @@ export class CbrdfMaterial extends ShaderMaterial {
       throw new Error(`CbrdfMaterial: GPU tables of layout ${tables.layout}; this cbrdfGlsl ` +
                       `reads layout ${kGpuLayout} (cbrdf.mjs and three.mjs of different versions)`);
     }
-    if (albedo === null) albedo = new Float32Array(3 * kAlbedoSize);
-    if (!(albedo instanceof Float32Array) || albedo.length < 6 || albedo.length % 3 !== 0) {
-      throw new TypeError('CbrdfMaterial: options.albedo must be a Float32Array of RGB per ' +
-                          'elevation (cbrdfAlbedo(model))');
+    if (albedo === null) albedo = new Float32Array(5 * kAlbedoSize);
+    if (!(albedo instanceof Float32Array) || albedo.length < 10 || albedo.length % 5 !== 0) {
+      throw new TypeError('CbrdfMaterial: options.albedo must be a Float32Array of 5 numbers ' +
+                          'per elevation (cbrdfAlbedo(model))');
     }
-    const uniforms = UniformsUtils.merge([UniformsLib.envmap, UniformsLib.fog, UniformsLib.lights,
-                                          { opacity: { value: 1 }, envMapIntensity: { value: 1 } }]);
+    const own = { opacity: { value: 1 }, envMapIntensity: { value: 1 } };
+    const uniforms = UniformsUtils.merge([UniformsLib.envmap, UniformsLib.fog, UniformsLib.lights, own]);
     // Added after the merge, which would copy the textures.
     const textures = tables.textures.map(threeTexture);
     tables.textures.forEach((t, i) => { uniforms[t.uniform] = { value: textures[i] }; });
     for (const [name, value] of Object.entries(tables.uniforms)) uniforms[name] = { value };
     uniforms.cbrdfIntensity = { value: intensity };
-    uniforms.cbrdfAlbedo = { value: albedo };
+    const size = albedo.length / 5;
+    uniforms.cbrdfAlbedo = { value: albedo.subarray(0, 3 * size) };
+    uniforms.cbrdfLobe = { value: albedo.subarray(3 * size) };
 
     super({ ...rest, uniforms, vertexShader, fragmentShader, lights: true,
             fog: true, clipping: true });
-    this.defines.CBRDF_ALBEDO_SIZE = albedo.length / 3;
+    this.defines.CBRDF_ALBEDO_SIZE = size;
+    this.cbrdfAlbedo = albedo;
     this.isCbrdfMaterial = true;
     this.type = 'CbrdfMaterial';
     this.cbrdfTables = tables;
@@ -408,7 +449,8 @@ export class CbrdfMaterial extends ShaderMaterial {
     if (typeof WebGL2RenderingContext === 'undefined' || !(gl instanceof WebGL2RenderingContext)) {
       throw new Error('CbrdfMaterial needs WebGL2 (3D and 32-bit float textures)');
     }
-    const max2d = gl.getParameter(gl.MAX_TEXTURE_SIZE), max3d = gl.getParameter(gl.MAX_3D_TEXTURE_SIZE);
+    const max2d = gl.getParameter(gl.MAX_TEXTURE_SIZE);
+    const max3d = gl.getParameter(gl.MAX_3D_TEXTURE_SIZE);
     for (const t of this.cbrdfTextures) {
       const img = t.image;
       const limit = t.isData3DTexture ? max3d : max2d;
@@ -422,7 +464,7 @@ export class CbrdfMaterial extends ShaderMaterial {
 
   // A material of its own textures (ShaderMaterial.copy would share uniforms' values by clone).
   clone() {
-    const m = new this.constructor({ tables: this.cbrdfTables, albedo: this.uniforms.cbrdfAlbedo.value,
+    const m = new this.constructor({ tables: this.cbrdfTables, albedo: this.cbrdfAlbedo,
                                      intensity: this.intensity, envMap: this.cbrdfEnvSource,
                                      envMapIntensity: this.envMapIntensity,
                                      envMapRotation: this.envMapRotation.clone() });
