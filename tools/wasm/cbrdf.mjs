@@ -392,7 +392,8 @@ export class Model {
   // Float32Array of n (x, y, z) triples each -> the same type of n (r, g, b) triples
   // (cbrdf_model_eval_batch, in double; a Float32Array gets the doubles rounded to float), or,
   // given out (a Float64Array or Float32Array of 3n, either type), written into out, which is
-  // returned: nothing is allocated, which makes repeated batches several times faster.
+  // returned: nothing is allocated, so repeated batches cost the evaluation and two copies, not a
+  // new array each and the collector's work after it.
   eval(wi, wo, out) {
     const { rt } = this;
     const h = this.live();
