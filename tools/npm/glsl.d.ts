@@ -13,7 +13,7 @@ export declare const kGpuLayout: number;
  * output (all named `cbrdf*`) and `vec3 cbrdfEval(vec3 wi, vec3 wo)`: the BRDF in 1/sr, linear
  * RGB, at unit vectors in the local frame (z the normal), 0 when either is below the horizon.
  * Paste it into a fragment shader after `precision highp float; precision highp int;`.
- * Samplers: `cbrdfTables` (2D), `cbrdfVolumes` (3D); floats: `cbrdfVolumeCount`,
+ * Sampler: `cbrdfTables` (2D); floats: `cbrdfVolumeBase`, `cbrdfVolumeCount`,
  * `cbrdfGenericVolume`, `cbrdfResidualMode`, `cbrdfKnee`.
  */
 export declare const cbrdfGlsl: string;

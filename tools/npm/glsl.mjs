@@ -8,17 +8,17 @@
 export const kGpuLayout = 2;
 
 const kRawLayout = 1;          // cbrdf/gpu_tables.h's kGpuTablesLayout, what packGpuTables reads
-const kTexelsPerRow = 1024;    // of the tables' texture
+const kTexelsPerRow = 2048;    // of the tables' texture
 const kDescriptors = 90;       // texels: one per theta_d bin, before the rows
-const kVolume = [180, 90, 90]; // a volume's texels: phi_d, theta_d, theta_h
+const kVolumeBins = 90 * 90 * 180;  // texels a volume: theta_h, theta_d, phi_d
 
 // Every identifier is prefixed `cbrdf` so that the source can be pasted into any fragment shader.
 // Declarations carry their own precision; the includer's default float and int precision must be
 // highp (WebGL2 guarantees it in fragment shaders).
 export const cbrdfGlsl = `
-uniform highp sampler2D cbrdfTables;     // descriptors, rows, constants: RGBA32F, ${kTexelsPerRow} texels a row
-uniform highp sampler3D cbrdfVolumes;    // per-bin RGB volumes, RGBA32F, 180 x 90 x 90 each
-uniform highp float cbrdfVolumeCount;    // volumes in cbrdfVolumes: 0, 1 or 2
+uniform highp sampler2D cbrdfTables;     // RGBA32F, ${kTexelsPerRow} texels a row: descriptors, rows, volumes
+uniform highp float cbrdfVolumeBase;     // the texel of volume 0's first bin
+uniform highp float cbrdfVolumeCount;    // per-bin volumes: 0, 1 or 2
 uniform highp float cbrdfGenericVolume;  // 1: volume 0 holds the generic terms
 uniform highp float cbrdfResidualMode;   // 0 none, 1 log residual (last volume), 2 exact table
 uniform highp float cbrdfKnee;           // the residual's knee, stored units
@@ -113,20 +113,18 @@ highp vec3 cbrdfSlice(highp vec4 desc, int h0, highp float fh, highp float fd, i
 }
 
 // Trilinear between the 8 bins around a grid position in volume v (bin (i, j, k) at texel
-// (k, j, 90 v + i)), theta_h and theta_d clamped, phi_d periodic (interp_tables.h).
+// cbrdfVolumeBase + 1458000 v + (90 i + j) 180 + k), theta_h and theta_d clamped, phi_d periodic
+// (interp_tables.h).
 highp vec3 cbrdfVolume(int v, int i0, highp float fh, int d0, highp float fd, int k0,
                        highp float fp) {
-  int i1 = min(i0 + 1, 89) + 90 * v, d1 = min(d0 + 1, 89), k1 = k0 == 179 ? 0 : k0 + 1;
-  i0 += 90 * v;
+  int i1 = min(i0 + 1, 89), d1 = min(d0 + 1, 89), k1 = k0 == 179 ? 0 : k0 + 1;
+  int base = int(cbrdfVolumeBase) + ${kVolumeBins} * v;
+  int a = base + i0 * 16200, c = base + i1 * 16200, j0 = d0 * 180, j1 = d1 * 180;
   highp float gh = 1.0 - fh, gp = 1.0 - fp;
-  highp vec3 lo = (texelFetch(cbrdfVolumes, ivec3(k0, d0, i0), 0).rgb * gp +
-                   texelFetch(cbrdfVolumes, ivec3(k1, d0, i0), 0).rgb * fp) * gh +
-                  (texelFetch(cbrdfVolumes, ivec3(k0, d0, i1), 0).rgb * gp +
-                   texelFetch(cbrdfVolumes, ivec3(k1, d0, i1), 0).rgb * fp) * fh;
-  highp vec3 hi = (texelFetch(cbrdfVolumes, ivec3(k0, d1, i0), 0).rgb * gp +
-                   texelFetch(cbrdfVolumes, ivec3(k1, d1, i0), 0).rgb * fp) * gh +
-                  (texelFetch(cbrdfVolumes, ivec3(k0, d1, i1), 0).rgb * gp +
-                   texelFetch(cbrdfVolumes, ivec3(k1, d1, i1), 0).rgb * fp) * fh;
+  highp vec3 lo = (cbrdfTexel(a + j0 + k0).rgb * gp + cbrdfTexel(a + j0 + k1).rgb * fp) * gh +
+                  (cbrdfTexel(c + j0 + k0).rgb * gp + cbrdfTexel(c + j0 + k1).rgb * fp) * fh;
+  highp vec3 hi = (cbrdfTexel(a + j1 + k0).rgb * gp + cbrdfTexel(a + j1 + k1).rgb * fp) * gh +
+                  (cbrdfTexel(c + j1 + k0).rgb * gp + cbrdfTexel(c + j1 + k1).rgb * fp) * fh;
   return lo * (1.0 - fd) + hi * fd;
 }
 
@@ -246,9 +244,9 @@ function repackSlice(t, d) {
            p: axis(pOff, 181, false, a) };
 }
 
-// The texel data of the tables: a descriptor texel per theta_d bin, then each slice's theta_h,
-// theta_d and phi_d rows.
-function tablesTexture(t) {
+// The texel data of the tables: a descriptor texel per theta_d bin, each slice's theta_h,
+// theta_d and phi_d rows, then from the next row the volumes (RGB in RGBA texels).
+function tablesTexture(t, volumes) {
   const slices = t[1];
   const packed = [];
   if (t[2] !== 2) {
@@ -260,8 +258,16 @@ function tablesTexture(t) {
     texels = o.p + sl.p.length / 4;
     return o;
   });
-  const rows = Math.max(1, Math.ceil(texels / kTexelsPerRow));
+  // The volumes from the row after the tables.
+  const volumeBase = Math.ceil(texels / kTexelsPerRow) * kTexelsPerRow;
+  const rows = Math.max(1, Math.ceil((volumeBase + kVolumeBins * volumes.length) / kTexelsPerRow));
   const data = new Float32Array(rows * 4 * kTexelsPerRow);
+  volumes.forEach(([what, v], n) => {
+    if (v.length !== 3 * kVolumeBins) {
+      fail(`${what} holds ${v.length} floats, expected ${3 * kVolumeBins}`);
+    }
+    copyRgbToRgba(v, data, 4 * (volumeBase + kVolumeBins * n), kVolumeBins);
+  });
   packed.forEach((sl, s) => {
     data.set(sl.h, 4 * at[s].h);
     data.set(sl.d, 4 * at[s].d);
@@ -277,28 +283,17 @@ function tablesTexture(t) {
                4 * j);
     }
   }
-  return { uniform: 'cbrdfTables', dimension: 2, width: kTexelsPerRow, height: rows, depth: 1,
-           format: 'RGBA32F', data };
+  return { volumeBase,
+           texture: { uniform: 'cbrdfTables', dimension: 2, width: kTexelsPerRow, height: rows,
+                      depth: 1, format: 'RGBA32F', data } };
 }
 
-// The volumes stacked along theta_h (RGBA texels: three.js has no RGB texture format).
-function volumesTexture(list) {
-  const bins = kVolume[0] * kVolume[1] * kVolume[2];
-  if (!list.length) {
-    return { uniform: 'cbrdfVolumes', dimension: 3, width: 1, height: 1, depth: 1,
-             format: 'RGBA32F', data: new Float32Array(4) };
+function copyRgbToRgba(from, to, offset, count) {
+  for (let i = 0, f = 0, o = offset; i < count; ++i, f += 3, o += 4) {
+    to[o] = from[f];
+    to[o + 1] = from[f + 1];
+    to[o + 2] = from[f + 2];
   }
-  const data = new Float32Array(4 * bins * list.length);
-  list.forEach(([what, v], n) => {
-    if (v.length !== 3 * bins) fail(`${what} holds ${v.length} floats, expected ${3 * bins}`);
-    for (let i = 0, o = 4 * bins * n; i < bins; ++i, o += 4) {
-      data[o] = v[3 * i];
-      data[o + 1] = v[3 * i + 1];
-      data[o + 2] = v[3 * i + 2];
-    }
-  });
-  return { uniform: 'cbrdfVolumes', dimension: 3, width: kVolume[0], height: kVolume[1],
-           depth: kVolume[2] * list.length, format: 'RGBA32F', data };
 }
 
 /**
@@ -322,10 +317,12 @@ export function packGpuTables(raw) {
   const volumes = [];
   if (raw.generic && mode !== 2) volumes.push(['generic', raw.generic]);
   if (mode !== 0) volumes.push(['residual', raw.residual]);
+  const { texture, volumeBase } = tablesTexture(t, volumes);
   return {
     layout: kGpuLayout,
-    textures: [tablesTexture(t), volumesTexture(volumes)],
+    textures: [texture],
     uniforms: {
+      cbrdfVolumeBase: volumeBase,
       cbrdfVolumeCount: volumes.length,
       cbrdfGenericVolume: raw.generic && mode !== 2 ? 1 : 0,
       cbrdfResidualMode: mode,

@@ -142,9 +142,10 @@ function cbrdfMaterial(packed, cbrdfGlsl) {
 }
 
 async function packedOf(bytes, packGpuTables) {
+  // The arrays through cbrdf.mjs when it gives them, packed by the glsl.mjs under test.
   const model = await open(bytes);
   try {
-    if (typeof model.gpuTables === 'function') return model.gpuTables();
+    if (typeof model.gpuArrays === 'function') return packGpuTables(model.gpuArrays());
   } finally {
     model.free();
   }
@@ -213,6 +214,8 @@ const served = {
 };
 const sources = args.glsl.split(',');
 sources.forEach((f, v) => { served[`/glsl${v}.mjs`] = ['text/javascript', () => readFileSync(f)]; });
+// cbrdf.mjs imports ./glsl.mjs: the first source.
+served['/glsl.mjs'] = served['/glsl0.mjs'];
 args.files.forEach((f, i) => { served[`/f/${i}`] = ['application/octet-stream', () => readFileSync(f)]; });
 const server = http.createServer((req, res) => {
   const entry = served[req.url];
