@@ -119,11 +119,11 @@ void main() {
 }
 `;
 
-// Direct lights are gathered into one loop with a single cbrdfEval call site (the function is
-// large and would be inlined once per light type otherwise); shadow maps, whose samplers only
-// constant indices may address, are read before it in three's unrolled loops.
+// Direct lights through three's own lights_fragment_begin (attenuation, cones, light maps and
+// shadows exactly as for MeshStandardMaterial), whose RE_Direct adds the model's f cos E; it
+// unrolls the loops, one cbrdfEval per light (a loop over the lights instead ran at twice the
+// cost in SwiftShader). Its ambient, hemisphere and probe irradiance reflects by the albedo.
 const fragmentShader = /* glsl */ `
-#define CBRDF_DIRECT_LIGHTS (NUM_DIR_LIGHTS + NUM_SUN_LIGHTS + NUM_POINT_LIGHTS + NUM_SPOT_LIGHTS)
 uniform float opacity;
 uniform float cbrdfIntensity;
 uniform vec3 cbrdfAlbedo[CBRDF_ALBEDO_SIZE];
@@ -141,25 +141,21 @@ varying vec3 vViewPosition;
 #include <clipping_planes_pars_fragment>
 ${cbrdfGlsl}
 
-// Light k of the direct lights: directional, sun, point, then spot lights.
-void cbrdfDirectLight(int k, vec3 position, out IncidentLight light) {
-  light.visible = false;
-#if NUM_DIR_LIGHTS > 0
-  if (k < NUM_DIR_LIGHTS) { getDirectionalLightInfo(directionalLights[k], light); return; }
-  k -= NUM_DIR_LIGHTS;
-#endif
-#if NUM_SUN_LIGHTS > 0
-  if (k < NUM_SUN_LIGHTS) { getSunLightInfo(sunLights[k], light); return; }
-  k -= NUM_SUN_LIGHTS;
-#endif
-#if NUM_POINT_LIGHTS > 0
-  if (k < NUM_POINT_LIGHTS) { getPointLightInfo(pointLights[k], position, light); return; }
-  k -= NUM_POINT_LIGHTS;
-#endif
-#if NUM_SPOT_LIGHTS > 0
-  if (k < NUM_SPOT_LIGHTS) getSpotLightInfo(spotLights[k], position, light);
-#endif
+// The local frame and outgoing direction, passed to RE_Direct as its "material".
+struct CbrdfFrame { vec3 tangent; vec3 bitangent; vec3 wo; };
+
+void cbrdfDirect(const in IncidentLight directLight, const in vec3 geometryPosition,
+                 const in vec3 geometryNormal, const in vec3 geometryViewDir,
+                 const in vec3 geometryClearcoatNormal, const in CbrdfFrame material,
+                 inout ReflectedLight reflectedLight) {
+  vec3 L = directLight.direction;
+  vec3 wi = vec3(dot(L, material.tangent), dot(L, material.bitangent), dot(L, geometryNormal));
+  if (wi.z <= 0.0) return;
+  reflectedLight.directSpecular += cbrdfEval(normalize(wi), material.wo) * wi.z * directLight.color;
 }
+void cbrdfIndirect() {}  // never called: defining RE_IndirectDiffuse makes the chunk sum irradiance
+#define RE_Direct cbrdfDirect
+#define RE_IndirectDiffuse cbrdfIndirect
 
 // The albedo table at cos(theta_o), linear between its elevations.
 vec3 cbrdfAlbedoAt(float mu) {
@@ -177,7 +173,6 @@ void main() {
   #include <clipping_planes_fragment>
   #include <logdepthbuf_fragment>
   #include <normal_fragment_begin>
-  vec3 geometryPosition = - vViewPosition;
   vec3 viewDir = isOrthographic ? vec3(0.0, 0.0, 1.0) : normalize(vViewPosition);
 
   // The local frame: z the normal, x the view direction made orthogonal to it (Gram-Schmidt), so
@@ -195,71 +190,13 @@ void main() {
   float woz = max(nv, 1e-3);
   vec3 wo = vec3(sqrt(1.0 - woz * woz), 0.0, woz);
 
-  vec3 radiance = vec3(0.0);
-#if CBRDF_DIRECT_LIGHTS > 0
-  float shadow[CBRDF_DIRECT_LIGHTS];
-  for (int k = 0; k < CBRDF_DIRECT_LIGHTS; ++k) shadow[k] = 1.0;
-  #if defined(USE_SHADOWMAP) && NUM_DIR_LIGHT_SHADOWS > 0
-  DirectionalLightShadow directionalLightShadow;
-  #pragma unroll_loop_start
-  for ( int i = 0; i < NUM_DIR_LIGHT_SHADOWS; i ++ ) {
-    directionalLightShadow = directionalLightShadows[ i ];
-    shadow[ i ] = receiveShadow ? getShadow( directionalShadowMap[ i ], directionalLightShadow.shadowMapSize, directionalLightShadow.shadowIntensity, directionalLightShadow.shadowBias, directionalLightShadow.shadowRadius, vDirectionalShadowCoord[ i ] ) : 1.0;
-  }
-  #pragma unroll_loop_end
-  #endif
-  #if defined(USE_SHADOWMAP) && NUM_SUN_LIGHT_SHADOWS > 0
-  SunLightShadow sunLightShadow;
-  #pragma unroll_loop_start
-  for ( int i = 0; i < NUM_SUN_LIGHT_SHADOWS; i ++ ) {
-    sunLightShadow = sunLightShadows[ i ];
-    shadow[ NUM_DIR_LIGHTS + UNROLLED_LOOP_INDEX ] = receiveShadow ? getSunShadow( sunShadowMap[ i ], sunLightShadow, UNROLLED_LOOP_INDEX ) : 1.0;
-  }
-  #pragma unroll_loop_end
-  #endif
-  #if defined(USE_SHADOWMAP) && NUM_POINT_LIGHT_SHADOWS > 0
-  #if defined(SHADOWMAP_TYPE_PCF) || defined(SHADOWMAP_TYPE_BASIC)
-  PointLightShadow pointLightShadow;
-  #pragma unroll_loop_start
-  for ( int i = 0; i < NUM_POINT_LIGHT_SHADOWS; i ++ ) {
-    pointLightShadow = pointLightShadows[ i ];
-    shadow[ NUM_DIR_LIGHTS + NUM_SUN_LIGHTS + UNROLLED_LOOP_INDEX ] = receiveShadow ? getPointShadow( pointShadowMap[ i ], pointLightShadow.shadowMapSize, pointLightShadow.shadowIntensity, pointLightShadow.shadowBias, pointLightShadow.shadowRadius, vPointShadowCoord[ i ], pointLightShadow.shadowCameraNear, pointLightShadow.shadowCameraFar ) : 1.0;
-  }
-  #pragma unroll_loop_end
-  #endif
-  #endif
-  #if defined(USE_SHADOWMAP) && NUM_SPOT_LIGHT_SHADOWS > 0
-  SpotLightShadow spotLightShadow;
-  #pragma unroll_loop_start
-  for ( int i = 0; i < NUM_SPOT_LIGHT_SHADOWS; i ++ ) {
-    spotLightShadow = spotLightShadows[ i ];
-    shadow[ NUM_DIR_LIGHTS + NUM_SUN_LIGHTS + NUM_POINT_LIGHTS + UNROLLED_LOOP_INDEX ] = receiveShadow ? getShadow( spotShadowMap[ i ], spotLightShadow.shadowMapSize, spotLightShadow.shadowIntensity, spotLightShadow.shadowBias, spotLightShadow.shadowRadius, vSpotLightCoord[ i ] ) : 1.0;
-  }
-  #pragma unroll_loop_end
-  #endif
-  for (int k = 0; k < CBRDF_DIRECT_LIGHTS; ++k) {
-    IncidentLight light;
-    cbrdfDirectLight(k, geometryPosition, light);
-    vec3 wi = vec3(dot(light.direction, tangent), dot(light.direction, bitangent),
-                   dot(light.direction, normal));
-    if (!light.visible || wi.z <= 0.0) continue;
-    radiance += cbrdfEval(normalize(wi), wo) * wi.z * light.color * shadow[k];
-  }
-#endif
+  CbrdfFrame material = CbrdfFrame(tangent, bitangent, wo);
+  ReflectedLight reflectedLight = ReflectedLight(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+  #include <lights_fragment_begin>
+  vec3 radiance = reflectedLight.directSpecular;
 
-  // Light from all around (ambient, hemisphere, probes) reflects by the directional albedo: exact
-  // for light of the same radiance from every direction.
-  vec3 irradiance = getAmbientLightIrradiance(ambientLightColor);
-#if defined(USE_LIGHT_PROBES)
-  irradiance += getLightProbeIrradiance(lightProbe, normal);
-#endif
-#if NUM_HEMI_LIGHTS > 0
-  #pragma unroll_loop_start
-  for ( int i = 0; i < NUM_HEMI_LIGHTS; i ++ ) {
-    irradiance += getHemisphereLightIrradiance( hemisphereLights[ i ], normal );
-  }
-  #pragma unroll_loop_end
-#endif
+  // Light from all around (ambient, hemisphere, probes: the chunk's irradiance) reflects by the
+  // directional albedo: exact for light of the same radiance from every direction.
   vec3 albedo = cbrdfAlbedoAt(wo.z);
   radiance += albedo * irradiance * RECIPROCAL_PI;
 #if defined(USE_ENVMAP) && defined(ENVMAP_TYPE_PMREM)
