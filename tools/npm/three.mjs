@@ -322,7 +322,8 @@ export class CbrdfMaterial extends ShaderMaterial {
                           'per elevation (cbrdfAlbedo(model))');
     }
     const own = { opacity: { value: 1 }, envMapIntensity: { value: 1 } };
-    const uniforms = UniformsUtils.merge([UniformsLib.envmap, UniformsLib.fog, UniformsLib.lights, own]);
+    const libs = [UniformsLib.envmap, UniformsLib.fog, UniformsLib.lights];
+    const uniforms = UniformsUtils.merge([...libs, own]);
     // Added after the merge, which would copy the textures.
     const textures = tables.textures.map(threeTexture);
     tables.textures.forEach((t, i) => { uniforms[t.uniform] = { value: textures[i] }; });
