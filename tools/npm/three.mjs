@@ -120,9 +120,9 @@ void main() {
 `;
 
 // Direct lights through three's own lights_fragment_begin (attenuation, cones, light maps and
-// shadows exactly as for MeshStandardMaterial), whose RE_Direct adds the model's f cos E; it
-// unrolls the loops, one cbrdfEval per light (a loop over the lights instead ran at twice the
-// cost in SwiftShader). Its ambient, hemisphere and probe irradiance reflects by the albedo.
+// shadows exactly as for MeshStandardMaterial), whose RE_Direct adds the model's f cos E: its
+// loops are unrolled, one cbrdfEval per light, which GPUs run faster than one call inside a loop
+// over the lights. Its ambient, hemisphere and probe irradiance reflects by the albedo.
 const fragmentShader = /* glsl */ `
 uniform float opacity;
 uniform float cbrdfIntensity;
@@ -248,8 +248,8 @@ function threeTexture(t) {
 
 const _matrix = new Matrix4();
 
-// Environment maps as PMREM textures, which the shader's irradiance lookup needs: three makes them
-// only for its standard materials, so the material makes its own, once per map and renderer.
+// Environment maps as PMREM textures, which the shader's lobe lookup needs: three makes them only
+// for its standard materials, so the material makes its own, once per map and renderer.
 const _generators = new WeakMap();  // renderer -> PMREMGenerator
 const _pmrems = new WeakMap();      // renderer -> (map -> PMREM render target)
 
