@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The viewer page: files from `cbrdf view` (files.json), an "Open" button or dropped on the page;
 // a lit sphere per file side by side (the model evaluated on the GPU, a .binary from its table as
-// a 3D texture) with the false-colour difference and the PSNR of the view; plots; file facts.
+// a volume, interpolated trilinearly) with the false-colour difference and the PSNR of the view;
+// plots; file facts.
 // window.cbrdfViewer is what the browser test (tests/viewer) drives.
 import { Gpu } from './gpu.mjs';
 import { openFile } from './brdfs.mjs';
@@ -141,6 +142,9 @@ function renderSlice() {
   P.drawMarginals($('marginals'), sl);
 }
 
+// What the GPU holds for a file: its textures as packGpuTables gives them.
+function gpuBytes(b) { return b.packed.textures.reduce((n, t) => n + t.data.byteLength, 0); }
+
 function kib(n) { return n >= 1 << 20 ? `${(n / (1 << 20)).toFixed(2)} MiB` : n >= 1024 ? `${(n / 1024).toFixed(1)} KiB` : `${n} B`; }
 
 function renderFacts() {
@@ -148,7 +152,7 @@ function renderFacts() {
     if (b.kind === 'table') {
       return `<h3>${esc(b.name)}</h3><table><tr><td>MERL .binary</td><td>${kib(b.bytes)}</td></tr>` +
         `<tr><td>bins not measured (all channels)</td><td>${b.notMeasured}</td></tr>` +
-        `<tr><td>GPU 3D texture</td><td>${kib(b.rgb.length * 4)}</td></tr></table>`;
+        `<tr><td>GPU texture</td><td>${kib(gpuBytes(b))}</td></tr></table>`;
     }
     const f = b.facts, i = b.info;
     const comps = i.sliceList.reduce((n, s) => n + s.channels.reduce((m, c) => m + c.length, 0), 0);
@@ -162,7 +166,7 @@ function renderFacts() {
       `<tr><td>marginal bits</td><td>${f.bits}</td></tr>` +
       `<tr><td>residual layer</td><td>${residual}${f.residualMode >= 0 && f.residualMode !== 1 ? `, bound ${f.residualMaxError.toPrecision(3)} (finest ${f.residualMinError.toPrecision(3)}) in log1p(v / ${f.residualKnee.toPrecision(3)}), ${f.residualEscapes} escapes` : ''}</td></tr>` +
       `<tr><td>evaluator footprint</td><td>${kib(f.footprintBytes)} (native ModelEvaluator)</td></tr>` +
-      `<tr><td>GPU textures</td><td>${kib(f.gpuTableBytes)}</td></tr>` +
+      `<tr><td>GPU textures</td><td>${kib(gpuBytes(b))} (the model's arrays: ${kib(f.gpuTableBytes)})</td></tr>` +
       `<tr><td>not-measured bins</td><td>${f.notMeasuredBins}</td></tr>` +
       (settings ? `<tr><td>settings (metadata)</td><td>${settings}</td></tr>` : '') +
       `</table><table><tr><th>chunk</th><th>offset</th><th>stored</th><th>payload</th></tr>` +
