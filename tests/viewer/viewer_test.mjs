@@ -12,7 +12,7 @@
 //      against its measurement shows a finite PSNR;
 //   3. a dropped bad file shows the C API's message (the native library's, from viewer_reference's
 //      sibling cbrdf info);
-//   4. frame time of the model's sphere against the 3D-texture sphere (one run), and the time
+//   4. frame time of the model's sphere against the table's sphere (one run), and the time
 //      from dropping a small file to its first frame: printed.
 // Prints "SKIPPED: ..." (ctest reads it as skipped) only where chromium cannot start; without
 // puppeteer-core (`npm ci` in tests/viewer) it fails.
@@ -439,7 +439,7 @@ try {
     check(badHdr.shown === 'broken.hdr: truncated pixel data', `a dropped broken .hdr is reported: "${badHdr.shown}"`);
   }
 
-  // 4. Speed: the same sphere from the model's tables and from the table's 3D texture, one run.
+  // 4. Speed: the same sphere from the model's tables and from the measured table (a volume), one run.
   const frames = 8;
   // Three rounds of interleaved frames; the ratio quoted is the rounds' median.
   const rounds = [];
@@ -448,8 +448,8 @@ try {
   }
   const ratios = rounds.map(([m, t]) => m / t).sort((x, y) => x - y);
   console.log(`frame time, 320x320 sphere on SwiftShader (${frames} frames each, interleaved, 3 rounds): ` +
-              rounds.map(([m, t]) => `model ${m.toFixed(1)} ms / 3D texture ${t.toFixed(1)} ms`).join('; ') +
-              `; ratio model/texture, median ${ratios[1].toFixed(2)}x (${ratios[0].toFixed(2)}-${ratios[2].toFixed(2)})`);
+              rounds.map(([m, t]) => `model ${m.toFixed(1)} ms / table ${t.toFixed(1)} ms`).join('; ') +
+              `; ratio model/table, median ${ratios[1].toFixed(2)}x (${ratios[0].toFixed(2)}-${ratios[2].toFixed(2)})`);
   check(rounds.every(([m, t]) => m > 0 && t > 0), 'frame times measured');
   // A 6 KB file (the residual golden file), then a mixture with Clayton/Gumbel terms (whose
   // per-bin volume is computed on opening).
