@@ -27,7 +27,8 @@ export declare function cbrdfAlbedo(model: Model, options?: AlbedoOptions): Floa
 
 /** Options common to both ways of giving the model. */
 interface CbrdfMaterialCommon
-  extends Omit<ShaderMaterialParameters, 'uniforms' | 'vertexShader' | 'fragmentShader' | 'lights'> {
+  extends Omit<ShaderMaterialParameters,
+                'uniforms' | 'vertexShader' | 'fragmentShader' | 'lights'> {
   /** Scales the reflected radiance (an exposure); 1: radiance = f cos(theta_i) E. Default 1. */
   intensity?: number;
   /**

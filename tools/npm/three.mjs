@@ -121,8 +121,8 @@ void main() {
 
 // Direct lights through three's own lights_fragment_begin (attenuation, cones, light maps and
 // shadows exactly as for MeshStandardMaterial), whose RE_Direct adds the model's f cos E: its
-// loops are unrolled, one cbrdfEval per light, which SwiftShader runs faster than one call in a loop
-// over the lights. Its ambient, hemisphere and probe irradiance reflects by the albedo.
+// loops are unrolled, one cbrdfEval per light, which SwiftShader runs faster than one call in a
+// loop over the lights. Its ambient, hemisphere and probe irradiance reflects by the albedo.
 const fragmentShader = /* glsl */ `
 uniform float opacity;
 uniform float cbrdfIntensity;
