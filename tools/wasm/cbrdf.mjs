@@ -541,6 +541,7 @@ export class Model {
     }
     return rt.withScratch(4 * kSliceFloats, (p) => {
       const width = Number.isInteger(s) ? rt.x.cbrdf_viewer_slice(v, s, c, p) : -1;
+      if (width === -2) throw rt.outOfMemory(`sliceMarginals: slice ${s}'s copula plane`);
       if (width < 0) {
         const slices = this.facts().sliceList.length;
         throw argumentError(`sliceMarginals: slice ${s} is out of range (the model has ${slices}, ` +

@@ -51,9 +51,9 @@ struct cbrdf_viewer {
 
 #define CBRDF_WASM_EXPORT extern "C" __attribute__((visibility("default"), used))
 
-// Builds the viewer's arrays from a .cbrdf file in memory, its one decode on the page; NULL when
-// the file does not decode (the page then asks cbrdf_model_open_memory why).
-CBRDF_WASM_EXPORT cbrdf_viewer* cbrdf_viewer_open(const void* data, std::size_t size) {
+namespace {
+
+cbrdf_viewer* open_viewer(const void* data, std::size_t size) {
   if (data == nullptr) return nullptr;
   ContainerInfo info;
   auto decoded = decode_model(
@@ -126,6 +126,19 @@ CBRDF_WASM_EXPORT cbrdf_viewer* cbrdf_viewer_open(const void* data, std::size_t 
   return v.release();
 }
 
+}  // namespace
+
+// Builds the viewer's arrays from a .cbrdf file in memory, its one decode on the page; NULL when
+// the file does not decode (the page then asks cbrdf_model_open_memory why) or memory runs out:
+// nothing may unwind into JavaScript, where an escaped exception stops the whole instance.
+CBRDF_WASM_EXPORT cbrdf_viewer* cbrdf_viewer_open(const void* data, std::size_t size) {
+  try {
+    return open_viewer(data, size);
+  } catch (...) {
+    return nullptr;
+  }
+}
+
 // Array `which` (0 tables, 1 generic, 2 residual): its first float, and its length in *count
 // (0 and NULL when absent).
 CBRDF_WASM_EXPORT const float* cbrdf_viewer_array(const cbrdf_viewer* v, int which,
@@ -144,9 +157,10 @@ CBRDF_WASM_EXPORT const float* cbrdf_viewer_array(const cbrdf_viewer* v, int whi
 // plot: out[0..89] the theta_h masses, out[90..269] the phi_d masses, out[270..359] the theta_d
 // masses (the slice's width of them, then 0), out[360 + 180 i + k] the copula density at theta_h
 // bin i, phi_d bin k and the slice's middle theta_d bin (the family's grid, as bin values use it).
-// 16,560 floats. Returns the slice's width, or -1 for a slice or channel out of range.
+// 16,560 floats. Returns the slice's width, -1 for a slice or channel out of range, or -2 when
+// memory runs out (the copula plane is computed here).
 CBRDF_WASM_EXPORT int cbrdf_viewer_slice(const cbrdf_viewer* v, int slice, int channel,
-                                         float* out) {
+                                         float* out) try {
   if (v == nullptr || out == nullptr || slice < 0 || slice >= int(v->model.slices.size()) ||
       channel < 0 || channel >= kChannels) {
     return -1;
@@ -160,6 +174,8 @@ CBRDF_WASM_EXPORT int cbrdf_viewer_slice(const cbrdf_viewer* v, int slice, int c
   const std::vector<double> density = copula_density_plane(c, sl.width() / 2);
   for (std::size_t i = 0; i < density.size(); ++i) out[360 + i] = float(density[i]);
   return sl.width();
+} catch (...) {
+  return -2;
 }
 
 CBRDF_WASM_EXPORT const char* cbrdf_viewer_facts(const cbrdf_viewer* v) {
