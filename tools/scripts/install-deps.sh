@@ -99,5 +99,11 @@ if wants browser; then
       (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
     fi
   done
+  # The package test (tests/npm: npm_package) installs three from its consumer's lock file into an
+  # empty folder each run; with three in npm's cache it runs without the registry.
+  three=$(sed -n 's/^ *"three": "\([0-9.]*\)".*/\1/p' "$here/../../tests/npm/consumer/package.json")
+  if [[ -n $three ]] && ! npm cache ls "three@$three" 2>/dev/null | grep -q "three"; then
+    npm cache add "three@$three" --loglevel=error
+  fi
 fi
 ((${#missing[@]} == 0)) || echo "install-deps: done"
