@@ -11,6 +11,7 @@ import { readFileSync } from 'node:fs';
 import { dirname, join, resolve } from 'node:path';
 import { isDeepStrictEqual } from 'node:util';
 import { pathToFileURL } from 'node:url';
+import { checks } from './checks.mjs';
 
 const [mjsPath, goldenDir] = process.argv.slice(2);
 if (!goldenDir) {
@@ -21,25 +22,7 @@ const cbrdfUrl = pathToFileURL(resolve(mjsPath)).href;
 const { load, CbrdfError, cbrdfGlsl, packGpuTables } = await import(cbrdfUrl);
 const glsl = await import(pathToFileURL(join(dirname(resolve(mjsPath)), 'glsl.mjs')).href);
 
-let passed = 0, failed = 0;
-function check(ok, what) {
-  if (ok) {
-    ++passed;
-  } else {
-    ++failed;
-    console.log(`FAIL ${what}`);
-  }
-}
-
-function thrown(fn) {
-  try {
-    fn();
-  } catch (e) {
-    return e instanceof CbrdfError ? { code: e.code, status: e.status, message: e.message }
-                                   : { other: String(e) };
-  }
-  return { other: 'nothing thrown' };
-}
+const { check, thrown, finish } = checks(CbrdfError);
 function checkThrows(what, got, status, messagePart) {
   check(got.status === status && got.message.includes(messagePart),
         `${what}: expected CbrdfError ${status} "...${messagePart}...", got ${JSON.stringify(got)}`);
@@ -251,5 +234,4 @@ for (const name of names) {
   check(cbrdf.liveModels === 0, `every model freed (liveModels ${cbrdf.liveModels})`);
 }
 
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed === 0 ? 0 : 1);
+finish();

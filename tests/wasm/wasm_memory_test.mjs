@@ -15,6 +15,7 @@
 import { readFileSync } from 'node:fs';
 import { join, resolve } from 'node:path';
 import { pathToFileURL } from 'node:url';
+import { checks } from './checks.mjs';
 
 const [mjsPath, goldenDir] = process.argv.slice(2);
 if (!goldenDir) {
@@ -24,35 +25,7 @@ if (!goldenDir) {
 const wasm = await import(pathToFileURL(resolve(mjsPath)).href);
 const { load, CbrdfError } = wasm;
 
-let passed = 0, failed = 0;
-function check(ok, what) {
-  if (ok) {
-    ++passed;
-  } else {
-    ++failed;
-    console.log(`FAIL ${what}`);
-  }
-}
-
-// What fn throws, as { code, status, message } (a CbrdfError) or { other: description }.
-function thrown(fn) {
-  try {
-    fn();
-  } catch (e) {
-    return e instanceof CbrdfError ? { code: e.code, status: e.status, message: e.message }
-                                   : { other: String(e) };
-  }
-  return { other: 'nothing thrown' };
-}
-async function thrownAsync(fn) {
-  try {
-    await fn();
-  } catch (e) {
-    return e instanceof CbrdfError ? { code: e.code, status: e.status, message: e.message }
-                                   : { other: String(e) };
-  }
-  return { other: 'nothing thrown' };
-}
+const { check, thrown, thrownAsync, finish } = checks(CbrdfError);
 const kInvalidArgument = 9, kInternal = 11;
 function checkThrows(what, got, code, status, messagePart = '') {
   check(got.code === code && got.status === status && got.message.includes(messagePart),
@@ -268,5 +241,4 @@ const drawn = other.sample(wo1, [0.3, 0.7]);
 
 model.free();
 other.free();
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed === 0 ? 0 : 1);
+finish();

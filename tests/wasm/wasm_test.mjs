@@ -21,6 +21,7 @@ import { readdirSync, readFileSync, statSync } from 'node:fs';
 import { dirname, join, resolve } from 'node:path';
 import { isDeepStrictEqual } from 'node:util';
 import { pathToFileURL } from 'node:url';
+import { checks } from './checks.mjs';
 
 const [mjsPath, referencePath, goldenDir] = process.argv.slice(2);
 if (!goldenDir) {
@@ -29,15 +30,7 @@ if (!goldenDir) {
 }
 const { load, CbrdfError } = await import(pathToFileURL(resolve(mjsPath)).href);
 
-let passed = 0, failed = 0;
-function check(ok, what) {
-  if (ok) {
-    ++passed;
-  } else {
-    ++failed;
-    console.log(`FAIL ${what}`);
-  }
-}
+const { check, finish } = checks(CbrdfError);
 
 // The native program's answer: stdout as a Buffer (or its JSON).
 function reference(args, input) {
@@ -242,5 +235,4 @@ for (const name of files) {
   model.free();
 }
 
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed === 0 ? 0 : 1);
+finish();
