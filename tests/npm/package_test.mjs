@@ -22,6 +22,7 @@ import { basename, dirname, extname, join, normalize, resolve } from 'node:path'
 import { fileURLToPath, pathToFileURL } from 'node:url';
 import { readExr } from './exr_read.mjs';
 import { compare, interiorMask } from './sphere_compare.mjs';
+import { launchChromium } from '../../tools/scripts/chromium.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const args = {};
@@ -191,13 +192,7 @@ try {
   const refs = references(work, site);
   server = await serve(site);
   try {
-    browser = await puppeteer.launch({
-      executablePath: args.chromium,
-      headless: true,
-      args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-             '--disable-background-networking', '--disable-component-update', '--disable-sync',
-             '--no-first-run', `--user-data-dir=${profile}`],
-    });
+    browser = await launchChromium(puppeteer, args.chromium, profile);
   } catch (err) {
     skipped = `chromium cannot start here: ${err.message.split('\n')[0]}`;
   }

@@ -29,6 +29,7 @@ import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { inflateSync } from 'node:zlib';
 import http from 'node:http';
+import { launchChromium } from '../../tools/scripts/chromium.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const args = {};
@@ -168,13 +169,7 @@ console.log(`cbrdf view serves ${url}`);
 let browser;
 const profile = mkdtempSync(join(tmpdir(), 'cbrdf-chromium-'));
 try {
-  browser = await puppeteer.launch({
-    executablePath: args.chromium,
-    headless: true,
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync',
-           '--no-first-run', `--user-data-dir=${profile}`],
-  });
+  browser = await launchChromium(puppeteer, args.chromium, profile);
 } catch (err) {
   server.kill('SIGINT');
   rmSync(profile, { recursive: true, force: true });

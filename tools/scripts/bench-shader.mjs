@@ -25,6 +25,7 @@ import { join, dirname, basename, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import http from 'node:http';
 import { execFileSync } from 'node:child_process';
+import { launchChromium } from './chromium.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const root = resolve(here, '../..');
@@ -234,13 +235,7 @@ const median = (v) => {
 const profile = join(work, 'profile');
 let browser;
 try {
-  browser = await puppeteer.launch({
-    executablePath: args.chromium,
-    headless: true,
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync',
-           '--no-first-run', `--user-data-dir=${profile}`],
-  });
+  browser = await launchChromium(puppeteer, args.chromium, profile);
   const tab = await browser.newPage();
   const logs = [];
   tab.on('console', (m) => logs.push(m.text()));
