@@ -3,7 +3,9 @@
 // The cost of cbrdf's GPU evaluation against three.js's MeshStandardMaterial: a sphere filling a
 // SIZE x SIZE canvas under one directional light, rendered by three.js in headless chromium on
 // SwiftShader (the CPU rasterizer the browser tests use), once with MeshStandardMaterial and once
-// per file with a ShaderMaterial built on cbrdfGlsl (tools/npm/glsl.mjs). Frames are interleaved
+// per file with a ShaderMaterial built on cbrdfGlsl (tools/npm/glsl.mjs), and, when the wasm
+// folder is a staged package (three.mjs in it), per file with the package's CbrdfMaterial, the
+// material a user renders with (three's lights chunk around the same cbrdfEval). Frames are interleaved
 // (standard, file 1, file 2, ..., standard, ...), each timed whole (gl.finish and a one-pixel
 // read), after warm-up frames; prints the median per material and each file's ratio to the
 // standard material's median. The target of issue 43 is a ratio of at most 4 at 512 x 512.
@@ -168,8 +170,21 @@ async function packedOf(bytes, packGpuTables) {
   return packGpuTables(raw);
 }
 
-window.bench = async (fileCount, sourceCount, frames, warmup) => {
+window.bench = async (fileCount, sourceCount, frames, warmup, withThree) => {
   const materials = [mesh.material];
+  // The package's CbrdfMaterial (three.mjs), as a user gets it: three's lights chunk, the albedo
+  // lookup for ambient light (none here) and the tangent frame, on the first glsl.mjs.
+  if (withThree) {
+    const { CbrdfMaterial } = await import('/three.mjs');
+    for (let i = 0; i < fileCount; ++i) {
+      const model = await open(new Uint8Array(await (await fetch('/f/' + i)).arrayBuffer()));
+      try {
+        materials.push(new CbrdfMaterial({ model }));
+      } finally {
+        model.free();
+      }
+    }
+  }
   for (let v = 0; v < sourceCount; ++v) {
     const { cbrdfGlsl, packGpuTables } = await import('/glsl' + v + '.mjs');
     for (let i = 0; i < fileCount; ++i) {
@@ -213,6 +228,9 @@ const served = {
   '/cbrdf.mjs': ['text/javascript', () => readFileSync(join(args.wasm, 'cbrdf.mjs'))],
   '/cbrdf.wasm': ['application/wasm', () => readFileSync(join(args.wasm, 'cbrdf.wasm'))],
 };
+// CbrdfMaterial rows when the wasm folder is a staged package (three.mjs beside cbrdf.mjs).
+const withThree = existsSync(join(args.wasm, 'three.mjs'));
+if (withThree) served['/three.mjs'] = ['text/javascript', () => readFileSync(join(args.wasm, 'three.mjs'))];
 const sources = args.glsl.split(',');
 sources.forEach((f, v) => { served[`/glsl${v}.mjs`] = ['text/javascript', () => readFileSync(f)]; });
 // cbrdf.mjs imports ./glsl.mjs: the first source.
@@ -244,10 +262,12 @@ try {
   await tab.waitForFunction('window.ready === true', { timeout: 60000 }).catch((err) => {
     throw new Error(`the page did not load: ${err.message}\n${logs.join('\n')}`);
   });
-  const r = await tab.evaluate((n, v, frames, warmup) => window.bench(n, v, frames, warmup),
-                               args.files.length, sources.length, args.frames, args.warmup)
+  const r = await tab.evaluate((n, v, frames, warmup, three) => window.bench(n, v, frames, warmup, three),
+                               args.files.length, sources.length, args.frames, args.warmup, withThree)
     .catch((err) => { throw new Error(`${err.message}\n${logs.join('\n')}`); });
-  const names = ['MeshStandardMaterial', ...sources.flatMap((g) => args.files.map((f) =>
+  const names = ['MeshStandardMaterial',
+    ...(withThree ? args.files.map((f) => `${basename(f)} (CbrdfMaterial)`) : []),
+    ...sources.flatMap((g) => args.files.map((f) =>
     sources.length > 1 ? `${basename(f)} (${basename(g)})` : basename(f)))];
   const base = median(r.times[0]);
   console.log(`${args.size} x ${args.size}, three.js ${threeVersion}, ${r.renderer}; ` +
