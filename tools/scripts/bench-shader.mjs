@@ -145,29 +145,17 @@ function cbrdfMaterial(packed, cbrdfGlsl) {
 }
 
 async function packedOf(bytes, packGpuTables) {
-  // The arrays through cbrdf.mjs when it gives them, packed by the glsl.mjs under test.
+  // The model's arrays through cbrdf.mjs, packed by the glsl.mjs under test.
   const model = await open(bytes);
   try {
-    if (typeof model.gpuArrays === 'function') return packGpuTables(model.gpuArrays());
+    if (typeof model.gpuArrays !== 'function') {
+      throw new Error('bench: the cbrdf.mjs of --wasm has no gpuArrays(): a wasm build from ' +
+                      'before the npm package; build it again (tools/wasm/README.md)');
+    }
+    return packGpuTables(model.gpuArrays());
   } finally {
     model.free();
   }
-  // A cbrdf.mjs without gpuTables(): the viewer's entry points of cbrdf.wasm.
-  const x = (await (await import('/cbrdf.mjs')).load()).exports;
-  const p = x.malloc(bytes.length);
-  new Uint8Array(x.memory.buffer).set(bytes, p);
-  const v = x.cbrdf_viewer_open(p, bytes.length);
-  x.free(p);
-  const countPtr = x.malloc(4);
-  const get = (which) => {
-    const ptr = x.cbrdf_viewer_array(v, which, countPtr);
-    const n = new Uint32Array(x.memory.buffer, countPtr, 1)[0];
-    return n ? new Float32Array(new Float32Array(x.memory.buffer, ptr, n)) : null;
-  };
-  const raw = { tables: get(0), generic: get(1), residual: get(2), facts: null };
-  x.free(countPtr);
-  x.cbrdf_viewer_free(v);
-  return packGpuTables(raw);
 }
 
 window.bench = async (fileCount, sourceCount, frames, warmup, withThree) => {
