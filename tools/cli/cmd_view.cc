@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -66,9 +67,22 @@ fs::path beside_command(const char* relative) {
   return (self.parent_path() / relative).lexically_normal();
 }
 
-// The first of: the option, the environment variable, the defaults ('|'-separated).
+// What a candidate folder lacks of `names`: "" when it has them all, else " (no such folder)" or
+// " (no a, b)", for the message that lists the folders tried.
+std::string lacks(const fs::path& dir, std::span<const char* const> names) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return " (no such folder)";
+  std::string missing;
+  for (const char* n : names) {
+    if (!has_file(dir, n)) missing += (missing.empty() ? "" : ", ") + std::string(n);
+  }
+  return missing.empty() ? "" : " (no " + missing + ")";
+}
+
+// The first of: the option, the environment variable, the defaults ('|'-separated), that holds
+// every one of `names`; `tried` lists the others with what each lacks.
 std::optional<fs::path> locate(const std::string& option, const char* env,
-                               const std::string& defaults, const char* marker,
+                               const std::string& defaults, std::span<const char* const> names,
                                std::string* tried) {
   std::vector<std::string> candidates;
   if (!option.empty()) {
@@ -83,8 +97,9 @@ std::optional<fs::path> locate(const std::string& option, const char* env,
     }
   }
   for (const std::string& c : candidates) {
-    if (has_file(c, marker)) return fs::path(c);
-    *tried += (tried->empty() ? "" : ", ") + c;
+    const std::string lack = lacks(c, names);
+    if (lack.empty()) return fs::path(c);
+    *tried += (tried->empty() ? "" : ", ") + c + lack;
   }
   return std::nullopt;
 }
@@ -119,28 +134,33 @@ int run_view(const Context& ctx, const ViewOptions& o) {
   const std::string wasm_defaults =
       installed ? beside_command(CBRDF_WASM_INSTALLED).string() : CBRDF_WASM_DIRS;
   std::string tried_viewer, tried_wasm;
+  static constexpr const char* kPage[] = {"index.html"};
   const auto viewer =
-      locate(o.viewer_dir, "CBRDF_VIEWER_DIR", viewer_defaults, "index.html", &tried_viewer);
+      locate(o.viewer_dir, "CBRDF_VIEWER_DIR", viewer_defaults, kPage, &tried_viewer);
   if (!viewer) {
     return fail(cbrdf::error(ErrorCode::kNotFound,
-                             "view: the viewer's page (index.html) is not in " + tried_viewer +
+                             "view: no folder with the viewer's page (index.html): tried " +
+                                 tried_viewer +
                                  "; pass --viewer DIR (the repository's viewer/ folder)"));
   }
-  const auto wasm = locate(o.wasm_dir, "CBRDF_WASM_DIR", wasm_defaults, "cbrdf.wasm", &tried_wasm);
-  if (!wasm || !has_file(*wasm, "cbrdf.mjs")) {
-    const std::string where = tried_wasm.empty() ? o.wasm_dir : tried_wasm;
+  const auto wasm =
+      locate(o.wasm_dir, "CBRDF_WASM_DIR", wasm_defaults, kViewWasmFiles, &tried_wasm);
+  if (!wasm) {
+    const std::string need =
+        "no folder with cbrdf.wasm, cbrdf.mjs and glsl.mjs: tried " + tried_wasm;
     if (installed && o.wasm_dir.empty() && !std::getenv("CBRDF_WASM_DIR")) {
       return fail(cbrdf::error(
           ErrorCode::kNotFound,
-          "view: cbrdf.wasm and cbrdf.mjs are not in " + where +
+          "view: " + need +
               ": this installation was made without a WebAssembly build. Build one "
               "(tools/wasm/README.md: emcmake cmake -S . -B build-wasm -DCBRDF_DECODER_ONLY=ON, "
               "then cmake --build build-wasm) and run cmake --install again, or pass --wasm DIR"));
     }
     return fail(cbrdf::error(
         ErrorCode::kNotFound,
-        "view: cbrdf.wasm and cbrdf.mjs are not in " + where +
-            "; build them (tools/wasm/README.md) and pass --wasm DIR (e.g. build-wasm/wasm)"));
+        "view: " + need +
+            "; build them (tools/wasm/README.md; a wasm build older than the npm package lacks "
+            "glsl.mjs) and pass --wasm DIR (e.g. build-wasm/wasm)"));
   }
 
   auto allowlist = ViewAllowlist::build(*viewer, *wasm, o.files);

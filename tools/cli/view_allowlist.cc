@@ -93,9 +93,7 @@ Expected<ViewAllowlist> ViewAllowlist::build(const fs::path& viewer_dir, const f
                  "view: the viewer folder " + viewer.string() + " has no regular index.html");
   }
   const fs::path wasm = fs::canonical(wasm_dir, ec);
-  // The npm package's files the page imports (glsl.mjs: the shader's evaluation), not the rest
-  // of the package the wasm build stages beside them.
-  for (const char* name : {"cbrdf.wasm", "cbrdf.mjs", "glsl.mjs"}) {
+  for (const char* name : kViewWasmFiles) {
     std::error_code fec;
     const fs::path real = ec ? fs::path() : fs::canonical(wasm / name, fec);
     if (ec || fec || !fs::is_regular_file(real, fec) || !is_within(real, wasm)) {

@@ -5,6 +5,7 @@
 // is ever looked up on disk from a request.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -14,6 +15,12 @@
 #include "cbrdf/status.h"
 
 namespace cbrdf::cli {
+
+// The npm package's files the page imports from the wasm folder (glsl.mjs: the shader's
+// evaluation), not the rest of the package the wasm build stages beside them. `cbrdf view` looks
+// for a folder that has them all; the allowlist serves exactly these.
+inline constexpr std::array<const char*, 3> kViewWasmFiles = {"cbrdf.wasm", "cbrdf.mjs",
+                                                              "glsl.mjs"};
 
 struct ServedFile {
   std::filesystem::path path;
