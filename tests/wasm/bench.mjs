@@ -8,6 +8,7 @@ import { spawnSync } from 'node:child_process';
 import { readFileSync } from 'node:fs';
 import { resolve } from 'node:path';
 import { pathToFileURL } from 'node:url';
+import { hemisphere } from './directions.mjs';
 
 const [mjsPath, referencePath, file, pairsArg, msArg] = process.argv.slice(2);
 if (!file) {
@@ -18,16 +19,7 @@ const pairs = Number(pairsArg ?? 65536), budget = Number(msArg ?? 2000);
 const { load } = await import(pathToFileURL(resolve(mjsPath)).href);
 
 // Pairs above the horizon, uniform on the hemisphere, fixed.
-let seed = 12345;
-const rand = () => (seed = (seed * 16807) % 2147483647) / 2147483647;
-function directions(n) {
-  const d = new Float64Array(3 * n);
-  for (let k = 0; k < n; ++k) {
-    const z = rand(), phi = 2 * Math.PI * rand(), r = Math.sqrt(1 - z * z);
-    d.set([r * Math.cos(phi), r * Math.sin(phi), z], 3 * k);
-  }
-  return d;
-}
+const directions = hemisphere(12345);
 const wi = directions(pairs), wo = directions(pairs);
 
 function native() {

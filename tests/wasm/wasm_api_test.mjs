@@ -12,6 +12,7 @@ import { dirname, join, resolve } from 'node:path';
 import { isDeepStrictEqual } from 'node:util';
 import { pathToFileURL } from 'node:url';
 import { checks } from './checks.mjs';
+import { hemisphere } from './directions.mjs';
 
 const [mjsPath, goldenDir] = process.argv.slice(2);
 if (!goldenDir) {
@@ -34,18 +35,7 @@ function sameArray(a, b) {
   return a.constructor === b.constructor && a.length === b.length && a.every((v, i) => Object.is(v, b[i]));
 }
 
-let seed = 271828;
-const rand = () => (seed = (seed * 16807) % 2147483647) / 2147483647;
-function directions(n) {
-  const d = new Float64Array(3 * n);
-  for (let k = 0; k < n; ++k) {
-    const z = rand(), phi = 2 * Math.PI * rand(), r = Math.sqrt(1 - z * z);
-    d[3 * k] = r * Math.cos(phi);
-    d[3 * k + 1] = r * Math.sin(phi);
-    d[3 * k + 2] = z;
-  }
-  return d;
-}
+const directions = hemisphere(271828);
 
 const cbrdf = await load();
 const x = cbrdf.exports;
